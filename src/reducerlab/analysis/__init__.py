@@ -1,0 +1,1 @@
+"""Analyses that take a :class:`~reducerlab.model.Model` and return results."""

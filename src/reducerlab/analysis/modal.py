@@ -1,0 +1,438 @@
+"""Modal analysis of any :class:`~reducerlab.model.Model`.
+
+Undamped generalised symmetric eigenproblem ``K phi = lambda M phi`` with the mean
+stiffness (paper 000 Eq. 9, paper 003 Eq. 12), ``lambda = (2 pi f)^2``.
+
+Conventions (``docs/conventions.md``):
+
+* rigid-body modes (``|lambda| <= rigid_tol * max |lambda|``) are reported as exactly
+  0 Hz;
+* a negative eigenvalue, which speed-dependent (centripetal) terms can produce, is a
+  static divergence; it is kept, and its frequency is reported with a minus sign,
+  ``f = -sqrt(-lambda) / 2 pi``, and flagged ``unstable``;
+* shapes are mass-normalised (``phi^T M phi = 1``, ``shape``) and max-normalised
+  (largest component +1, ``shape_max``); the sign makes the largest component positive.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import scipy.linalg
+import xarray as xr
+from numpy.typing import NDArray
+
+from ..errors import ModelError, ReducerlabError
+from ..model import Model
+from ..results import Result, provenance
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "ModalResult",
+    "SensitivityResult",
+    "eigenvalue_derivatives",
+    "frequency_sensitivity",
+    "mac",
+    "modal",
+]
+
+TWO_PI = 2.0 * math.pi
+#: Relative gap below which two eigenvalues are treated as one repeated eigenvalue.
+DEGENERACY_TOL = 1e-7
+
+
+def _pretty(body: str) -> str:
+    return body.replace("_", " ")
+
+
+def _solve(M: NDArray, K: NDArray, model: Model) -> tuple[NDArray, NDArray]:
+    M = 0.5 * (M + M.T)
+    K = 0.5 * (K + K.T)
+    massless = [model.dof_names[i] for i in range(model.n) if not M[i, i] > 0]
+    if massless:
+        raise ModelError(
+            f"DOF(s) {massless} have no inertia, so M is singular; add an Inertia element "
+            "on each DOF (or remove the DOF)"
+        )
+    try:
+        lam, phi = scipy.linalg.eigh(K, M)
+    except np.linalg.LinAlgError as exc:
+        raise ModelError(f"mass matrix is not positive definite ({exc})") from None
+    return lam, phi
+
+
+def _energy_labels(
+    model: Model, kinetic: NDArray, rigid: NDArray, unstable: NDArray
+) -> tuple[list[str], list[str], list[str]]:
+    """Classification string, dominant family and dominant body of each mode."""
+    bodies = [d.body for d in model.dofs]
+    families = [d.family for d in model.dofs]
+    cells = sorted({(b, f) for b, f in zip(bodies, families, strict=True)})
+    labels, fam_out, body_out = [], [], []
+    for j in range(kinetic.shape[1]):
+        share = {c: 0.0 for c in cells}
+        for i in range(model.n):
+            share[(bodies[i], families[i])] += kinetic[i, j]
+        fam_share: dict[str, float] = {}
+        for (_, f), s in share.items():
+            fam_share[f] = fam_share.get(f, 0.0) + s
+        fam = max(fam_share, key=lambda k: fam_share[k])
+        (body, family), s = max(share.items(), key=lambda kv: kv[1])
+        text = f"{family} — {_pretty(body)} {100 * s:.0f} %"
+        if rigid[j]:
+            text = f"rigid body ({fam})"
+        elif unstable[j]:
+            text = f"divergent — {text}"
+        labels.append(text)
+        fam_out.append(fam)
+        body_out.append(body)
+    return labels, fam_out, body_out
+
+
+def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
+    """Natural frequencies, mode shapes and energy classification of a model.
+
+    Parameters
+    ----------
+    model : Model
+        Any lumped-parameter model (mesh stiffness at its mean).
+    rigid_tol : float
+        Eigenvalues with ``|lambda| <= rigid_tol * max|lambda|`` are rigid-body modes
+        (reported as exactly 0 Hz). The default sits about six orders of magnitude
+        above the round-off of ``eigh`` (~1e-16 max|lambda|).
+
+    Returns
+    -------
+    ModalResult
+    """
+    if not (isinstance(rigid_tol, int | float) and 0 <= rigid_tol < 1):
+        raise ReducerlabError(f"rigid_tol must be a number in [0, 1), got {rigid_tol!r}")
+    mats = model.matrices()
+    lam, phi = _solve(mats.M, mats.K, model)
+    scale = float(np.max(np.abs(lam))) if lam.size else 1.0
+    rigid = np.abs(lam) <= rigid_tol * max(scale, np.finfo(float).tiny)
+    lam = np.where(rigid, 0.0, lam)
+    unstable = lam < 0
+    freq = np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
+    # sign: largest component positive
+    imax = np.argmax(np.abs(phi), axis=0)
+    cols = np.arange(phi.shape[1])
+    phi = phi * np.sign(phi[imax, cols])
+    shape_max = phi / phi[imax, cols]
+    kinetic = phi * (mats.M @ phi)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        strain = np.where(rigid, np.nan, phi * (mats.K @ phi) / np.where(rigid, 1.0, lam))
+    # strain energy per element (mean mesh stiffness included)
+    enames, eshare = [], []
+    for e in model.elements:
+        idx, em = model.element_matrices(e)
+        if not np.any(em.K):
+            continue
+        pe = phi[idx]
+        u = np.einsum("im,ij,jm->m", pe, em.K, pe)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            eshare.append(np.where(rigid, np.nan, u / np.where(rigid, 1.0, lam)))
+        enames.append(e.name)
+    labels, fams, bodies = _energy_labels(model, kinetic, rigid, unstable)
+    n = model.n
+    dofs = model.dofs
+    coords = {
+        "mode": ("mode", np.arange(1, n + 1)),
+        "dof": ("dof", model.dof_names),
+        "body": ("dof", [d.body for d in dofs]),
+        "kind": ("dof", [d.kind for d in dofs]),
+        "family": ("dof", [d.family for d in dofs]),
+        "unit": ("dof", [d.unit for d in dofs]),
+        "element": ("element", enames),
+    }
+    data = xr.Dataset(
+        {
+            "frequency": ("mode", freq, {"units": "Hz", "long_name": "natural frequency"}),
+            "eigenvalue": ("mode", lam, {"units": "rad^2/s^2", "long_name": "lambda = omega^2"}),
+            "shape": (
+                ("dof", "mode"),
+                phi,
+                {"long_name": "mass-normalised mode shape", "units": "dof unit / sqrt(kg)"},
+            ),
+            "shape_max": (("dof", "mode"), shape_max, {"long_name": "max-normalised shape"}),
+            "kinetic_energy": (
+                ("mode", "dof"),
+                kinetic.T,
+                {"units": "1", "long_name": "share of kinetic energy"},
+            ),
+            "strain_energy": (
+                ("mode", "dof"),
+                strain.T,
+                {"units": "1", "long_name": "share of strain energy by DOF"},
+            ),
+            "element_energy": (
+                ("mode", "element"),
+                np.array(eshare).reshape(len(enames), n).T,
+                {"units": "1", "long_name": "share of strain energy by element"},
+            ),
+            "classification": ("mode", np.array(labels, dtype=object)),
+            "dominant_family": ("mode", np.array(fams, dtype=object)),
+            "dominant_body": ("mode", np.array(bodies, dtype=object)),
+            "rigid": ("mode", rigid.astype(np.int8), {"long_name": "rigid-body mode (1)"}),
+            "unstable": ("mode", unstable.astype(np.int8), {"long_name": "divergent mode (1)"}),
+        },
+        coords=coords,
+        attrs={
+            "title": model.name or "modal analysis",
+            "speed_rad_s": model.speed,
+            "rigid_tol": rigid_tol,
+            **provenance(model.metadata),
+        },
+    )
+    return ModalResult(data)
+
+
+class ModalResult(Result):
+    """Natural frequencies and modes of a model (xarray Dataset in ``.data``).
+
+    Variables: ``frequency`` (mode, Hz), ``eigenvalue`` (mode, rad^2/s^2), ``shape``
+    and ``shape_max`` (dof, mode), ``kinetic_energy`` and ``strain_energy`` shares
+    (mode, dof), ``element_energy`` (mode, element), ``classification`` (mode),
+    ``rigid`` and ``unstable`` flags.
+    """
+
+    kind: ClassVar[str] = "modal"
+
+    @property
+    def frequencies(self) -> NDArray[np.float64]:
+        """Natural frequencies (Hz), ascending; 0 for rigid-body modes."""
+        return self.data["frequency"].values
+
+    @property
+    def shapes(self) -> NDArray[np.float64]:
+        """Mass-normalised mode shapes, shape (n_dof, n_mode)."""
+        return self.data["shape"].values
+
+    @property
+    def dof_names(self) -> list[str]:
+        """DOF names in row order of :attr:`shapes`."""
+        return [str(x) for x in self.data["dof"].values]
+
+    @property
+    def classifications(self) -> list[str]:
+        """One label per mode, e.g. ``"torsional — gear 71 %"``."""
+        return [str(x) for x in self.data["classification"].values]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: ``frequencies_hz`` and ``modes``."""
+        ds = self.data
+        modes = [
+            {
+                "mode": int(m),
+                "frequency_hz": float(f),
+                "classification": str(c),
+                "rigid": bool(r),
+                "unstable": bool(u),
+            }
+            for m, f, c, r, u in zip(
+                ds["mode"].values,
+                ds["frequency"].values,
+                ds["classification"].values,
+                ds["rigid"].values,
+                ds["unstable"].values,
+                strict=True,
+            )
+        ]
+        return {
+            "title": ds.attrs.get("title", ""),
+            "design_hash": ds.attrs.get("design_hash"),
+            "reducerlab_version": ds.attrs.get("reducerlab_version"),
+            "frequencies_hz": [float(f) for f in ds["frequency"].values],
+            "modes": modes,
+        }
+
+    def to_json(self) -> str:
+        """:meth:`to_dict` as a JSON string."""
+        return json.dumps(self.to_dict(), indent=2)
+
+    def table(self) -> str:
+        """Plain-text table of frequencies and classifications."""
+        rows = [f"{'mode':>4}  {'frequency (Hz)':>15}  classification"]
+        for m, f, c in zip(
+            self.data["mode"].values,
+            self.frequencies,
+            self.classifications,
+            strict=True,
+        ):
+            rows.append(f"{int(m):>4}  {f:>15.6g}  {c}")
+        return "\n".join(rows)
+
+    def __repr__(self) -> str:
+        return f"ModalResult({self.data.attrs.get('title', '')!r}, {self.data.sizes['mode']} modes)"
+
+    def plot_shapes(self, modes: Sequence[int] | None = None, *, scale: str = "energy") -> Figure:
+        """Bar charts of the mode shapes, one panel per mode (see
+        :func:`reducerlab.plot.modal.plot_mode_shapes`)."""
+        from ..plot.modal import plot_mode_shapes
+
+        return plot_mode_shapes(self, modes, scale=scale)
+
+    def plot_energy(self) -> Figure:
+        """Map of kinetic and strain energy shares per mode."""
+        from ..plot.modal import plot_energy
+
+        return plot_energy(self)
+
+
+def eigenvalue_derivatives(
+    lam: NDArray, phi: NDArray, dK: NDArray, dM: NDArray, *, tol: float = DEGENERACY_TOL
+) -> NDArray[np.float64]:
+    """Derivatives of the eigenvalues of ``K phi = lambda M phi`` for ``dK, dM``.
+
+    For a simple eigenvalue ``d lambda = phi^T (dK - lambda dM) phi`` with mass-normalised
+    ``phi``. For a repeated eigenvalue the derivatives are the eigenvalues of
+    ``Phi^T (dK - lambda dM) Phi`` over its eigenspace ``Phi`` (they are the one-sided
+    derivatives of the sorted branches), returned in ascending order.
+    """
+    n = lam.size
+    out = np.empty(n)
+    scale = max(float(np.max(np.abs(lam))), np.finfo(float).tiny)
+    i = 0
+    while i < n:
+        j = i + 1
+        while j < n and abs(lam[j] - lam[i]) <= tol * max(abs(lam[i]), scale * 1e-12):
+            j += 1
+        P = phi[:, i:j]
+        lam_c = float(np.mean(lam[i:j]))
+        D = P.T @ (dK - lam_c * dM) @ P
+        out[i:j] = np.linalg.eigvalsh(0.5 * (D + D.T)) if j - i > 1 else np.diag(D)
+        i = j
+    return out
+
+
+def frequency_sensitivity(
+    model: Model, parameters: Sequence[str], result: ModalResult | None = None
+) -> SensitivityResult:
+    """Sensitivity of every natural frequency to model parameters.
+
+    ``df/dp = (phi^T (dK/dp - lambda dM/dp) phi) / (8 pi^2 |f|)`` with the exact matrix
+    derivatives of :meth:`Model.derivative`.
+
+    Parameters
+    ----------
+    model : Model
+    parameters : sequence of str
+        Parameter paths (``"speed"``, ``"mesh.stiffness"``, ``"support:gear.x.stiffness"``).
+    result : ModalResult, optional
+        A modal result of ``model`` to reuse.
+
+    Returns
+    -------
+    SensitivityResult
+        ``dfdp`` (mode, parameter) in Hz per SI unit of the parameter, ``relative``
+        ``(p / f) df/dp`` (dimensionless: % change of f per % change of p),
+        ``dlambda`` (mode, parameter). Rigid-body modes get NaN.
+    """
+    if isinstance(parameters, str):
+        parameters = [parameters]
+    if not parameters:
+        raise ReducerlabError("frequency_sensitivity: give at least one parameter path")
+    res = result if result is not None else modal(model)
+    lam = res.data["eigenvalue"].values
+    phi = res.shapes
+    f = res.frequencies
+    rigid = res.data["rigid"].values.astype(bool)
+    dlam, dfdp, rel, values = [], [], [], []
+    for p in parameters:
+        d = model.derivative(p)
+        dl = eigenvalue_derivatives(lam, phi, d.K, d.M)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            df = np.where(rigid, np.nan, dl / (2 * TWO_PI**2 * np.abs(f)))
+            value = float(np.real(model.parameter(p)))
+            r = np.where(rigid, np.nan, value * df / f)
+        dlam.append(dl)
+        dfdp.append(df)
+        rel.append(r)
+        values.append(value)
+    data = xr.Dataset(
+        {
+            "dfdp": (("mode", "parameter"), np.array(dfdp).T, {"units": "Hz per SI unit"}),
+            "relative": (
+                ("mode", "parameter"),
+                np.array(rel).T,
+                {"units": "1", "long_name": "(p/f) df/dp"},
+            ),
+            "dlambda": (("mode", "parameter"), np.array(dlam).T),
+            "value": ("parameter", np.array(values), {"long_name": "parameter value (SI)"}),
+            "frequency": res.data["frequency"],
+        },
+        coords={"mode": res.data["mode"].values, "parameter": list(parameters)},
+        attrs=dict(res.data.attrs),
+    )
+    return SensitivityResult(data)
+
+
+class SensitivityResult(Result):
+    """Frequency sensitivities (``dfdp``, ``relative``) per mode and parameter."""
+
+    kind: ClassVar[str] = "sensitivity"
+
+    def table(self) -> str:
+        """Relative sensitivities ``(p/f) df/dp`` as plain text."""
+        params = [str(p) for p in self.data["parameter"].values]
+        head = f"{'mode':>4}  {'f (Hz)':>12}  " + "  ".join(f"{p[:22]:>22}" for p in params)
+        rows = [head]
+        rel = self.data["relative"].values
+        for i, (m, f) in enumerate(
+            zip(self.data["mode"].values, self.data["frequency"].values, strict=True)
+        ):
+            cells = "  ".join(f"{v:>22.4f}" for v in rel[i])
+            rows.append(f"{int(m):>4}  {f:>12.6g}  {cells}")
+        return "\n".join(rows)
+
+    def plot(self) -> Figure:
+        """Heat map of the relative sensitivities."""
+        from ..plot.modal import plot_sensitivity
+
+        return plot_sensitivity(self)
+
+
+def _shape_matrix(x: ModalResult | NDArray) -> tuple[NDArray, list[str] | None]:
+    if isinstance(x, ModalResult):
+        return x.shapes, x.dof_names
+    arr = np.asarray(x, dtype=float)
+    if arr.ndim != 2:
+        raise ReducerlabError(f"mac: mode sets must be 2-D (dof, mode) arrays, got {arr.shape}")
+    return arr, None
+
+
+def mac(a: ModalResult | NDArray, b: ModalResult | NDArray) -> xr.DataArray:
+    """Modal assurance criterion between two mode sets.
+
+    ``MAC_ij = |a_i^T b_j|^2 / ((a_i^T a_i)(b_j^T b_j))``. Results are matched by DOF
+    name when both are :class:`ModalResult`; arrays must share the row order.
+
+    Returns
+    -------
+    xarray.DataArray
+        Dims ``(mode_a, mode_b)``, values in [0, 1].
+    """
+    A, na = _shape_matrix(a)
+    B, nb = _shape_matrix(b)
+    if na is not None and nb is not None:
+        if set(na) != set(nb):
+            raise ReducerlabError(
+                f"mac: the two results have different DOFs: {sorted(set(na) ^ set(nb))}"
+            )
+        B = B[[nb.index(d) for d in na]]
+    if A.shape[0] != B.shape[0]:
+        raise ReducerlabError(f"mac: {A.shape[0]} DOFs against {B.shape[0]} DOFs")
+    num = (A.T @ B) ** 2
+    den = np.outer(np.sum(A * A, axis=0), np.sum(B * B, axis=0))
+    return xr.DataArray(
+        num / den,
+        dims=("mode_a", "mode_b"),
+        coords={"mode_a": np.arange(1, A.shape[1] + 1), "mode_b": np.arange(1, B.shape[1] + 1)},
+        name="MAC",
+    )

@@ -1,0 +1,212 @@
+"""Command line: ``reducerlab modal``, ``reducerlab sensitivity``, ``reducerlab demo``.
+
+Errors caused by the user's input are printed as one clear message (exit code 2),
+never as a traceback.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from enum import Enum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from . import __version__
+from .errors import ReducerlabError
+
+app = typer.Typer(
+    name="reducerlab",
+    help="Design and dynamic analysis of compact high-ratio gear reducers.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+out = Console()
+err = Console(stderr=True)
+
+
+class Format(str, Enum):
+    table = "table"
+    json = "json"
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"reducerlab {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Show version.")
+    ] = False,
+) -> None:
+    """reducerlab: from a design file to frequencies, modes, responses and reports."""
+
+
+def _fail(exc: Exception) -> None:
+    err.print(f"[bold red]error:[/] {exc}", highlight=False, markup=True, soft_wrap=True)
+    raise typer.Exit(code=2)
+
+
+def _model_from(design_path: Path):  # noqa: ANN202
+    from .drives import build_model, load_design
+
+    design = load_design(design_path)
+    return design, build_model(design)
+
+
+def _write_modal(result, outdir: Path) -> list[Path]:  # noqa: ANN001
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = [result.save(outdir / "modal.nc")]
+    (outdir / "modal.json").write_text(result.to_json())
+    (outdir / "modal.txt").write_text(result.table() + "\n")
+    written += [outdir / "modal.json", outdir / "modal.txt"]
+    for name, fig in (("mode_shapes.png", result.plot_shapes()), ("energy.png", result.plot_energy())):
+        fig.savefig(outdir / name, dpi=120)
+        written.append(outdir / name)
+    return written
+
+
+def _print_modal(result) -> None:  # noqa: ANN001
+    table = Table(title=result.data.attrs.get("title", "modal analysis"))
+    table.add_column("mode", justify="right")
+    table.add_column("frequency (Hz)", justify="right")
+    table.add_column("classification")
+    for m, f, c in zip(
+        result.data["mode"].values, result.frequencies, result.classifications, strict=True
+    ):
+        table.add_row(str(int(m)), f"{f:.6g}", c)
+    out.print(table)
+
+
+@app.command()
+def modal(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write results and figures here.")
+    ] = None,
+    fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    rigid_tol: Annotated[
+        float, typer.Option(help="Relative eigenvalue below which a mode is rigid (0 Hz).")
+    ] = 1e-10,
+) -> None:
+    """Natural frequencies, mode shapes and energy classification of a design."""
+    from .analysis.modal import modal as run_modal
+
+    try:
+        _, model = _model_from(design)
+        result = run_modal(model, rigid_tol=rigid_tol)
+        written = _write_modal(result, output) if output is not None else []
+    except ReducerlabError as exc:
+        _fail(exc)
+        return
+    if fmt is Format.json:
+        typer.echo(result.to_json())
+    else:
+        _print_modal(result)
+    for p in written:
+        err.print(f"wrote {p}", highlight=False)
+
+
+@app.command()
+def sensitivity(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    param: Annotated[
+        list[str] | None,
+        typer.Option("--param", "-p", help="Parameter path, e.g. mesh.stiffness (repeatable)."),
+    ] = None,
+    list_params: Annotated[
+        bool, typer.Option("--list", help="List the model's parameter paths and exit.")
+    ] = False,
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write results and figure here.")
+    ] = None,
+    fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+) -> None:
+    """Sensitivity of every natural frequency to model parameters (analytic)."""
+    from .analysis.modal import frequency_sensitivity
+    from .model.inspect import parameter_paths
+
+    try:
+        _, model = _model_from(design)
+        if list_params:
+            for path, value in parameter_paths(model):
+                typer.echo(f"{path} = {value:.6g}")
+            return
+        params = param or [p for p, _ in parameter_paths(model)]
+        res = frequency_sensitivity(model, params)
+        if output is not None:
+            output.mkdir(parents=True, exist_ok=True)
+            res.save(output / "sensitivity.nc")
+            res.plot().savefig(output / "sensitivity.png", dpi=120)
+            err.print(f"wrote {output / 'sensitivity.nc'}, {output / 'sensitivity.png'}")
+    except ReducerlabError as exc:
+        _fail(exc)
+        return
+    if fmt is Format.json:
+        ds = res.data
+        typer.echo(
+            json.dumps(
+                {
+                    "parameters": [str(p) for p in ds["parameter"].values],
+                    "frequencies_hz": [float(f) for f in ds["frequency"].values],
+                    "dfdp": [[None if v != v else float(v) for v in row] for row in ds["dfdp"].values],
+                    "relative": [
+                        [None if v != v else float(v) for v in row] for row in ds["relative"].values
+                    ],
+                },
+                indent=2,
+            )
+        )
+    else:
+        typer.echo(res.table())
+
+
+@app.command()
+def demo(
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "demo-output"
+    ),
+) -> None:
+    """Run every bundled example end to end and write its outputs."""
+    from rich.progress import Progress
+
+    from .analysis.modal import modal as run_modal
+    from .examples import example_files
+
+    files = example_files()
+    if not files:
+        _fail(ReducerlabError("no bundled examples found"))
+    summary = []
+    with Progress(console=err, transient=True) as progress:
+        task = progress.add_task("examples", total=len(files))
+        for path in files:
+            progress.update(task, description=f"modal: {path.name}")
+            try:
+                _, model = _model_from(path)
+                result = run_modal(model)
+                _write_modal(result, output / path.stem)
+            except ReducerlabError as exc:
+                _fail(exc)
+            summary.append((path.name, result))
+            progress.advance(task)
+    for name, result in summary:
+        out.print(f"[bold]{name}[/]  ->  {output / Path(name).stem}")
+        _print_modal(result)
+    out.print(f"demo outputs in {output.resolve()}")
+
+
+def main() -> None:
+    """Console-script entry point."""
+    try:
+        app()
+    except KeyboardInterrupt:  # pragma: no cover - interactive
+        err.print("interrupted")
+        sys.exit(130)

@@ -1,0 +1,70 @@
+"""Drive builders: each turns a validated Design into a generic Model.
+
+:func:`load_design` reads a TOML design file and validates it against the Design class
+its ``type`` field names; :func:`build_model` dispatches to that drive's builder.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any, NamedTuple
+
+from ..design import Design, read_toml, validate_design
+from ..errors import DesignError
+from ..model import Model
+from . import gear_pair
+
+__all__ = ["DRIVES", "DriveType", "build_model", "design_from_dict", "load_design"]
+
+
+class DriveType(NamedTuple):
+    """A registered drive: its Design class and its builder."""
+
+    design: type[Design]
+    build: Callable[[Any], Model]
+    summary: str
+
+
+DRIVES: dict[str, DriveType] = {
+    "gear_pair": DriveType(
+        gear_pair.GearPairDesign,
+        gear_pair.build_model,
+        "spur gear pair on bearings, bending-torsional",
+    ),
+}
+
+
+def design_from_dict(data: Mapping[str, Any], source: str = "<design>") -> Design:
+    """Validate a raw design mapping (as read from TOML) against its drive's schema."""
+    if not isinstance(data, Mapping):
+        raise DesignError(f"{source}: a design must be a table of fields, got {type(data).__name__}")
+    kind = data.get("type")
+    if kind is None:
+        raise DesignError(
+            f"{source}: type: required field is missing (one of: {', '.join(DRIVES)})"
+        )
+    if kind not in DRIVES:
+        raise DesignError(
+            f"{source}: type = {kind!r}: unknown drive type (one of: {', '.join(DRIVES)})"
+        )
+    return validate_design(DRIVES[kind].design, data, source)
+
+
+def load_design(path: str | Path) -> Design:
+    """Read and validate a TOML design file; quantities are converted to SI.
+
+    Raises
+    ------
+    DesignError
+        Naming the file, the field path, the value and the rule for every problem.
+    """
+    return design_from_dict(read_toml(path), str(path))
+
+
+def build_model(design: Design) -> Model:
+    """Turn a validated design into its generic :class:`~reducerlab.model.Model`."""
+    for drive in DRIVES.values():
+        if type(design) is drive.design:
+            return drive.build(design)
+    raise DesignError(f"no builder for design of type {type(design).__name__}")

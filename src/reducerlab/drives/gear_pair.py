@@ -1,0 +1,197 @@
+"""A spur gear pair on elastic bearings: bending-torsional, 6 DOFs.
+
+The generic example of reducerlab's core (issue 2). Each gear has two translations
+``x, y`` in the plane of rotation and the rotation ``rz``; gear rotations are positive
+in the direction each gear turns when the pinion drives, so the relative displacement
+along the line of action is
+
+``delta = (x_p - x_g) sin(alpha) + (y_p - y_g) cos(alpha) + r_bp rz_p + r_bg rz_g - e(t)``
+
+with the base radii ``r_b = m z cos(alpha) / 2``. With rigid bearings the only elastic
+mode is torsional with ``omega^2 = k (r_bp^2 / J_p + r_bg^2 / J_g)``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from ..design import (
+    AngularVelocity,
+    Damping,
+    Design,
+    Length,
+    Mass,
+    MomentOfInertia,
+    NonNegativeStiffness,
+    PositiveInt,
+    Spec,
+    Stiffness,
+    Torque,
+    angle_between,
+    quantity,
+)
+from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
+from ..model.laws import TimeLaw
+
+__all__ = ["Bearing", "GearPairDesign", "Gear", "GearMesh", "Operating", "build_model"]
+
+
+class Bearing(Spec):
+    """Radial bearing stiffness and damping of one gear (N/m, N s/m)."""
+
+    stiffness_x: NonNegativeStiffness
+    stiffness_y: NonNegativeStiffness
+    damping_x: Damping = 0.0
+    damping_y: Damping = 0.0
+
+
+class Gear(Spec):
+    """One gear body."""
+
+    teeth: PositiveInt
+    mass: Mass
+    moment_of_inertia: MomentOfInertia
+    bearing: Bearing
+
+
+class GearMesh(Spec):
+    """Tooth mesh of the pair.
+
+    ``stiffness`` is the mean mesh stiffness; ``stiffness_harmonics`` and
+    ``stiffness_phases`` are the amplitudes and phases of paper 000 Eq. 8 at the mesh
+    frequency. ``backlash`` is the full clearance (dead zone ``|delta| <= b/2``).
+    """
+
+    module: Length
+    pressure_angle: angle_between(0, 45)  # type: ignore[valid-type]
+    stiffness: Stiffness
+    damping: Damping = 0.0
+    backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
+    stiffness_harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
+    stiffness_phases: list[quantity("angle")] = Field(default_factory=list)  # type: ignore[valid-type]
+
+    @model_validator(mode="after")
+    def _phases_match(self) -> GearMesh:
+        if self.stiffness_phases and len(self.stiffness_phases) != len(self.stiffness_harmonics):
+            raise ValueError(
+                f"stiffness_phases has {len(self.stiffness_phases)} entries but "
+                f"stiffness_harmonics has {len(self.stiffness_harmonics)}; give one phase per "
+                "harmonic or none"
+            )
+        if sum(self.stiffness_harmonics) >= self.stiffness:
+            raise ValueError(
+                "the stiffness harmonics add up to more than the mean stiffness, so k(t) "
+                "could become negative"
+            )
+        return self
+
+
+class Operating(Spec):
+    """Operating point: pinion speed and the torque it transmits."""
+
+    speed: AngularVelocity = 0.0
+    torque: Torque = 0.0
+
+
+class GearPairDesign(Design):
+    """Design of a spur gear pair on bearings (``type = "gear_pair"``)."""
+
+    type: Literal["gear_pair"] = "gear_pair"
+    pinion: Gear
+    gear: Gear
+    mesh: GearMesh
+    operating: Operating = Operating()
+
+    @model_validator(mode="after")
+    def _harmonics_need_speed(self) -> GearPairDesign:
+        if self.mesh.stiffness_harmonics and self.operating.speed <= 0:
+            raise ValueError(
+                "mesh.stiffness_harmonics need operating.speed > 0 to set the mesh frequency"
+            )
+        return self
+
+    def base_radius(self, which: Literal["pinion", "gear"]) -> float:
+        """Base-circle radius ``m z cos(alpha) / 2`` (m)."""
+        z = getattr(self, which).teeth
+        return self.mesh.module * z * math.cos(self.mesh.pressure_angle) / 2.0
+
+    @property
+    def ratio(self) -> float:
+        """Transmission ratio ``z_gear / z_pinion`` (input pinion)."""
+        return self.gear.teeth / self.pinion.teeth
+
+    @property
+    def mesh_frequency(self) -> float:
+        """Mesh angular frequency ``z_p * Omega`` (rad/s)."""
+        return self.pinion.teeth * self.operating.speed
+
+
+def build_model(design: GearPairDesign) -> Model:
+    """Six-DOF bending-torsional model of a spur gear pair.
+
+    Parameters
+    ----------
+    design : GearPairDesign
+
+    Returns
+    -------
+    Model
+        DOFs ``pinion.x, pinion.y, pinion.rz, gear.x, gear.y, gear.rz``; elements
+        ``mesh`` and one support per bearing direction, plus the operating torques.
+    """
+    alpha = design.mesh.pressure_angle
+    s, c = math.sin(alpha), math.cos(alpha)
+    rbp, rbg = design.base_radius("pinion"), design.base_radius("gear")
+    dofs = [Dof(b, k) for b in ("pinion", "gear") for k in ("x", "y", "rz")]
+    law: TimeLaw
+    if design.mesh.stiffness_harmonics:
+        law = Fourier(
+            mean=design.mesh.stiffness,
+            amplitudes=tuple(design.mesh.stiffness_harmonics),
+            phases=tuple(design.mesh.stiffness_phases),
+            omega=design.mesh_frequency,
+        )
+    else:
+        law = Constant(design.mesh.stiffness)
+    elements: list = []
+    for body in ("pinion", "gear"):
+        g = getattr(design, body)
+        elements += [
+            Inertia(f"{body}.x", g.mass),
+            Inertia(f"{body}.y", g.mass),
+            Inertia(f"{body}.rz", g.moment_of_inertia),
+            Support(f"{body}.x", g.bearing.stiffness_x, g.bearing.damping_x),
+            Support(f"{body}.y", g.bearing.stiffness_y, g.bearing.damping_y),
+        ]
+    elements.append(
+        Mesh(
+            {
+                "pinion.x": s,
+                "pinion.y": c,
+                "pinion.rz": rbp,
+                "gear.x": -s,
+                "gear.y": -c,
+                "gear.rz": rbg,
+            },
+            stiffness=law,
+            damping=design.mesh.damping,
+            backlash=Backlash.full(design.mesh.backlash),
+            name="mesh",
+        )
+    )
+    torque = design.operating.torque
+    if torque:
+        elements += [
+            Load("pinion.rz", torque, name="input_torque"),
+            Load("gear.rz", -torque * design.ratio, name="load_torque"),
+        ]
+    return Model(
+        dofs,
+        elements,
+        speed=design.operating.speed,
+        name=design.name or "spur gear pair",
+        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+    )

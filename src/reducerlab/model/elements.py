@@ -1,0 +1,356 @@
+"""Elements of a lumped-parameter model, all behind one interface.
+
+An element names the DOFs it acts on and returns its local contributions
+(:class:`Contribution`): mass, damping and stiffness blocks, nonlinear lines of action
+(meshes) and loads. The assembler adds every element the same way; it never asks what
+type an element is.
+
+Lines of action follow sympy.mechanics' "scalar law times a geometry": a vector ``g`` of
+projection coefficients turns the scalar relative displacement ``delta = g . q - e(t)``
+into generalised forces ``g * F`` with ``F = k(t) f(delta) + c d(delta)/dt``, so the
+mean stiffness block is ``k g g^T`` (paper 000 Eq. 2-7, paper 004 Eq. 2).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ModelError
+from .dofs import Dof
+from .laws import Backlash, Constant, TimeLaw
+
+__all__ = [
+    "Centripetal",
+    "Contribution",
+    "Coupling",
+    "Element",
+    "Inertia",
+    "Line",
+    "Load",
+    "Mesh",
+    "Support",
+]
+
+
+@dataclass(frozen=True)
+class Line:
+    """A nonlinear line of action in local coordinates of its element.
+
+    Attributes
+    ----------
+    g : ndarray
+        Projection coefficients on the element's DOFs (m/m or m/rad).
+    stiffness : TimeLaw
+        ``k(t)`` (N/m).
+    damping : float
+        ``c`` (N s/m) acting on ``d(delta)/dt``.
+    backlash : Backlash
+        Dead zone of ``f(delta)``; half width 0 means permanent contact.
+    error : TimeLaw
+        Transmission error ``e(t)`` (m).
+    """
+
+    g: NDArray[np.float64]
+    stiffness: TimeLaw
+    damping: float
+    backlash: Backlash
+    error: TimeLaw
+
+
+@dataclass(frozen=True)
+class Contribution:
+    """Local blocks an element adds to the model (``n`` = number of element DOFs).
+
+    ``mass``, ``damping``, ``stiffness`` are ``(n, n)`` arrays or None; ``lines`` are the
+    element's nonlinear lines of action (their mean stiffness and damping are *not* in
+    ``stiffness``/``damping``); ``loads`` pairs a local DOF index with a law of time
+    (N or N m).
+    """
+
+    mass: NDArray | None = None
+    damping: NDArray | None = None
+    stiffness: NDArray | None = None
+    lines: tuple[Line, ...] = ()
+    loads: tuple[tuple[int, TimeLaw], ...] = ()
+
+
+class Element(ABC):
+    """Interface of all model elements.
+
+    Subclasses are frozen dataclasses whose numeric fields are the element's parameters
+    (addressable as ``"element_name.field"`` for sensitivities and sweeps).
+    """
+
+    name: str
+
+    @property
+    @abstractmethod
+    def dofs(self) -> tuple[str, ...]:
+        """Names (``"body.kind"``) of the DOFs the element acts on, in local order."""
+
+    @abstractmethod
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        """Local blocks, given the element's :class:`Dof` objects and the speed (rad/s)."""
+
+
+def _nonneg(owner: str, name: str, value: float) -> None:
+    v = np.real(value)
+    if not (np.isfinite(v) and v >= 0):
+        raise ModelError(f"{owner}: {name} must be a finite number >= 0, got {value!r}")
+
+
+def _as_law(value: TimeLaw | float, owner: str, what: str) -> TimeLaw:
+    if isinstance(value, TimeLaw):
+        return value
+    try:
+        return Constant(value)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"{owner}: {what} must be a number or a TimeLaw, got {value!r}") from exc
+
+
+@dataclass(frozen=True)
+class Inertia(Element):
+    """Mass (kg) on a translational DOF or moment of inertia (kg m^2) on a rotational one.
+
+    On an equivalent linear displacement ``u = r theta`` a moment of inertia ``J``
+    becomes the mass ``J / r^2`` (paper 003 Eq. 7, paper 004 Eq. 2).
+
+    Parameters
+    ----------
+    dof : str
+        DOF name.
+    value : float
+        kg for x, y, z; kg m^2 for rx, ry, rz and u.
+    name : str
+        Element name; defaults to ``"inertia:<dof>"``.
+    """
+
+    dof: str
+    value: float
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"inertia:{self.dof}")
+        v = np.real(self.value)
+        if not (np.isfinite(v) and v > 0):
+            raise ModelError(f"{self.name}: value must be > 0, got {self.value!r}")
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return (self.dof,)
+
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        (d,) = dofs
+        m = self.value / d.radius**2 if d.kind == "u" else self.value
+        return Contribution(mass=np.array([[m]]))
+
+
+@dataclass(frozen=True)
+class Coupling(Element):
+    """Linear spring-damper on a linear combination of DOFs (a shaft, a bearing, ...).
+
+    ``K = k g g^T``, ``C = c g g^T`` with ``g`` the coefficients (paper 003 ``K_m`` rows,
+    paper 004's shafts ``k_DH (X_D - X_H)``).
+
+    Parameters
+    ----------
+    coefficients : mapping of str to float
+        DOF name -> coefficient of the stretch ``s = sum g_i q_i``.
+    stiffness : float
+        ``k`` (N/m if ``s`` is a length, N m/rad if an angle).
+    damping : float
+        ``c`` in the same force-per-rate unit.
+    name : str
+        Element name; defaults to ``"coupling:<dofs>"``.
+    """
+
+    coefficients: Mapping[str, float]
+    stiffness: float
+    damping: float = 0.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        coef = dict(self.coefficients)
+        if not coef:
+            raise ModelError("Coupling: needs at least one coefficient")
+        if not self.name:
+            object.__setattr__(self, "name", "coupling:" + "-".join(coef))
+        object.__setattr__(self, "coefficients", coef)
+        _nonneg(self.name, "stiffness", self.stiffness)
+        _nonneg(self.name, "damping", self.damping)
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return tuple(self.coefficients)
+
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        g = np.array(list(self.coefficients.values()))
+        gg = np.outer(g, g)
+        return Contribution(stiffness=self.stiffness * gg, damping=self.damping * gg)
+
+
+@dataclass(frozen=True)
+class Support(Element):
+    """Spring and damper from one DOF to ground (a bearing in one direction).
+
+    Parameters
+    ----------
+    dof : str
+        DOF name.
+    stiffness : float
+        N/m (translations, u) or N m/rad (rotations).
+    damping : float
+        N s/m or N m s/rad.
+    """
+
+    dof: str
+    stiffness: float
+    damping: float = 0.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"support:{self.dof}")
+        _nonneg(self.name, "stiffness", self.stiffness)
+        _nonneg(self.name, "damping", self.damping)
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return (self.dof,)
+
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        return Contribution(
+            stiffness=np.array([[self.stiffness]]), damping=np.array([[self.damping]])
+        )
+
+
+@dataclass(frozen=True)
+class Mesh(Element):
+    """A gear mesh: a line of action with time-varying stiffness, backlash and error.
+
+    The relative displacement along the line of action is
+    ``delta = sum_i g_i q_i - e(t)`` (paper 000 Eq. 2-3, paper 004 Eq. 3) and the mesh
+    force ``F = k(t) f(delta) + c d(delta)/dt`` (paper 000 Eq. 5) acts on the DOFs as
+    ``g F``. Positive ``delta`` is compression of the driving flank.
+
+    Parameters
+    ----------
+    coefficients : mapping of str to float
+        DOF name -> projection coefficient ``g_i`` (m/m for translations and u,
+        m/rad for rotations, i.e. a radius).
+    stiffness : TimeLaw or float
+        ``k(t)`` (N/m); a number means a constant law. Modal analysis uses its mean.
+    damping : float
+        Mesh damping ``c`` (N s/m).
+    backlash : Backlash, optional
+        Clearance; None for permanent contact (``f(delta) = delta``).
+    error : TimeLaw or float
+        Static transmission error ``e(t)`` (m); 0 by default.
+    """
+
+    coefficients: Mapping[str, float]
+    stiffness: TimeLaw | float
+    damping: float = 0.0
+    backlash: Backlash | None = None
+    error: TimeLaw | float = 0.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        coef = dict(self.coefficients)
+        if not coef:
+            raise ModelError("Mesh: needs at least one projection coefficient")
+        if not self.name:
+            object.__setattr__(self, "name", "mesh:" + "-".join(coef))
+        object.__setattr__(self, "coefficients", coef)
+        object.__setattr__(self, "stiffness", _as_law(self.stiffness, self.name, "stiffness"))
+        object.__setattr__(self, "error", _as_law(self.error, self.name, "error"))
+        if self.backlash is None:
+            object.__setattr__(self, "backlash", Backlash(0.0))
+        mean = np.real(self.stiffness.mean)
+        if not (np.isfinite(mean) and mean > 0):
+            raise ModelError(f"{self.name}: mean stiffness must be > 0 N/m, got {mean!r}")
+        _nonneg(self.name, "damping", self.damping)
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return tuple(self.coefficients)
+
+    @property
+    def g(self) -> NDArray:
+        """Projection coefficients in local order."""
+        return np.array(list(self.coefficients.values()))
+
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        line = Line(
+            g=self.g,
+            stiffness=self.stiffness,  # type: ignore[arg-type]
+            damping=self.damping,
+            backlash=self.backlash,  # type: ignore[arg-type]
+            error=self.error,  # type: ignore[arg-type]
+        )
+        return Contribution(lines=(line,))
+
+
+@dataclass(frozen=True)
+class Centripetal(Element):
+    """Speed-dependent stiffness ``-m Omega^2`` of a mass seen in a frame rotating at the
+    model speed ``Omega`` (paper 003 Eq. 6-7, matrix ``K_omega``).
+
+    Parameters
+    ----------
+    dof : str
+        Translational DOF in the rotating frame.
+    mass : float
+        kg.
+    ratio : float
+        Rotation speed of the frame as a multiple of the model speed (1 by default).
+    """
+
+    dof: str
+    mass: float
+    ratio: float = 1.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"centripetal:{self.dof}")
+        _nonneg(self.name, "mass", self.mass)
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return (self.dof,)
+
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        omega = self.ratio * speed
+        return Contribution(stiffness=np.array([[-self.mass * omega**2]]))
+
+
+@dataclass(frozen=True)
+class Load(Element):
+    """External generalised force on one DOF (N, or N m on a rotation).
+
+    On an equivalent linear displacement ``u = r theta`` give the force ``T / r``
+    (paper 003 Eq. 7 ``F``, paper 004 ``P_D``).
+    """
+
+    dof: str
+    value: TimeLaw | float = field(default=0.0)
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"load:{self.dof}")
+        object.__setattr__(self, "value", _as_law(self.value, self.name, "value"))
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return (self.dof,)
+
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        return Contribution(loads=((0, self.value),))  # type: ignore[arg-type]

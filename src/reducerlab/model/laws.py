@@ -1,0 +1,309 @@
+"""Scalar laws of time (mesh stiffness, transmission error, loads) and the backlash.
+
+Each law evaluates vectorised over ``t`` and exports itself as a kind code plus a flat
+float array (:meth:`TimeLaw.flat`) that :func:`evaluate_flat` — and the compiled
+integrators built on it — evaluate without Python objects.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ModelError
+
+__all__ = [
+    "LAW_CONSTANT",
+    "LAW_FOURIER",
+    "LAW_PIECEWISE",
+    "Backlash",
+    "Constant",
+    "Fourier",
+    "PiecewisePolynomial",
+    "TimeLaw",
+    "dead_zone",
+    "evaluate_flat",
+]
+
+LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE = 0, 1, 2
+
+
+class TimeLaw(ABC):
+    """A scalar function of time ``k(t)`` (unit of the quantity it describes)."""
+
+    @abstractmethod
+    def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Value at times ``t`` (s)."""
+
+    @abstractmethod
+    def derivative(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Time derivative at ``t`` (unit per s)."""
+
+    #: Time average over one period (the value modal analysis uses). A dataclass field
+    #: of the laws that store it, a property of those that derive it.
+    mean: float
+    #: Period (s); ``inf`` for a constant.
+    period: float
+
+    def breakpoints(self, t0: float, t1: float) -> NDArray[np.float64]:
+        """Times in ``[t0, t1]`` where the law or its derivative jumps (s)."""
+        return np.empty(0)
+
+    @abstractmethod
+    def flat(self) -> tuple[int, NDArray[np.float64]]:
+        """``(kind, params)`` for :func:`evaluate_flat`."""
+
+
+def _check_finite(name: str, *values: float) -> None:
+    for v in values:
+        if not np.all(np.isfinite(np.real(v))):
+            raise ModelError(f"{name}: parameters must be finite, got {v!r}")
+
+
+@dataclass(frozen=True)
+class Constant(TimeLaw):
+    """``k(t) = mean``."""
+
+    mean: float
+
+    def __post_init__(self) -> None:
+        _check_finite("Constant", self.mean)
+
+    @property
+    def period(self) -> float:  # type: ignore[override]
+        return math.inf
+
+    def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
+        return np.full(np.shape(t), self.mean) if np.ndim(t) else np.asarray(self.mean)
+
+    def derivative(self, t: ArrayLike) -> NDArray[np.float64]:
+        return np.zeros(np.shape(t))
+
+    def flat(self) -> tuple[int, NDArray[np.float64]]:
+        return LAW_CONSTANT, np.array([self.mean], dtype=float)
+
+
+@dataclass(frozen=True)
+class Fourier(TimeLaw):
+    """Truncated Fourier series, paper 000 Eq. 8.
+
+    ``k(t) = mean + sum_r amplitudes[r-1] * cos(r * omega * t + phases[r-1])``
+
+    Parameters
+    ----------
+    mean : float
+        Average value (e.g. N/m for a mesh stiffness).
+    amplitudes : array_like
+        Harmonic amplitudes ``k_r``, r = 1..l (same unit as ``mean``).
+    phases : array_like
+        Harmonic phases ``phi_r`` (rad); zeros if omitted.
+    omega : float
+        Fundamental angular frequency (rad/s), e.g. the mesh frequency.
+    """
+
+    mean: float
+    amplitudes: tuple[float, ...]
+    omega: float
+    phases: tuple[float, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        amps = tuple(np.atleast_1d(np.asarray(self.amplitudes)).tolist())
+        phases = self.phases or (0.0,) * len(amps)
+        phases = tuple(np.atleast_1d(np.asarray(phases)).tolist())
+        if len(phases) != len(amps):
+            raise ModelError(
+                f"Fourier: {len(amps)} amplitudes but {len(phases)} phases; give one per harmonic"
+            )
+        if not np.real(self.omega) > 0:
+            raise ModelError(f"Fourier: omega must be > 0 rad/s, got {self.omega!r}")
+        _check_finite("Fourier", self.mean, self.omega, *amps, *phases)
+        object.__setattr__(self, "amplitudes", amps)
+        object.__setattr__(self, "phases", phases)
+
+    def _arg(self, t: ArrayLike) -> NDArray[np.float64]:
+        r = np.arange(1, len(self.amplitudes) + 1)
+        return np.multiply.outer(np.asarray(t, dtype=float), r * self.omega) + np.asarray(
+            self.phases
+        )
+
+    def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
+        return self.mean + np.cos(self._arg(t)) @ np.asarray(self.amplitudes)
+
+    def derivative(self, t: ArrayLike) -> NDArray[np.float64]:
+        r = np.arange(1, len(self.amplitudes) + 1)
+        return -np.sin(self._arg(t)) @ (np.asarray(self.amplitudes) * r * self.omega)
+
+    @property
+    def period(self) -> float:  # type: ignore[override]
+        return 2 * math.pi / float(np.real(self.omega))
+
+    def flat(self) -> tuple[int, NDArray[np.float64]]:
+        n = len(self.amplitudes)
+        return LAW_FOURIER, np.array(
+            [self.mean, self.omega, n, *self.amplitudes, *self.phases], dtype=float
+        )
+
+
+@dataclass(frozen=True)
+class PiecewisePolynomial(TimeLaw):
+    """Periodic piecewise polynomial in the phase ``s = ((t - t0) / period) mod 1``.
+
+    Paper 004 Eq. 9 writes the single/double-tooth mesh stiffness this way.
+
+    Parameters
+    ----------
+    period : float
+        Period (s), e.g. one mesh period.
+    breaks : array_like
+        Start phases of the pieces, ``0 = s_0 < s_1 < ... < s_{n-1} < 1``.
+    coefficients : array_like, shape (n_pieces, degree + 1)
+        Ascending-power coefficients in ``s`` of each piece:
+        ``value = c0 + c1 s + c2 s^2 + ...`` (unit of the quantity).
+    t0 : float
+        Time (s) at which the phase is zero.
+    """
+
+    period: float
+    breaks: tuple[float, ...]
+    coefficients: tuple[tuple[float, ...], ...]
+    t0: float = 0.0
+
+    def __post_init__(self) -> None:
+        breaks = np.atleast_1d(np.asarray(self.breaks, dtype=float))
+        coef = np.atleast_2d(np.asarray(self.coefficients))
+        if not np.real(self.period) > 0:
+            raise ModelError(f"PiecewisePolynomial: period must be > 0 s, got {self.period!r}")
+        if breaks[0] != 0.0 or np.any(np.diff(breaks) <= 0) or breaks[-1] >= 1.0:
+            raise ModelError(
+                "PiecewisePolynomial: breaks must start at 0, increase strictly and stay < 1; "
+                f"got {breaks.tolist()}"
+            )
+        if coef.shape[0] != breaks.size:
+            raise ModelError(
+                f"PiecewisePolynomial: {breaks.size} breaks but {coef.shape[0]} coefficient rows"
+            )
+        _check_finite("PiecewisePolynomial", self.period, self.t0, *coef.ravel())
+        object.__setattr__(self, "breaks", tuple(breaks.tolist()))
+        object.__setattr__(self, "coefficients", tuple(tuple(row) for row in coef.tolist()))
+
+    def _piece(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+        s = np.mod((np.asarray(t, dtype=float) - self.t0) / self.period, 1.0)
+        i = np.searchsorted(np.asarray(self.breaks), s, side="right") - 1
+        return s, i
+
+    def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
+        s, i = self._piece(t)
+        c = np.asarray(self.coefficients)[i]  # (..., deg+1)
+        powers = s[..., None] ** np.arange(c.shape[-1])
+        return np.sum(c * powers, axis=-1)
+
+    def derivative(self, t: ArrayLike) -> NDArray[np.float64]:
+        s, i = self._piece(t)
+        c = np.asarray(self.coefficients)[i]
+        p = np.arange(1, c.shape[-1])
+        powers = s[..., None] ** (p - 1)
+        return np.sum(c[..., 1:] * p * powers, axis=-1) / self.period
+
+    @property
+    def mean(self) -> float:  # type: ignore[override]
+        c = np.asarray(self.coefficients)
+        edges = np.append(np.asarray(self.breaks), 1.0)
+        p = np.arange(1, c.shape[1] + 1)
+        upper = (edges[1:, None] ** p) / p
+        lower = (edges[:-1, None] ** p) / p
+        return float(np.sum(c * (upper - lower)))
+
+    def breakpoints(self, t0: float, t1: float) -> NDArray[np.float64]:
+        n0 = math.floor((t0 - self.t0) / self.period)
+        n1 = math.ceil((t1 - self.t0) / self.period)
+        k = np.arange(n0, n1 + 1)
+        times = self.t0 + (k[:, None] + np.asarray(self.breaks)) * self.period
+        times = times.ravel()
+        return times[(times >= t0) & (times <= t1)]
+
+    def flat(self) -> tuple[int, NDArray[np.float64]]:
+        c = np.asarray(self.coefficients, dtype=float)
+        n, m = c.shape
+        return LAW_PIECEWISE, np.array(
+            [self.period, self.t0, n, m, *self.breaks, *c.ravel()], dtype=float
+        )
+
+
+def evaluate_flat(kind: int, params: NDArray[np.float64], t: float) -> tuple[float, float]:
+    """Value and time derivative of a law from its flat export at one time ``t`` (s).
+
+    This is the reference for the compiled kernels: it uses scalar arithmetic only.
+    """
+    if kind == LAW_CONSTANT:
+        return float(params[0]), 0.0
+    if kind == LAW_FOURIER:
+        mean, omega, n = params[0], params[1], int(params[2])
+        val, der = mean, 0.0
+        for r in range(1, n + 1):
+            arg = r * omega * t + params[2 + n + r]
+            val += params[2 + r] * math.cos(arg)
+            der -= params[2 + r] * r * omega * math.sin(arg)
+        return float(val), float(der)
+    if kind == LAW_PIECEWISE:
+        period, t0, n, m = params[0], params[1], int(params[2]), int(params[3])
+        s = ((t - t0) / period) % 1.0
+        i = 0
+        while i + 1 < n and params[4 + i + 1] <= s:
+            i += 1
+        base = 4 + n + i * m
+        val, der = 0.0, 0.0
+        for p in range(m - 1, -1, -1):  # Horner in s
+            der = der * s + val if p < m - 1 else 0.0
+            val = val * s + params[base + p]
+        return float(val), float(der / period)
+    raise ModelError(f"unknown law kind {kind}")
+
+
+def dead_zone(delta: ArrayLike, half_width: float) -> NDArray[np.float64]:
+    """Backlash (clearance) function with a dead zone ``|delta| <= half_width``.
+
+    ``f = delta - h`` for ``delta > h``, ``0`` for ``|delta| <= h``,
+    ``delta + h`` for ``delta < -h``, with ``h = half_width`` (m). This is paper 004
+    Eq. 11 with ``h = b`` (its b is half the backlash) and paper 000 Eq. 6 with
+    ``h = b/2`` (its b is the full backlash). See ``docs/conventions.md``.
+    """
+    d = np.asarray(delta, dtype=float)
+    return d - np.clip(d, -half_width, half_width)
+
+
+@dataclass(frozen=True)
+class Backlash:
+    """Clearance of a mesh along its line of action, stored as the half width (m).
+
+    Build it with the convention of the source you copy from:
+    ``Backlash.full(b)`` when ``b`` is the whole clearance between the flanks
+    (paper 000 Eq. 6), ``Backlash.half(b)`` when ``b`` is half of it (paper 004 Eq. 11).
+    """
+
+    half_width: float
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(np.real(self.half_width)) and np.real(self.half_width) >= 0):
+            raise ModelError(f"Backlash: half width must be >= 0 m, got {self.half_width!r}")
+
+    @classmethod
+    def full(cls, b: float) -> Backlash:
+        """From the full backlash ``b`` (m): dead zone ``|delta| <= b/2``."""
+        return cls(b / 2.0)
+
+    @classmethod
+    def half(cls, b: float) -> Backlash:
+        """From the half backlash ``b`` (m): dead zone ``|delta| <= b``."""
+        return cls(b)
+
+    @property
+    def full_width(self) -> float:
+        """Whole clearance (m)."""
+        return 2.0 * self.half_width
+
+    def __call__(self, delta: ArrayLike) -> NDArray[np.float64]:
+        return dead_zone(delta, self.half_width)

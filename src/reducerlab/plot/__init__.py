@@ -1,0 +1,1 @@
+"""Matplotlib figures from results (imported only when a figure is drawn)."""
