@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import json
 import sys
-from enum import Enum
+from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
@@ -30,7 +30,7 @@ out = Console()
 err = Console(stderr=True)
 
 
-class Format(str, Enum):
+class Format(StrEnum):
     table = "table"
     json = "json"
 
@@ -55,26 +55,29 @@ def _fail(exc: Exception) -> None:
     raise typer.Exit(code=2)
 
 
-def _model_from(design_path: Path):  # noqa: ANN202
+def _model_from(design_path: Path):
     from .drives import build_model, load_design
 
     design = load_design(design_path)
     return design, build_model(design)
 
 
-def _write_modal(result, outdir: Path) -> list[Path]:  # noqa: ANN001
+def _write_modal(result, outdir: Path) -> list[Path]:
     outdir.mkdir(parents=True, exist_ok=True)
     written = [result.save(outdir / "modal.nc")]
     (outdir / "modal.json").write_text(result.to_json())
     (outdir / "modal.txt").write_text(result.table() + "\n")
     written += [outdir / "modal.json", outdir / "modal.txt"]
-    for name, fig in (("mode_shapes.png", result.plot_shapes()), ("energy.png", result.plot_energy())):
+    for name, fig in (
+        ("mode_shapes.png", result.plot_shapes()),
+        ("energy.png", result.plot_energy()),
+    ):
         fig.savefig(outdir / name, dpi=120)
         written.append(outdir / name)
     return written
 
 
-def _print_modal(result) -> None:  # noqa: ANN001
+def _print_modal(result) -> None:
     table = Table(title=result.data.attrs.get("title", "modal analysis"))
     table.add_column("mode", justify="right")
     table.add_column("frequency (Hz)", justify="right")
@@ -157,7 +160,9 @@ def sensitivity(
                 {
                     "parameters": [str(p) for p in ds["parameter"].values],
                     "frequencies_hz": [float(f) for f in ds["frequency"].values],
-                    "dfdp": [[None if v != v else float(v) for v in row] for row in ds["dfdp"].values],
+                    "dfdp": [
+                        [None if v != v else float(v) for v in row] for row in ds["dfdp"].values
+                    ],
                     "relative": [
                         [None if v != v else float(v) for v in row] for row in ds["relative"].values
                     ],

@@ -93,14 +93,11 @@ def angle_between(lo_deg: float, hi_deg: float, *, closed: bool = False) -> Any:
             brackets = "[]" if closed else "()"
             raise PydanticCustomError(
                 "angle_range",
-                "angle {deg:.6g}° out of range: must lie in {lb}{lo}°, {hi}°{rb}"
+                "angle {deg}° out of range: must lie in {interval}"
                 " (a plain number is read as radians; write e.g. '25 deg')",
                 {
-                    "deg": math.degrees(value),
-                    "lo": lo_deg,
-                    "hi": hi_deg,
-                    "lb": brackets[0],
-                    "rb": brackets[1],
+                    "deg": f"{math.degrees(value):.6g}",
+                    "interval": f"{brackets[0]}{lo_deg:g}°, {hi_deg:g}°{brackets[1]}",
                 },
             )
         return value
@@ -171,10 +168,10 @@ _RULES = {
     "missing": "required field is missing",
     "int_type": "must be an integer",
     "int_from_float": "must be an integer",
-    "greater_than": "must be greater than {gt} (SI)",
-    "greater_than_equal": "must be greater than or equal to {ge} (SI)",
-    "less_than": "must be less than {lt} (SI)",
-    "less_than_equal": "must be less than or equal to {le} (SI)",
+    "greater_than": "must be greater than {gt}",
+    "greater_than_equal": "must be greater than or equal to {ge}",
+    "less_than": "must be less than {lt}",
+    "less_than_equal": "must be less than or equal to {le}",
     "literal_error": "must be one of {expected}",
 }
 
@@ -218,7 +215,7 @@ def _format_errors(
     for err in exc.errors(include_url=False):
         loc = tuple(err["loc"])
         # Errors inside a tagged union carry the tag as an extra loc element.
-        path = ".".join(str(k) for k in loc) or "<root>"
+        path = ".".join(str(k) for k in loc) or "(design)"
         kind = err["type"]
         rule = _RULES.get(kind)
         if rule is not None:

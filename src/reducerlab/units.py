@@ -65,6 +65,7 @@ def registry() -> Any:
     import pint
 
     ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
+    ureg.define("rev = revolution")
     return ureg
 
 
@@ -96,17 +97,23 @@ def parse_quantity(value: Any, kind: str) -> float:
         cannot be parsed, is not finite, or has the wrong dimension.
     """
     spec = QUANTITIES[kind]
+    a = "an" if spec.name[0] in "aeiou" else "a"
     if isinstance(value, bool):
-        raise ValueError(f"expected a {spec.name}, e.g. {spec.example!r}, not a boolean")
+        raise ValueError(f"expected {a} {spec.name}, e.g. {spec.example!r}, not a boolean")
     if isinstance(value, int | float):
-        out = float(value)
+        try:
+            out = float(value)
+        except OverflowError:
+            raise ValueError(f"expected a finite {spec.name}, got {value!r}") from None
     elif isinstance(value, str):
         import pint
 
         ureg = registry()
         text = value.strip()
         if not text:
-            raise ValueError(f"expected a {spec.name}, e.g. {spec.example!r}, got an empty string")
+            raise ValueError(
+                f"expected {a} {spec.name}, e.g. {spec.example!r}, got an empty string"
+            )
         if kind == "angular velocity" and _is_ambiguous_speed(text):
             raise ValueError(
                 "Hz is ambiguous for an angular velocity; write 'rpm', 'rev/s' or 'rad/s'"
@@ -115,11 +122,11 @@ def parse_quantity(value: Any, kind: str) -> float:
             q = ureg.Quantity(text)
         except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
             raise ValueError(
-                f"cannot read {text!r} as a {spec.name} ({exc}); write e.g. {spec.example!r}"
+                f"cannot read {text!r} as {a} {spec.name} ({exc}); write e.g. {spec.example!r}"
             ) from None
         except Exception as exc:  # tokenizer errors of pint are plain Python errors
             raise ValueError(
-                f"cannot read {text!r} as a {spec.name} ({type(exc).__name__}); "
+                f"cannot read {text!r} as {a} {spec.name} ({type(exc).__name__}); "
                 f"write e.g. {spec.example!r}"
             ) from None
         if not isinstance(q, ureg.Quantity):  # a bare number inside a string
@@ -131,12 +138,12 @@ def parse_quantity(value: Any, kind: str) -> float:
             want = ureg.Quantity(1, spec.si_unit).dimensionality
             want_s = str(want) if str(want) else "dimensionless"
             raise ValueError(
-                f"wrong dimension: expected a {spec.name} [{want_s}], e.g. {spec.example!r}, "
+                f"wrong dimension: expected {a} {spec.name} [{want_s}], e.g. {spec.example!r}, "
                 f"but {text!r} is [{got}]"
             ) from None
     else:
         raise ValueError(
-            f"expected a {spec.name} as a number (SI) or a string with units, "
+            f"expected {a} {spec.name} as a number (SI) or a string with units, "
             f"e.g. {spec.example!r}; got {type(value).__name__}"
         )
     if not math.isfinite(out):

@@ -407,11 +407,16 @@ def _shape_matrix(x: ModalResult | NDArray) -> tuple[NDArray, list[str] | None]:
     return arr, None
 
 
-def mac(a: ModalResult | NDArray, b: ModalResult | NDArray) -> xr.DataArray:
+def mac(
+    a: ModalResult | NDArray, b: ModalResult | NDArray, weight: NDArray | None = None
+) -> xr.DataArray:
     """Modal assurance criterion between two mode sets.
 
-    ``MAC_ij = |a_i^T b_j|^2 / ((a_i^T a_i)(b_j^T b_j))``. Results are matched by DOF
-    name when both are :class:`ModalResult`; arrays must share the row order.
+    ``MAC_ij = |a_i^T W b_j|^2 / ((a_i^T W a_i)(b_j^T W b_j))`` with ``W`` the identity
+    (classic MAC) or a weighting matrix such as the mass matrix (then modes of one
+    model are mutually orthogonal: MAC is the identity). Results are matched by DOF
+    name when both are :class:`ModalResult`; arrays must share the row order (and the
+    order of ``weight``, which follows ``a``).
 
     Returns
     -------
@@ -428,8 +433,11 @@ def mac(a: ModalResult | NDArray, b: ModalResult | NDArray) -> xr.DataArray:
         B = B[[nb.index(d) for d in na]]
     if A.shape[0] != B.shape[0]:
         raise ReducerlabError(f"mac: {A.shape[0]} DOFs against {B.shape[0]} DOFs")
-    num = (A.T @ B) ** 2
-    den = np.outer(np.sum(A * A, axis=0), np.sum(B * B, axis=0))
+    W = np.eye(A.shape[0]) if weight is None else np.asarray(weight, dtype=float)
+    if W.shape != (A.shape[0], A.shape[0]):
+        raise ReducerlabError(f"mac: weight must be {A.shape[0]}x{A.shape[0]}, got {W.shape}")
+    num = (A.T @ W @ B) ** 2
+    den = np.outer(np.sum(A * (W @ A), axis=0), np.sum(B * (W @ B), axis=0))
     return xr.DataArray(
         num / den,
         dims=("mode_a", "mode_b"),

@@ -38,13 +38,15 @@ DRIVES: dict[str, DriveType] = {
 def design_from_dict(data: Mapping[str, Any], source: str = "<design>") -> Design:
     """Validate a raw design mapping (as read from TOML) against its drive's schema."""
     if not isinstance(data, Mapping):
-        raise DesignError(f"{source}: a design must be a table of fields, got {type(data).__name__}")
+        raise DesignError(
+            f"{source}: a design must be a table of fields, got {type(data).__name__}"
+        )
     kind = data.get("type")
     if kind is None:
         raise DesignError(
             f"{source}: type: required field is missing (one of: {', '.join(DRIVES)})"
         )
-    if kind not in DRIVES:
+    if not isinstance(kind, str) or kind not in DRIVES:
         raise DesignError(
             f"{source}: type = {kind!r}: unknown drive type (one of: {', '.join(DRIVES)})"
         )

@@ -36,7 +36,7 @@ from ..design import (
 from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 from ..model.laws import TimeLaw
 
-__all__ = ["Bearing", "GearPairDesign", "Gear", "GearMesh", "Operating", "build_model"]
+__all__ = ["Bearing", "Gear", "GearMesh", "GearPairDesign", "Operating", "build_model"]
 
 
 class Bearing(Spec):
@@ -81,10 +81,11 @@ class GearMesh(Spec):
                 f"stiffness_harmonics has {len(self.stiffness_harmonics)}; give one phase per "
                 "harmonic or none"
             )
-        if sum(self.stiffness_harmonics) >= self.stiffness:
+        total = sum(self.stiffness_harmonics)
+        if total > self.stiffness:
             raise ValueError(
-                "the stiffness harmonics add up to more than the mean stiffness, so k(t) "
-                "could become negative"
+                f"stiffness_harmonics add up to {total:.6g} N/m, more than the mean "
+                f"stiffness {self.stiffness:.6g} N/m, so k(t) would become negative"
             )
         return self
 
@@ -109,7 +110,8 @@ class GearPairDesign(Design):
     def _harmonics_need_speed(self) -> GearPairDesign:
         if self.mesh.stiffness_harmonics and self.operating.speed <= 0:
             raise ValueError(
-                "mesh.stiffness_harmonics need operating.speed > 0 to set the mesh frequency"
+                "mesh.stiffness_harmonics need operating.speed > 0 to set the mesh "
+                f"frequency; operating.speed is {self.operating.speed:g} rad/s"
             )
         return self
 

@@ -102,8 +102,7 @@ class Model:
             missing = [d for d in e.dofs if d not in self.index]
             if missing:
                 raise ModelError(
-                    f"element {e.name!r} refers to unknown DOF(s) {missing}; "
-                    f"the model has {names}"
+                    f"element {e.name!r} refers to unknown DOF(s) {missing}; the model has {names}"
                 )
             if len(set(e.dofs)) != len(e.dofs):
                 raise ModelError(f"element {e.name!r} lists a DOF twice: {list(e.dofs)}")
@@ -310,9 +309,7 @@ class Model:
 
     def with_speed(self, speed: float) -> Model:
         """A new model at another reference speed (rad/s)."""
-        return Model(
-            self.dofs, self.elements, speed=speed, name=self.name, metadata=self.metadata
-        )
+        return Model(self.dofs, self.elements, speed=speed, name=self.name, metadata=self.metadata)
 
     def derivative(self, path: str) -> Matrices:
         """Exact ``dM/dp, dC/dp, dK/dp`` of the mean matrices for a parameter ``p``.

@@ -107,7 +107,10 @@ def plot_energy(result: ModalResult) -> Figure:
     )
     widths = [max(len(cells), 1), max(len(elements), 1)]
     ax1, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": widths})
-    ylabels = [f"{int(m)}: {f:.4g} Hz" for m, f in zip(ds["mode"].values, ds["frequency"].values)]
+    ylabels = [
+        f"{int(m)}: {f:.4g} Hz"
+        for m, f in zip(ds["mode"].values, ds["frequency"].values, strict=True)
+    ]
     for ax, data, xl, title in (
         (ax1, grid, [f"{b}\n{f}" for b, f in cells], "kinetic energy share"),
         (ax2, ee, elements, "strain energy share"),
@@ -119,8 +122,15 @@ def plot_energy(result: ModalResult) -> Figure:
         ax.set_title(title, fontsize=9)
         for (r, c), v in np.ndenumerate(data):
             if np.isfinite(v) and v >= 0.05:
-                ax.text(c, r, f"{100 * v:.0f}", ha="center", va="center", fontsize=6,
-                        color="w" if v < 0.6 else "k")
+                ax.text(
+                    c,
+                    r,
+                    f"{100 * v:.0f}",
+                    ha="center",
+                    va="center",
+                    fontsize=6,
+                    color="w" if v < 0.6 else "k",
+                )
     ax2.set_yticks([])
     fig.colorbar(im, ax=[ax1, ax2], shrink=0.8, label="share")
     fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
@@ -132,13 +142,15 @@ def plot_sensitivity(result: SensitivityResult) -> Figure:
     ds = result.data
     rel = ds["relative"].values
     params = [str(p) for p in ds["parameter"].values]
-    fig = _figure(figsize=(2.5 + 0.9 * len(params), 1.6 + 0.3 * rel.shape[0]),
-                  layout="constrained")
+    fig = _figure(figsize=(2.5 + 0.9 * len(params), 1.6 + 0.3 * rel.shape[0]), layout="constrained")
     ax = fig.subplots()
     lim = float(np.nanmax(np.abs(rel))) if np.any(np.isfinite(rel)) else 1.0
     im = ax.imshow(np.nan_to_num(rel), cmap="RdBu_r", vmin=-lim, vmax=lim, aspect="auto")
     ax.set_xticks(np.arange(len(params)), params, rotation=90, fontsize=7)
-    ylabels = [f"{int(m)}: {f:.4g} Hz" for m, f in zip(ds["mode"].values, ds["frequency"].values)]
+    ylabels = [
+        f"{int(m)}: {f:.4g} Hz"
+        for m, f in zip(ds["mode"].values, ds["frequency"].values, strict=True)
+    ]
     ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=7)
     for (r, c), v in np.ndenumerate(rel):
         if np.isfinite(v):

@@ -1,0 +1,43 @@
+"""Shared fixtures: small models with closed-form answers."""
+
+from __future__ import annotations
+
+import matplotlib
+import pytest
+
+matplotlib.use("Agg")
+
+from reducerlab.model import Dof, Inertia, Mesh, Model, Support
+
+
+def torsional_pair(J1=2.0e-3, J2=5.0e-2, r1=0.03, r2=0.09, k=3.0e8) -> Model:
+    """Two gears coupled only through a mesh on their rotations."""
+    return Model(
+        [Dof("pinion", "rz"), Dof("gear", "rz")],
+        [
+            Inertia("pinion.rz", J1),
+            Inertia("gear.rz", J2),
+            Mesh({"pinion.rz": r1, "gear.rz": r2}, stiffness=k, name="mesh"),
+        ],
+        name="torsional pair",
+    )
+
+
+def chain(masses, springs, *, grounded=False) -> Model:
+    """Spring-mass chain along x; ``springs[i]`` couples mass i and i+1."""
+    dofs = [Dof(f"m{i}", "x") for i in range(len(masses))]
+    from reducerlab.model import Coupling
+
+    els = [Inertia(f"m{i}.x", m) for i, m in enumerate(masses)]
+    els += [
+        Coupling({f"m{i}.x": 1.0, f"m{i + 1}.x": -1.0}, k, name=f"k{i}")
+        for i, k in enumerate(springs)
+    ]
+    if grounded:
+        els.append(Support("m0.x", springs[0], name="ground"))
+    return Model(dofs, els, name="chain")
+
+
+@pytest.fixture
+def pair() -> Model:
+    return torsional_pair()
