@@ -13,7 +13,7 @@ from typing import Any, NamedTuple
 from ..design import Design, read_toml, validate_design
 from ..errors import DesignError
 from ..model import Model
-from . import gear_pair
+from . import gear_pair, lumped
 
 __all__ = ["DRIVES", "DriveType", "build_model", "design_from_dict", "load_design"]
 
@@ -31,6 +31,11 @@ DRIVES: dict[str, DriveType] = {
         gear_pair.GearPairDesign,
         gear_pair.build_model,
         "spur gear pair on bearings, bending-torsional",
+    ),
+    "lumped": DriveType(
+        lumped.LumpedDesign,
+        lumped.build_model,
+        "any lumped model written out DOF by DOF and element by element",
     ),
 }
 

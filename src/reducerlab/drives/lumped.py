@@ -1,0 +1,320 @@
+"""A lumped model written out in the design file: any topology, no builder needed.
+
+``type = "lumped"`` lists DOFs and elements directly, with units::
+
+    type = "lumped"
+    name = "motor - shaft - load"
+
+    [[dofs]]
+    body = "motor"
+    kind = "rz"
+
+    [[elements]]
+    type = "inertia"
+    dof = "motor.rz"
+    moment_of_inertia = "4e-4 kg*m^2"
+
+    [[elements]]
+    type = "coupling"
+    coefficients = { "motor.rz" = 1, "load.rz" = -1 }
+    torsional_stiffness = "1.8e4 N*m/rad"
+
+Translations take ``mass``, ``stiffness`` (N/m), ``damping`` (N s/m) and ``force``;
+rotations take ``moment_of_inertia``, ``torsional_stiffness``, ``torsional_damping``
+and ``torque``. A ``u`` DOF (equivalent linear displacement at ``radius``) takes
+either inertia; its springs are linear. Projection coefficients are plain numbers in
+SI (m/m, or m/rad on a rotation, i.e. a radius).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from ..design import (
+    AngularVelocity,
+    Damping,
+    Design,
+    Force,
+    Length,
+    Mass,
+    MomentOfInertia,
+    NonNegativeStiffness,
+    Spec,
+    Stiffness,
+    Torque,
+    TorsionalDamping,
+    TorsionalStiffness,
+    quantity,
+)
+from ..errors import ModelError
+from ..model import (
+    Backlash,
+    Centripetal,
+    Constant,
+    Coupling,
+    Dof,
+    Fourier,
+    Inertia,
+    Load,
+    Mesh,
+    Model,
+    Support,
+)
+from ..model.laws import TimeLaw
+
+__all__ = ["LumpedDesign", "build_model"]
+
+Coefficients = dict[str, Annotated[float, Field(allow_inf_nan=False)]]
+Frequency = quantity("frequency", gt=0)
+Angle = quantity("angle")
+
+
+class DofSpec(Spec):
+    """One DOF: ``body``, ``kind`` (x, y, z, rx, ry, rz, u) and, for u, ``radius``."""
+
+    body: str
+    kind: Literal["x", "y", "z", "rx", "ry", "rz", "u"]
+    radius: Length | None = None
+
+    @model_validator(mode="after")
+    def _radius(self) -> DofSpec:
+        if self.kind == "u" and self.radius is None:
+            raise ValueError("a 'u' DOF needs a radius (e.g. radius = \"45 mm\")")
+        if self.kind != "u" and self.radius is not None:
+            raise ValueError(f"only kind 'u' takes a radius, not kind {self.kind!r}")
+        return self
+
+    @property
+    def name(self) -> str:
+        return f"{self.body}.{self.kind}"
+
+
+class InertiaSpec(Spec):
+    """``mass`` (kg) or ``moment_of_inertia`` (kg m^2) on one DOF."""
+
+    type: Literal["inertia"]
+    dof: str
+    mass: Mass | None = None
+    moment_of_inertia: MomentOfInertia | None = None
+    name: str = ""
+
+
+class SupportSpec(Spec):
+    """Spring-damper to ground on one DOF."""
+
+    type: Literal["support"]
+    dof: str
+    stiffness: NonNegativeStiffness | None = None
+    damping: Damping | None = None
+    torsional_stiffness: TorsionalStiffness | None = None
+    torsional_damping: TorsionalDamping | None = None
+    name: str = ""
+
+
+class CouplingSpec(Spec):
+    """Spring-damper on ``sum coefficients[i] * q_i`` (a length or an angle)."""
+
+    type: Literal["coupling"]
+    coefficients: Coefficients
+    stiffness: NonNegativeStiffness | None = None
+    damping: Damping | None = None
+    torsional_stiffness: TorsionalStiffness | None = None
+    torsional_damping: TorsionalDamping | None = None
+    name: str = ""
+
+
+class MeshSpec(Spec):
+    """Gear mesh along a line of action (paper 000 Eq. 2-8).
+
+    ``stiffness`` is the mean; ``harmonics`` and ``phases`` the Fourier terms at the
+    mesh frequency, given as ``frequency`` (Hz) or as ``order`` (multiple of the
+    model speed, e.g. the tooth number). ``backlash`` is the full clearance.
+    """
+
+    type: Literal["mesh"]
+    coefficients: Coefficients
+    stiffness: Stiffness
+    damping: Damping = 0.0
+    backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
+    error: quantity("length") = 0.0  # type: ignore[valid-type]
+    harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
+    phases: list[Angle] = Field(default_factory=list)  # type: ignore[valid-type]
+    frequency: Frequency | None = None  # type: ignore[valid-type]
+    order: Annotated[float, Field(gt=0)] | None = None
+    name: str = ""
+
+    @model_validator(mode="after")
+    def _law(self) -> MeshSpec:
+        if self.phases and len(self.phases) != len(self.harmonics):
+            raise ValueError(
+                f"phases has {len(self.phases)} entries but harmonics has {len(self.harmonics)}"
+            )
+        if self.harmonics and (self.frequency is None) == (self.order is None):
+            raise ValueError("harmonics need exactly one of frequency (Hz) or order")
+        if sum(self.harmonics) > self.stiffness:
+            raise ValueError(
+                f"harmonics add up to {sum(self.harmonics):.6g} N/m, more than the mean "
+                f"stiffness {self.stiffness:.6g} N/m"
+            )
+        return self
+
+
+class CentripetalSpec(Spec):
+    """``-mass * (ratio * speed)^2`` on a translational DOF (paper 003 Eq. 7)."""
+
+    type: Literal["centripetal"]
+    dof: str
+    mass: Mass
+    ratio: float = 1.0
+    name: str = ""
+
+
+class LoadSpec(Spec):
+    """Constant ``force`` (N) or ``torque`` (N m) on one DOF."""
+
+    type: Literal["load"]
+    dof: str
+    force: Force | None = None
+    torque: Torque | None = None
+    name: str = ""
+
+
+ElementSpec = Annotated[
+    InertiaSpec | SupportSpec | CouplingSpec | MeshSpec | CentripetalSpec | LoadSpec,
+    Field(discriminator="type"),
+]
+
+
+class LumpedDesign(Design):
+    """A model written out element by element (``type = "lumped"``)."""
+
+    type: Literal["lumped"] = "lumped"
+    speed: AngularVelocity = 0.0
+    dofs: list[DofSpec] = Field(min_length=1)
+    elements: list[ElementSpec] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _consistent(self) -> LumpedDesign:
+        kinds = {d.name: d.kind for d in self.dofs}
+        problems = []
+        for i, e in enumerate(self.elements):
+            where = f"elements.{i} ({e.type})"
+            names = list(e.coefficients) if hasattr(e, "coefficients") else [e.dof]
+            unknown = [n for n in names if n not in kinds]
+            if unknown:
+                problems.append(f"{where}: unknown DOF {unknown}; DOFs are {list(kinds)}")
+                continue
+            rot = [kinds[n] in ("rx", "ry", "rz", "u") for n in names]
+            problems += _unit_rules(e, where, rot, kinds[names[0]])
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
+
+
+def _exactly_one(e: Spec, where: str, a: str, b: str) -> list[str]:
+    given = [f for f in (a, b) if getattr(e, f) is not None]
+    if len(given) != 1:
+        return [f"{where}: give exactly one of {a} or {b}"]
+    return []
+
+
+def _unit_rules(e: Spec, where: str, rot: list[bool], kind: str) -> list[str]:
+    out: list[str] = []
+    if isinstance(e, InertiaSpec):
+        out += _exactly_one(e, where, "mass", "moment_of_inertia")
+        if not out and kind in ("rx", "ry", "rz") and e.mass is not None:
+            out.append(f"{where}: {e.dof} is a rotation: give moment_of_inertia, not mass")
+        if not out and kind in ("x", "y", "z") and e.moment_of_inertia is not None:
+            out.append(f"{where}: {e.dof} is a translation: give mass, not moment_of_inertia")
+    elif isinstance(e, SupportSpec | CouplingSpec):
+        lin = e.stiffness is not None or e.damping is not None
+        tor = e.torsional_stiffness is not None or e.torsional_damping is not None
+        if lin == tor:
+            out.append(
+                f"{where}: give stiffness/damping (linear) or torsional_stiffness/"
+                "torsional_damping (angular), not both or neither"
+            )
+        elif isinstance(e, SupportSpec) and tor and kind not in ("rx", "ry", "rz"):
+            out.append(f"{where}: {e.dof} is not a rotation: use stiffness/damping")
+        elif isinstance(e, SupportSpec) and lin and kind in ("rx", "ry", "rz"):
+            out.append(f"{where}: {e.dof} is a rotation: use torsional_stiffness/torsional_damping")
+        elif isinstance(e, CouplingSpec) and tor and not all(rot):
+            out.append(
+                f"{where}: a torsional coupling joins rotations (and u DOFs with coefficients "
+                "in 1/m), not translations"
+            )
+    elif isinstance(e, LoadSpec):
+        out += _exactly_one(e, where, "force", "torque")
+        if not out and (e.torque is not None) != (kind in ("rx", "ry", "rz")):
+            want = "torque" if kind in ("rx", "ry", "rz") else "force"
+            out.append(f"{where}: {e.dof} takes a {want}")
+    elif isinstance(e, CentripetalSpec) and kind not in ("x", "y", "z"):
+        out.append(f"{where}: centripetal terms act on translations, not {e.dof}")
+    return out
+
+
+def _value(a: float | None, b: float | None) -> float:
+    return a if a is not None else (b if b is not None else 0.0)
+
+
+def build_model(design: LumpedDesign) -> Model:
+    """Turn the written-out model into a :class:`~reducerlab.model.Model`."""
+    dofs = [Dof(d.body, d.kind, d.radius) for d in design.dofs]
+    radius = {d.name: d.radius for d in dofs}
+    elements = []
+    try:
+        for e in design.elements:
+            kw = {"name": e.name} if e.name else {}
+            if isinstance(e, InertiaSpec):
+                if e.moment_of_inertia is not None:
+                    value = e.moment_of_inertia
+                else:  # a mass on u is the equivalent mass J / r^2
+                    value = e.mass * (radius[e.dof] ** 2 if radius[e.dof] else 1.0)
+                elements.append(Inertia(e.dof, value, **kw))
+            elif isinstance(e, SupportSpec):
+                k = _value(e.stiffness, e.torsional_stiffness)
+                c = _value(e.damping, e.torsional_damping)
+                elements.append(Support(e.dof, k, c, **kw))
+            elif isinstance(e, CouplingSpec):
+                k = _value(e.stiffness, e.torsional_stiffness)
+                c = _value(e.damping, e.torsional_damping)
+                elements.append(Coupling(e.coefficients, k, c, **kw))
+            elif isinstance(e, MeshSpec):
+                elements.append(_mesh(e, design.speed, kw))
+            elif isinstance(e, CentripetalSpec):
+                elements.append(Centripetal(e.dof, e.mass, e.ratio, **kw))
+            else:
+                elements.append(Load(e.dof, _value(e.force, e.torque), **kw))
+        return Model(
+            dofs,
+            elements,
+            speed=design.speed,
+            name=design.name or "lumped model",
+            metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+        )
+    except ModelError as exc:
+        from ..errors import DesignError
+
+        raise DesignError(f"design {design.name!r}: {exc}") from None
+
+
+def _mesh(e: MeshSpec, speed: float, kw: dict) -> Mesh:
+    law: TimeLaw
+    if e.harmonics:
+        omega = 2 * math.pi * e.frequency if e.frequency is not None else e.order * speed
+        if not omega > 0:
+            raise ModelError(f"mesh {e.name!r}: order needs speed > 0 to set the mesh frequency")
+        law = Fourier(e.stiffness, tuple(e.harmonics), omega, tuple(e.phases))
+    else:
+        law = Constant(e.stiffness)
+    return Mesh(
+        e.coefficients,
+        stiffness=law,
+        damping=e.damping,
+        backlash=Backlash.full(e.backlash),
+        error=e.error,
+        **kw,
+    )
