@@ -17,8 +17,8 @@ demo: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/reducerlab demo -o $(DEMO_DIR)
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests examples benchmarks
-	$(BIN)/ruff format --check src tests examples benchmarks
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
 
 test: $(STAMP) lint
 	MPLBACKEND=Agg $(BIN)/python -m pytest
