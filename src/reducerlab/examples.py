@@ -10,7 +10,7 @@ __all__ = ["example_dir", "example_files"]
 
 def example_dir() -> Path:
     """Folder holding the bundled example design files."""
-    packaged = resources.files("reducerlab") / "examples"
+    packaged = resources.files("reducerlab") / "data" / "examples"
     if packaged.is_dir():  # installed from a wheel
         return Path(str(packaged))
     return Path(__file__).resolve().parents[2] / "examples"  # source checkout / editable
