@@ -17,9 +17,14 @@ from reducerlab.examples import example_dir, example_files
 def test_every_toml_example_loads_builds_and_solves():
     files = example_files()
     assert files, "no bundled examples"
+    from reducerlab.drives import has_model
+
     for path in files:
-        res = modal(build_model(load_design(path)))
-        assert np.all(np.isfinite(res.frequencies))
+        design = load_design(path)
+        if has_model(design):
+            assert np.all(np.isfinite(modal(build_model(design)).frequencies))
+        else:
+            assert design.kinematics().ratio != 0
 
 
 def test_gear_pair_example_against_hand_assembled_matrices():

@@ -1,4 +1,4 @@
-"""Command line: ``reducerlab modal``, ``reducerlab sensitivity``, ``reducerlab demo``.
+"""Command line: ``reducerlab modal``, ``sensitivity``, ``kinematics``, ``demo``.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
 never as a traceback.
@@ -174,6 +174,52 @@ def sensitivity(
         typer.echo(res.table())
 
 
+def _write_kinematics(result, outdir: Path) -> list[Path]:
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = [result.save(outdir / "kinematics.nc")]
+    (outdir / "kinematics.json").write_text(result.to_json())
+    written.append(outdir / "kinematics.json")
+    if "omega" in result.data:
+        result.plot().savefig(outdir / "angular_velocity.png", dpi=120)
+        written.append(outdir / "angular_velocity.png")
+    return written
+
+
+def _run_kinematics(design):
+    from .analysis.kinematics import kinematics as run_kinematics
+    from .drives import kinematics_of
+
+    drive, speed = kinematics_of(design)
+    return run_kinematics(
+        drive,
+        speed,
+        title=design.name,
+        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+    )
+
+
+@app.command()
+def kinematics(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write results and figure here.")
+    ] = None,
+    fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+) -> None:
+    """Transmission ratio, member speeds, mesh frequencies and cone angles of a drive."""
+    from .drives import load_design
+
+    try:
+        result = _run_kinematics(load_design(design))
+        written = _write_kinematics(result, output) if output is not None else []
+    except ReducerlabError as exc:
+        _fail(exc)
+        return
+    typer.echo(result.to_json() if fmt is Format.json else result.table())
+    for p in written:
+        err.print(f"wrote {p}", highlight=False)
+
+
 @app.command()
 def demo(
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
@@ -184,6 +230,7 @@ def demo(
     from rich.progress import Progress
 
     from .analysis.modal import modal as run_modal
+    from .drives import build_model, has_model, load_design
     from .examples import example_files
 
     files = example_files()
@@ -193,18 +240,27 @@ def demo(
     with Progress(console=err, transient=True) as progress:
         task = progress.add_task("examples", total=len(files))
         for path in files:
-            progress.update(task, description=f"modal: {path.name}")
+            progress.update(task, description=f"{path.name}")
             try:
-                _, model = _model_from(path)
-                result = run_modal(model)
-                _write_modal(result, output / path.stem)
+                design = load_design(path)
+                outdir = output / path.stem
+                res_m = res_k = None
+                if has_model(design):
+                    res_m = run_modal(build_model(design))
+                    _write_modal(res_m, outdir)
+                if hasattr(design, "kinematics"):
+                    res_k = _run_kinematics(design)
+                    _write_kinematics(res_k, outdir)
             except ReducerlabError as exc:
                 _fail(exc)
-            summary.append((path.name, result))
+            summary.append((path, res_m, res_k))
             progress.advance(task)
-    for name, result in summary:
-        out.print(f"[bold]{name}[/]  ->  {output / Path(name).stem}")
-        _print_modal(result)
+    for path, res_m, res_k in summary:
+        out.print(f"[bold]{path.name}[/]  ->  {output / path.stem}")
+        if res_k is not None:
+            out.print(res_k.table(), highlight=False)
+        if res_m is not None:
+            _print_modal(res_m)
     out.print(f"demo outputs in {output.resolve()}")
 
 

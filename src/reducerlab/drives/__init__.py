@@ -12,17 +12,27 @@ from typing import Any, NamedTuple
 
 from ..design import Design, read_toml, validate_design
 from ..errors import DesignError
+from ..kinematics import DriveKinematics
 from ..model import Model
-from . import gear_pair, lumped
+from . import gear_pair, kinematic, lumped
 
-__all__ = ["DRIVES", "DriveType", "build_model", "design_from_dict", "load_design"]
+__all__ = [
+    "DRIVES",
+    "DriveType",
+    "build_model",
+    "design_from_dict",
+    "has_model",
+    "kinematics_of",
+    "load_design",
+]
 
 
 class DriveType(NamedTuple):
-    """A registered drive: its Design class and its builder."""
+    """A registered design type: its Design class, its model builder (None for a
+    kinematics-only design) and a one-line summary."""
 
     design: type[Design]
-    build: Callable[[Any], Model]
+    build: Callable[[Any], Model] | None
     summary: str
 
 
@@ -31,6 +41,11 @@ DRIVES: dict[str, DriveType] = {
         gear_pair.GearPairDesign,
         gear_pair.build_model,
         "spur gear pair on bearings, bending-torsional",
+    ),
+    "kinematics": DriveType(
+        kinematic.KinematicsDesign,
+        None,
+        "kinematics only: ratio, member speeds, mesh frequencies, cone angles",
     ),
     "lumped": DriveType(
         lumped.LumpedDesign,
@@ -69,9 +84,32 @@ def load_design(path: str | Path) -> Design:
     return design_from_dict(read_toml(path), str(path))
 
 
-def build_model(design: Design) -> Model:
-    """Turn a validated design into its generic :class:`~reducerlab.model.Model`."""
+def _entry(design: Design) -> DriveType:
     for drive in DRIVES.values():
         if type(design) is drive.design:
-            return drive.build(design)
-    raise DesignError(f"no builder for design of type {type(design).__name__}")
+            return drive
+    raise DesignError(f"unregistered design class {type(design).__name__}")
+
+
+def has_model(design: Design) -> bool:
+    """Whether the design's type has a dynamic model (a builder)."""
+    return _entry(design).build is not None
+
+
+def build_model(design: Design) -> Model:
+    """Turn a validated design into its generic :class:`~reducerlab.model.Model`."""
+    build = _entry(design).build
+    if build is None:
+        raise DesignError(
+            f"design type {design.type!r} describes kinematics only and has no dynamic "
+            "model; use 'reducerlab kinematics'"
+        )
+    return build(design)
+
+
+def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
+    """The drive kinematics of a design and its input speed (rad/s)."""
+    method = getattr(design, "kinematics", None)
+    if method is None:
+        raise DesignError(f"design type {design.type!r} defines no drive kinematics")
+    return method(), float(design.input_speed)

@@ -33,6 +33,7 @@ from ..design import (
     angle_between,
     quantity,
 )
+from ..kinematics import ExternalGearPair
 from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 from ..model.laws import TimeLaw
 
@@ -124,6 +125,15 @@ class GearPairDesign(Design):
     def ratio(self) -> float:
         """Transmission ratio ``z_gear / z_pinion`` (input pinion)."""
         return self.gear.teeth / self.pinion.teeth
+
+    @property
+    def input_speed(self) -> float:
+        """Input (pinion) speed (rad/s)."""
+        return self.operating.speed
+
+    def kinematics(self) -> ExternalGearPair:
+        """Kinematics of the pair (pinion input)."""
+        return ExternalGearPair(self.pinion.teeth, self.gear.teeth)
 
     @property
     def mesh_frequency(self) -> float:
