@@ -101,3 +101,30 @@ def test_console_script_version():
         [sys.executable, "-m", "reducerlab", "--version"], capture_output=True, text=True
     )
     assert r.returncode == 0 and r.stdout.startswith("reducerlab ")
+
+
+def test_kinematics_table_json_and_figure(tmp_path):
+    design = example_dir() / "nutation_double.toml"
+    r = runner.invoke(app, ["kinematics", str(design)])
+    assert r.exit_code == 0, r.output
+    assert "ratio i = omega_in / omega_out = 105" in r.output
+    r = runner.invoke(app, ["kinematics", str(design), "--format", "json", "-o", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.stdout)
+    assert d["ratio"] == 105.0
+    assert d["mesh_frequencies_hz"]["mesh 1 (gears 1-2)"] == 650.0  # 26 x 25 rev/s
+    assert set(d["cone_angles_deg"]) == {"gear 1", "gear 2", "gear 3", "gear 4"}
+    assert (tmp_path / "angular_velocity.png").stat().st_size > 0
+    from reducerlab.analysis.kinematics import KinematicsResult
+
+    back = KinematicsResult.load(tmp_path / "kinematics.nc")
+    assert back.ratio == 105.0 and back.data["omega"].shape == (2, 361, 3)
+
+
+def test_kinematics_of_a_gear_pair_and_of_a_design_without_kinematics():
+    r = runner.invoke(app, ["kinematics", str(EXAMPLE), "--format", "json"])
+    assert r.exit_code == 0 and json.loads(r.stdout)["ratio"] == -2.4
+    r = runner.invoke(app, ["kinematics", str(example_dir() / "torsional_chain.toml")])
+    assert r.exit_code == 2 and "defines no drive kinematics" in r.output
+    r = runner.invoke(app, ["modal", str(example_dir() / "khv_kinematics.toml")])
+    assert r.exit_code == 2 and "kinematics only" in r.output

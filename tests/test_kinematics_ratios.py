@@ -259,3 +259,20 @@ def test_cycloid_ball_trochoid_phase_relation():
     alpha = (0.3 - phi0) / (2 * drive.ratio)
     phase = np.exp(-1j * zc * alpha / 2) / (-np.exp(1j * 0.3))
     assert abs(phase.imag) > 1e-3
+
+
+@pytest.mark.parametrize("theta_deg", [5.0, 175.0])
+def test_paper_002_printed_ratio_violates_rolling(theta_deg):
+    # Paper 002: omega_1H = omega_H / (1 - (N_f/N_n) cos th), i = N_f / (N_n - N_f cos th).
+    # Rolling without slip needs equal teeth passed on both gears relative to the
+    # carrier: N_n |psi'| = N_f |omega_1 - omega_H|. The printed pair breaks it for
+    # either reading of th (th or pi - th); ours satisfies it (docs/assumptions.md).
+    nf, nn, th, w = 60, 59, math.radians(theta_deg), 1.0
+    spin = w / (1 - nf / nn * math.cos(th))
+    out = w * (nn - nf * math.cos(th)) / nf
+    assert abs(nn * spin - nf * abs(out - w)) > 0.1 * nn * abs(spin)
+    ours = NutationDrive(nn, nf, math.radians(5.0))
+    s = ours.speeds(w)
+    assert nn * abs(s["nutating gear: spin psi'"]) == pytest.approx(
+        nf * abs(s["central gear"] - w), rel=1e-12
+    )

@@ -13,6 +13,7 @@ from reducerlab.errors import ReducerlabError
 from reducerlab.kinematics import (
     Transform,
     angular_acceleration_body,
+    angular_acceleration_fixed,
     angular_velocity_body,
     angular_velocity_fixed,
     euler_zxz,
@@ -112,6 +113,18 @@ def test_angular_acceleration_matches_finite_differences(theta, psi, a, b, c, aa
     fd = (w(h) - w(-h)) / (2 * h)
     dw = angular_acceleration_body(theta, psi, a, b, c, aa, bb, cc)
     np.testing.assert_allclose(dw, fd, atol=1e-6)
+
+    phi = 0.4
+
+    def wf(t):
+        return angular_velocity_fixed(
+            phi + a * t + aa * t * t / 2, theta + b * t + bb * t * t / 2,
+            a + aa * t, b + bb * t, c + cc * t,
+        )  # fmt: skip
+
+    fd = (wf(h) - wf(-h)) / (2 * h)
+    dwf = angular_acceleration_fixed(phi, theta, psi, a, b, c, aa, bb, cc)
+    np.testing.assert_allclose(dwf, fd, atol=1e-6)
 
 
 def test_gyroscopic_moment_of_axisymmetric_steady_precession():

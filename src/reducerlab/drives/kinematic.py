@@ -18,6 +18,7 @@ from typing import Literal
 from pydantic import model_validator
 
 from ..design import AngularVelocity, Design, PositiveInt, angle_between
+from ..errors import ReducerlabError
 from ..kinematics import (
     CycloidBallDrive,
     DoubleNutationDrive,
@@ -91,6 +92,10 @@ class KinematicsDesign(Design):
             problems.append("input_speed must not be zero")
         if problems:
             raise ValueError("; ".join(problems))
+        try:
+            self.kinematics()
+        except ReducerlabError as exc:
+            raise ValueError(str(exc)) from None
         return self
 
     def kinematics(self) -> DriveKinematics:

@@ -4,6 +4,7 @@ pitch cones (see ``docs/kinematics.md``)."""
 
 from .euler import (
     angular_acceleration_body,
+    angular_acceleration_fixed,
     angular_velocity_body,
     angular_velocity_fixed,
     gyroscopic_moment,
@@ -34,6 +35,7 @@ __all__ = [
     "NutationDrive",
     "Transform",
     "angular_acceleration_body",
+    "angular_acceleration_fixed",
     "angular_velocity_body",
     "angular_velocity_fixed",
     "euler_zxz",

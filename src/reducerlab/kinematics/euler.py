@@ -26,6 +26,7 @@ from .rotations import euler_zxz
 
 __all__ = [
     "angular_acceleration_body",
+    "angular_acceleration_fixed",
     "angular_velocity_body",
     "angular_velocity_fixed",
     "gyroscopic_moment",
@@ -79,6 +80,26 @@ def angular_acceleration_body(
     ay = aa * s_t * c_p + a * b * c_t * c_p - a * c * s_t * s_p - bb * s_p - b * c * c_p
     az = aa * c_t - a * b * s_t + cc
     return np.stack(np.broadcast_arrays(ax, ay, az), axis=-1)
+
+
+def angular_acceleration_fixed(
+    phi: ArrayLike,
+    theta: ArrayLike,
+    psi: ArrayLike,
+    dphi: ArrayLike,
+    dtheta: ArrayLike,
+    dpsi: ArrayLike,
+    ddphi: ArrayLike = 0.0,
+    ddtheta: ArrayLike = 0.0,
+    ddpsi: ArrayLike = 0.0,
+) -> NDArray[np.float64]:
+    """Time derivative of :func:`angular_velocity_fixed` (rad/s^2), shape (..., 3).
+
+    ``d(w_fixed)/dt = R d(w_body)/dt`` because ``R' w_body = W R w_body = w x w = 0``.
+    """
+    R = euler_zxz(phi, theta, psi)
+    a = angular_acceleration_body(theta, psi, dphi, dtheta, dpsi, ddphi, ddtheta, ddpsi)
+    return (R @ a[..., None])[..., 0]
 
 
 def gyroscopic_moment(
