@@ -1,4 +1,5 @@
-"""Command line: ``reducerlab modal``, ``sensitivity``, ``kinematics``, ``demo``.
+"""Command line: ``reducerlab modal``, ``sensitivity``, ``kinematics``, ``sweep``,
+``campbell``, ``check``, ``demo``.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
 never as a traceback.
@@ -218,6 +219,163 @@ def kinematics(
     typer.echo(result.to_json() if fmt is Format.json else result.table())
     for p in written:
         err.print(f"wrote {p}", highlight=False)
+
+
+def _parse_speeds(spec: str | None) -> list[float] | None:
+    """``lin:START:STOP:N`` in rpm, or a comma list in rpm."""
+    if spec is None:
+        return None
+    import numpy as np
+
+    from .analysis.sweep import parse_values
+
+    axis = parse_values("speeds", spec)
+    if axis.relative or any(isinstance(v, str) for v in axis.values):
+        raise ReducerlabError("--speeds takes plain numbers in rpm, e.g. lin:0:3000:301")
+    return (np.asarray(axis.values, dtype=float) * 2 * np.pi / 60).tolist()
+
+
+@app.command()
+def sweep(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    param: Annotated[str, typer.Option("--param", "-p", help="Parameter path to sweep.")],
+    values: Annotated[
+        str,
+        typer.Option(
+            "--values",
+            "-v",
+            help="'1e8,2e8', '2e8 N/m,3e8 N/m', 'lin:START:STOP:N', 'log:START:STOP:N', "
+            "'rel:1.5,2,2.5' or '150%,200%'.",
+        ),
+    ],
+    grid: Annotated[
+        str | None,
+        typer.Option("--grid", help="Second parameter for a grid: 'PATH=VALUES'."),
+    ] = None,
+    output: Annotated[Path, typer.Option("--output", "-o", help="Run folder (resumable).")] = Path(
+        "sweep-output"
+    ),
+    chunk_size: Annotated[int, typer.Option(help="Points per chunk.")] = 2000,
+    workers: Annotated[
+        int | None, typer.Option(help="Worker processes (default: all cores).")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
+    ] = None,
+    fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+) -> None:
+    """Natural frequencies over a parameter (tracked modes, veerings) or a grid of two."""
+    from rich.progress import Progress
+
+    from .analysis.sweep import parse_values
+    from .analysis.sweep import sweep as run_sweep
+    from .drives import load_design
+
+    try:
+        d = load_design(design)
+        axes = [parse_values(param, values)]
+        if grid is not None:
+            if "=" not in grid:
+                raise ReducerlabError(
+                    "--grid must be 'PATH=VALUES', e.g. 'mesh.damping=lin:0:1e3:11'"
+                )
+            p2, v2 = grid.split("=", 1)
+            axes.append(parse_values(p2.strip(), v2.strip()))
+        with Progress(console=err, transient=True) as progress:
+            task = progress.add_task("sweep chunks", total=None)
+
+            def report(done: int, total: int) -> None:
+                progress.update(task, completed=done, total=total)
+
+            result = run_sweep(
+                d,
+                axes,
+                output=output,
+                chunk_size=chunk_size,
+                workers=workers,
+                scheduler=scheduler,
+                progress=report,
+            )
+        fig = result.plot()
+        fig.savefig(output / "sweep.png", dpi=120)
+    except ReducerlabError as exc:
+        _fail(exc)
+        return
+    if fmt is Format.json:
+        ds = result.data
+        typer.echo(
+            json.dumps(
+                {
+                    "parameters": result.parameters,
+                    "values": [ds[f"p{i}"].values.tolist() for i in range(len(axes))],
+                    "frequencies_hz": ds["frequency"].values.tolist(),
+                    "events": result.events(),
+                    "vectorised": bool(ds.attrs["vectorised"]),
+                }
+            )
+        )
+    else:
+        typer.echo(result.table())
+    err.print(f"wrote {output / 'sweep.nc'}, {output / 'sweep.png'}", highlight=False)
+
+
+@app.command()
+def campbell(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    speeds: Annotated[
+        str | None, typer.Option(help="Input speeds in rpm: 'lin:0:3000:301' or a list.")
+    ] = None,
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write results and figure here.")
+    ] = None,
+    fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+) -> None:
+    """Campbell diagram: natural frequencies and excitation lines against input speed."""
+    from .analysis.campbell import campbell as run_campbell
+    from .drives import load_design
+
+    try:
+        res = run_campbell(load_design(design), _parse_speeds(speeds))
+        if output is not None:
+            output.mkdir(parents=True, exist_ok=True)
+            res.save(output / "campbell.nc")
+            res.plot().savefig(output / "campbell.png", dpi=120)
+            err.print(f"wrote {output / 'campbell.nc'}, {output / 'campbell.png'}")
+    except ReducerlabError as exc:
+        _fail(exc)
+        return
+    typer.echo(json.dumps({"crossings": res.crossings()}) if fmt is Format.json else res.table())
+
+
+@app.command()
+def check(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    margin: Annotated[
+        float, typer.Option(help="Relative distance to an excitation that counts (0.10 = 10 %).")
+    ] = 0.10,
+    speed_range: Annotated[
+        str | None, typer.Option(help="Operating range in rpm 'MIN,MAX' (default: design's).")
+    ] = None,
+    fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+) -> None:
+    """Resonance verdict: exits 1 when a natural frequency meets an excitation."""
+    from .analysis.campbell import format_check, resonance_check
+    from .drives import load_design
+
+    try:
+        rng = None
+        if speed_range is not None:
+            parts = _parse_speeds(speed_range)
+            if parts is None or len(parts) != 2:
+                raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
+            rng = (parts[0], parts[1])
+        report = resonance_check(load_design(design), margin=margin, speed_range=rng)
+    except ReducerlabError as exc:
+        _fail(exc)
+        return
+    typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
+    if not report["ok"]:
+        raise typer.Exit(code=1)
 
 
 @app.command()

@@ -92,10 +92,19 @@ class GearMesh(Spec):
 
 
 class Operating(Spec):
-    """Operating point: pinion speed and the torque it transmits."""
+    """Operating point: pinion speed and the torque it transmits; optionally the
+    operating speed range ``[min, max]`` used by the resonance check."""
 
     speed: AngularVelocity = 0.0
     torque: Torque = 0.0
+    speed_range: list[AngularVelocity] | None = None
+
+    @model_validator(mode="after")
+    def _range(self) -> Operating:
+        r = self.speed_range
+        if r is not None and (len(r) != 2 or not 0 <= r[0] <= r[1]):
+            raise ValueError("speed_range must be [min, max] with 0 <= min <= max")
+        return self
 
 
 class GearPairDesign(Design):

@@ -1,0 +1,658 @@
+"""Parameter sweeps of modal analysis: any design field or model parameter, over a list,
+a linear or logarithmic range, relative to the design value, or a grid of two.
+
+Points are evaluated in chunks. Each finished chunk is written to the run folder at
+once (``chunks/chunk_NNNNN.npz``, written atomically), so an interrupted run loses
+nothing: running the same sweep into the same folder again computes only the missing
+chunks. Chunks run in worker processes by default, or on a Dask cluster when a
+scheduler address is given. Where ``M`` and ``K`` are affine in the swept parameters
+(``K = K0 + p K1``), a chunk is one batched eigenproblem with no Python loop per point.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import re
+import shutil
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from ..design import Design
+from ..errors import DesignError, ReducerlabError
+from ..model import Model
+from ..results import Result, provenance
+from .batch import eigh_batch
+from .tracking import find_events, track_modes
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["Axis", "SweepResult", "parse_values", "sweep"]
+
+TWO_PI = 2.0 * math.pi
+
+
+# ----------------------------------------------------------------------------- specs
+@dataclass(frozen=True)
+class Axis:
+    """One swept parameter.
+
+    Parameters
+    ----------
+    path : str
+        A dotted path into the design (``"mesh.stiffness"``,
+        ``"pinion.bearing.stiffness_x"``, ``"elements.4.stiffness"``), or a model
+        parameter (``"support:gear.x.stiffness"``, ``"speed"``). Prefix ``design:`` or
+        ``model:`` to choose when both exist; otherwise the design wins.
+    values : sequence
+        The values: numbers in SI, or strings with units for design fields. When
+        ``relative`` they are factors of the design value (1.5 = 150 %).
+    relative : bool
+    scale : {"linear", "log"}
+        How to space axes in figures.
+    """
+
+    path: str
+    values: tuple[Any, ...]
+    relative: bool = False
+    scale: str = "linear"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.path, str) or not self.path.strip():
+            raise ReducerlabError("sweep: the parameter path must be a non-empty string")
+        vals = tuple(self.values)
+        if not vals:
+            raise ReducerlabError(f"sweep {self.path!r}: no values (empty range)")
+        for v in vals:
+            if isinstance(v, bool) or not isinstance(v, int | float | str | np.number):
+                raise ReducerlabError(
+                    f"sweep {self.path!r}: value {v!r} is not a number or a quantity string"
+                )
+            if isinstance(v, int | float | np.number) and not math.isfinite(float(v)):
+                raise ReducerlabError(f"sweep {self.path!r}: value {v!r} is not finite")
+        if self.relative and any(isinstance(v, str) for v in vals):
+            raise ReducerlabError(f"sweep {self.path!r}: relative values must be plain factors")
+        object.__setattr__(self, "values", vals)
+
+    @classmethod
+    def linspace(cls, path: str, start: float, stop: float, num: int) -> Axis:
+        """``num`` evenly spaced values from ``start`` to ``stop`` (SI)."""
+        _check_range(path, start, stop, num)
+        return cls(path, tuple(np.linspace(start, stop, num).tolist()))
+
+    @classmethod
+    def logspace(cls, path: str, start: float, stop: float, num: int) -> Axis:
+        """``num`` log-spaced values from ``start`` to ``stop`` (both > 0, SI)."""
+        _check_range(path, start, stop, num)
+        if not (start > 0 and stop > 0):
+            raise ReducerlabError(f"sweep {path!r}: a log range needs start, stop > 0")
+        return cls(path, tuple(np.geomspace(start, stop, num).tolist()), scale="log")
+
+    @classmethod
+    def relative_to_design(cls, path: str, factors: Iterable[float]) -> Axis:
+        """Factors of the design value, e.g. ``[1.5, 2.0, 2.5]`` for 150-250 %."""
+        return cls(path, tuple(factors), relative=True)
+
+
+def _check_range(path: str, start: Any, stop: Any, num: Any) -> None:
+    for name, v in (("start", start), ("stop", stop)):
+        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+            raise ReducerlabError(f"sweep {path!r}: {name} must be a finite number, got {v!r}")
+    if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+        raise ReducerlabError(f"sweep {path!r}: the number of points must be >= 1, got {num!r}")
+
+
+_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def parse_values(path: str, spec: str) -> Axis:
+    """Parse a command-line value specification.
+
+    ``"1e8,2e8,3e8"`` (a list; items may carry units: ``"2e8 N/m, 3e8 N/m"``),
+    ``"lin:START:STOP:N"``, ``"log:START:STOP:N"`` (SI numbers), or
+    ``"rel:1.5,2,2.5"`` / ``"150%,200%,250%"`` (factors of the design value).
+    """
+    if not isinstance(spec, str) or not spec.strip():
+        raise ReducerlabError(f"sweep {path!r}: empty value specification")
+    s = spec.strip()
+    m = re.fullmatch(r"(lin|log):([^:]+):([^:]+):([^:]+)", s)
+    if m:
+        kind, a, b, n = m.groups()
+        try:
+            a_, b_, n_ = float(a), float(b), int(n)
+        except ValueError:
+            raise ReducerlabError(
+                f"sweep {path!r}: {spec!r}: write {kind}:START:STOP:N with SI numbers"
+            ) from None
+        return Axis.linspace(path, a_, b_, n_) if kind == "lin" else Axis.logspace(path, a_, b_, n_)
+    if s.startswith(("lin:", "log:")):
+        raise ReducerlabError(f"sweep {path!r}: {spec!r}: write lin:START:STOP:N or log:...")
+    relative = s.startswith("rel:")
+    items = [x.strip() for x in (s[4:] if relative else s).split(",") if x.strip()]
+    if not items:
+        raise ReducerlabError(f"sweep {path!r}: no values in {spec!r}")
+    if all(x.endswith("%") for x in items):
+        relative = True
+        items = [x[:-1].strip() for x in items]
+    values: list[Any] = []
+    for x in items:
+        if re.fullmatch(_NUM, x):
+            values.append(float(x))
+        elif relative:
+            raise ReducerlabError(f"sweep {path!r}: relative value {x!r} is not a number")
+        elif re.match(_NUM, x):
+            values.append(x)  # a quantity with units, parsed by the design
+        else:
+            raise ReducerlabError(f"sweep {path!r}: value {x!r} is not a number")
+    return Axis(path, tuple(values), relative=relative)
+
+
+# ----------------------------------------------------------------------------- targets
+@dataclass(frozen=True)
+class _Target:
+    where: str  # "design" or "model"
+    path: str
+    keys: tuple[Any, ...]
+    base: float
+    integer: bool = False
+
+
+def _walk(data: Any, keys: Sequence[Any]) -> Any:
+    for k in keys:
+        data = data[k]
+    return data
+
+
+def _design_keys(data: dict[str, Any], path: str) -> tuple[Any, ...] | None:
+    keys: list[Any] = []
+    node: Any = data
+    for part in path.split("."):
+        if isinstance(node, dict) and part in node:
+            keys.append(part)
+            node = node[part]
+        elif isinstance(node, list) and part.isdigit() and int(part) < len(node):
+            keys.append(int(part))
+            node = node[int(part)]
+        else:
+            return None
+    if isinstance(node, bool) or not isinstance(node, int | float):
+        return None
+    return tuple(keys)
+
+
+def _resolve(design: Design | None, model: Model, path: str) -> _Target:
+    where = None
+    raw = path
+    if path.startswith(("design:", "model:")):
+        where, path = path.split(":", 1)
+    if where in (None, "design") and design is not None:
+        data = design.model_dump(mode="python")
+        keys = _design_keys(data, path)
+        if keys is not None:
+            value = _walk(data, keys)
+            return _Target("design", path, keys, float(value), isinstance(value, int))
+        if where == "design":
+            raise ReducerlabError(f"sweep: {raw!r} is not a numeric field of the design")
+    if where == "design":
+        raise ReducerlabError(f"sweep: {raw!r}: no design to sweep (a model was given)")
+    try:
+        value = model.parameter(path)
+    except ReducerlabError as exc:
+        hint = " or a numeric design field" if design is not None else ""
+        raise ReducerlabError(f"sweep: unknown parameter path {raw!r}{hint} ({exc})") from None
+    return _Target("model", path, (), float(value))
+
+
+@dataclass
+class _Evaluator:
+    """Builds M and K for parameter tuples; picklable for worker processes."""
+
+    design_data: dict[str, Any] | None
+    model: Model
+    targets: tuple[_Target, ...]
+    affine: tuple[NDArray, NDArray, NDArray, NDArray] | None = None  # M0, K0, dM, dK
+    anchor: NDArray | None = None
+
+    def model_at(self, values: Sequence[Any]) -> Model:
+        from ..drives import build_model, design_from_dict
+
+        model = self.model
+        if any(t.where == "design" for t in self.targets):
+            data = json.loads(json.dumps(self.design_data))
+            for t, v in zip(self.targets, values, strict=True):
+                if t.where == "design":
+                    parent = _walk(data, t.keys[:-1])
+                    parent[t.keys[-1]] = round(float(v)) if t.integer else float(v)
+            try:
+                model = build_model(design_from_dict(data, "sweep point"))
+            except DesignError as exc:
+                raise ReducerlabError(
+                    f"sweep point {dict(zip([t.path for t in self.targets], values, strict=True))}"
+                    f" is not a valid design:\n{exc}"
+                ) from None
+            if model.dof_names != self.model.dof_names:
+                raise ReducerlabError("sweep: the swept field changes the model's DOFs")
+        for t, v in zip(self.targets, values, strict=True):
+            if t.where == "model":
+                model = model.with_parameter(t.path, float(v))
+        return model
+
+    def matrices(self, points: NDArray) -> tuple[NDArray, NDArray]:
+        """Stacked ``M, K`` (n_points, n, n) at parameter rows ``points`` (n_points, n_axes)."""
+        if self.affine is not None:
+            M0, K0, dM, dK = self.affine
+            t = points - self.anchor  # (n_pts, n_axes)
+            M = M0 + np.einsum("pa,aij->pij", t, dM)
+            K = K0 + np.einsum("pa,aij->pij", t, dK)
+            return M, K
+        Ms, Ks = [], []
+        for row in points:
+            mats = self.model_at(list(row)).matrices()
+            Ms.append(mats.M)
+            Ks.append(mats.K)
+        return np.array(Ms), np.array(Ks)
+
+    def solve(self, points: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        M, K = self.matrices(points)
+        return eigh_batch(M, K)
+
+
+def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
+    """Detect ``M, K`` affine in the swept values; store the batch form if so."""
+    n_ax = len(ev.targets)
+    base = ev.model_at(list(lows)).matrices()
+    dM, dK = [], []
+    for a in range(n_ax):
+        p = lows.copy()
+        span = highs[a] - lows[a]
+        if span == 0:
+            return False
+        p[a] = highs[a]
+        m = ev.model_at(list(p)).matrices()
+        dM.append((m.M - base.M) / span)
+        dK.append((m.K - base.K) / span)
+    dM_, dK_ = np.array(dM), np.array(dK)
+    # probe: an interior point off the axes must be predicted exactly
+    probe = lows + (highs - lows) * np.linspace(0.37, 0.61, n_ax)
+    m = ev.model_at(list(probe)).matrices()
+    t = probe - lows
+    pM = base.M + np.einsum("a,aij->ij", t, dM_)
+    pK = base.K + np.einsum("a,aij->ij", t, dK_)
+    scale_M = max(np.abs(base.M).max(), 1e-300)
+    scale_K = max(np.abs(base.K).max(), np.abs(pK).max(), 1e-300)
+    if np.abs(m.M - pM).max() > 1e-10 * scale_M or np.abs(m.K - pK).max() > 1e-10 * scale_K:
+        return False
+    ev.affine = (base.M, base.K, dM_, dK_)
+    ev.anchor = lows.astype(float)
+    return True
+
+
+# ----------------------------------------------------------------------------- running
+def _solve_chunk(ev: _Evaluator, points: NDArray, path: str) -> str:
+    lam, phi, y = ev.solve(points)
+    tmp = f"{path}.tmp.npz"
+    np.savez(tmp, lam=lam, phi=phi, y=y)
+    os.replace(tmp, path)
+    return path
+
+
+@dataclass
+class _Run:
+    folder: Path
+    chunks: list[tuple[int, NDArray]] = field(default_factory=list)
+
+    def chunk_path(self, i: int) -> Path:
+        return self.folder / "chunks" / f"chunk_{i:05d}.npz"
+
+    def missing(self) -> list[tuple[int, NDArray]]:
+        return [(i, pts) for i, pts in self.chunks if not self.chunk_path(i).exists()]
+
+
+def _submit_all(
+    ev: _Evaluator,
+    jobs: list[tuple[int, NDArray]],
+    run: _Run,
+    workers: int | None,
+    scheduler: Any,
+    progress: Callable[[int], None] | None,
+) -> None:
+    if not jobs:
+        return
+    if scheduler is not None:
+        from dask.distributed import Client, as_completed
+
+        client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+        try:
+            futures = [
+                client.submit(_solve_chunk, ev, pts, str(run.chunk_path(i)), pure=False)
+                for i, pts in jobs
+            ]
+            for f in as_completed(futures):
+                f.result()
+                if progress:
+                    progress(1)
+        finally:
+            if client is not scheduler:
+                client.close()
+        return
+    n_workers = workers if workers is not None else (os.cpu_count() or 1)
+    if n_workers <= 1 or len(jobs) == 1:
+        for i, pts in jobs:
+            _solve_chunk(ev, pts, str(run.chunk_path(i)))
+            if progress:
+                progress(1)
+        return
+    with ProcessPoolExecutor(max_workers=min(n_workers, len(jobs))) as pool:
+        futures = [pool.submit(_solve_chunk, ev, pts, str(run.chunk_path(i))) for i, pts in jobs]
+        try:
+            from concurrent.futures import as_completed
+
+            for f in as_completed(futures):
+                f.result()
+                if progress:
+                    progress(1)
+        except BaseException:
+            for f in futures:
+                f.cancel()
+            raise
+
+
+def sweep(
+    target: Design | Model,
+    axes: Axis | Sequence[Axis],
+    *,
+    output: str | Path | None = None,
+    chunk_size: int = 2000,
+    workers: int | None = None,
+    scheduler: Any = None,
+    track: bool = True,
+    progress: Callable[[int, int], None] | None = None,
+) -> SweepResult:
+    """Modal analysis over one parameter or a grid of two.
+
+    Parameters
+    ----------
+    target : Design or Model
+        A validated design (design fields and model parameters can be swept) or a
+        model (model parameters only).
+    axes : Axis or sequence of one or two Axis
+    output : path, optional
+        Run folder: chunks are written here as they finish and a re-run resumes.
+        Without it, a temporary folder is used and removed.
+    chunk_size : int
+        Points per chunk.
+    workers : int, optional
+        Worker processes (default: all cores); 1 runs in this process.
+    scheduler : str or dask.distributed.Client, optional
+        Run the chunks on a Dask cluster (``"tcp://HOST:PORT"``) instead.
+    track : bool
+        Track modes by shape along a 1-D sweep and detect crossings and veerings.
+    progress : callable, optional
+        ``progress(done, total)`` after each chunk.
+
+    Returns
+    -------
+    SweepResult
+    """
+    from ..drives import build_model
+
+    axes = [axes] if isinstance(axes, Axis) else list(axes)
+    if not 1 <= len(axes) <= 2 or not all(isinstance(a, Axis) for a in axes):
+        raise ReducerlabError("sweep: give one Axis, or two for a grid")
+    if len({a.path for a in axes}) != len(axes):
+        raise ReducerlabError("sweep: the two grid axes must be different parameters")
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
+        raise ReducerlabError(f"sweep: chunk_size must be a positive integer, got {chunk_size!r}")
+    if workers is not None and (not isinstance(workers, int) or workers < 1):
+        raise ReducerlabError(f"sweep: workers must be a positive integer, got {workers!r}")
+    if isinstance(target, Design):
+        design, model = target, build_model(target)
+    elif isinstance(target, Model):
+        design, model = None, target
+    else:
+        raise ReducerlabError(f"sweep: target must be a Design or a Model, got {type(target)}")
+    targets = tuple(_resolve(design, model, a.path) for a in axes)
+    columns: list[NDArray] = []
+    for a, t in zip(axes, targets, strict=True):
+        vals = list(a.values)
+        if a.relative:
+            vals = [float(v) * t.base for v in vals]
+        if any(isinstance(v, str) for v in vals):
+            if t.where != "design":
+                raise ReducerlabError(
+                    f"sweep {a.path!r}: a model parameter takes SI numbers, not {vals[0]!r}"
+                )
+            vals = [_si_of(design, t, v) for v in vals]
+        col = np.asarray(vals, dtype=float)
+        if t.integer and not np.all(col == np.round(col)):
+            raise ReducerlabError(f"sweep {a.path!r}: an integer field takes whole numbers")
+        columns.append(col)
+    grid = np.meshgrid(*columns, indexing="ij")
+    points = np.stack([g.ravel() for g in grid], axis=-1)  # (n_points, n_axes)
+    ev = _Evaluator(
+        design.model_dump(mode="python") if design is not None else None, model, targets
+    )
+    lows = np.array([c.min() for c in columns])
+    highs = np.array([c.max() for c in columns])
+    vectorised = points.shape[0] > 2 and _affine(ev, lows, highs)
+    spec = {
+        "axes": [[a.path, [float(x) for x in c]] for a, c in zip(axes, columns, strict=True)],
+        "design": design.hash if design is not None else None,
+        "model": hashlib.sha256(
+            model.matrices().M.tobytes() + model.matrices().K.tobytes()
+        ).hexdigest(),
+        "chunk_size": chunk_size,
+    }
+    key = hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()[:16]
+    temporary = output is None
+    folder = Path(output) if output is not None else Path(_tempdir())
+    (folder / "chunks").mkdir(parents=True, exist_ok=True)
+    manifest = folder / "sweep.json"
+    if manifest.exists():
+        old = json.loads(manifest.read_text())
+        if old.get("key") != key:
+            raise ReducerlabError(
+                f"{folder} holds a different sweep ({old.get('axes')}); choose another output "
+                "folder or delete it"
+            )
+    else:
+        manifest.write_text(json.dumps({"key": key, **spec}, indent=1))
+    run = _Run(folder)
+    run.chunks = [
+        (i, points[s : s + chunk_size]) for i, s in enumerate(range(0, len(points), chunk_size))
+    ]
+    jobs = run.missing()
+    total, done = len(run.chunks), len(run.chunks) - len(jobs)
+    if progress:
+        progress(done, total)
+
+    def tick(k: int) -> None:
+        nonlocal done
+        done += k
+        if progress:
+            progress(done, total)
+
+    try:
+        _submit_all(ev, jobs, run, workers, scheduler, tick)
+        parts = [np.load(run.chunk_path(i)) for i, _ in run.chunks]
+        lam = np.concatenate([p["lam"] for p in parts])
+        phi = np.concatenate([p["phi"] for p in parts])
+        y = np.concatenate([p["y"] for p in parts])
+        result = _assemble(axes, columns, targets, lam, phi, y, model, design, vectorised)
+        if track and len(axes) == 1 and len(columns[0]) > 1:
+            _add_tracking(result, ev, columns[0])
+        if not temporary:
+            result.save(folder / "sweep.nc")
+        return result
+    finally:
+        if temporary:
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+def _tempdir() -> str:
+    import tempfile
+
+    return tempfile.mkdtemp(prefix="reducerlab-sweep-")
+
+
+def _si_of(design: Design, t: _Target, value: str) -> float:
+    from ..drives import design_from_dict
+
+    data = design.model_dump(mode="python")
+    _walk(data, t.keys[:-1])[t.keys[-1]] = value
+    try:
+        new = design_from_dict(data, "sweep value").model_dump(mode="python")
+    except DesignError as exc:
+        raise ReducerlabError(f"sweep {t.path!r}: value {value!r} rejected:\n{exc}") from None
+    return float(_walk(new, t.keys))
+
+
+def _rigid_clean(lam: NDArray, rigid_tol: float = 1e-10) -> NDArray:
+    scale = np.maximum(np.max(np.abs(lam), axis=-1, keepdims=True), np.finfo(float).tiny)
+    return np.where(np.abs(lam) <= rigid_tol * scale, 0.0, lam)
+
+
+def _assemble(
+    axes: list[Axis],
+    columns: list[NDArray],
+    targets: tuple[_Target, ...],
+    lam: NDArray,
+    phi: NDArray,
+    y: NDArray,
+    model: Model,
+    design: Design | None,
+    vectorised: bool,
+) -> SweepResult:
+    lam = _rigid_clean(lam)
+    freq = np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
+    dims = [f"p{i}" for i in range(len(axes))]
+    shape = tuple(len(c) for c in columns)
+    n = model.n
+    coords: dict[str, Any] = {
+        d: (d, c, {"path": a.path, "design_value": t.base, "scale": a.scale})
+        for d, c, a, t in zip(dims, columns, axes, targets, strict=True)
+    }
+    coords.update(mode=np.arange(1, n + 1), dof=model.dof_names)
+    data = xr.Dataset(
+        {
+            "frequency": ((*dims, "mode"), freq.reshape(*shape, n), {"units": "Hz"}),
+            "eigenvalue": ((*dims, "mode"), lam.reshape(*shape, n), {"units": "rad^2/s^2"}),
+            "shape": ((*dims, "dof", "mode"), phi.reshape(*shape, n, n)),
+            "weighted_shape": ((*dims, "dof", "mode"), y.reshape(*shape, n, n)),
+        },
+        coords=coords,
+        attrs={
+            "title": (design.name if design is not None else model.name) or "modal sweep",
+            "parameters": json.dumps([a.path for a in axes]),
+            "relative": json.dumps([a.relative for a in axes]),
+            "vectorised": int(vectorised),
+            **provenance(model.metadata),
+        },
+    )
+    return SweepResult(data)
+
+
+def _add_tracking(result: SweepResult, ev: _Evaluator, params: NDArray) -> None:
+    ds = result.data
+    y = ds["weighted_shape"].values
+    freq = ds["frequency"].values
+    order_idx = np.argsort(params)
+    if not np.array_equal(order_idx, np.arange(len(params))):
+        order_idx = np.arange(len(params))  # keep the user's order; tracking still works
+
+    def evaluate(p: float) -> NDArray:
+        return ev.solve(np.array([[p]]))[2][0]
+
+    tr = track_modes(params, y, evaluate)
+    events = find_events(params, freq, y, tr)
+    tf = np.take_along_axis(freq, tr.order, axis=1)
+    result.data = ds.assign(
+        tracked_frequency=(("p0", "track"), tf, {"units": "Hz"}),
+        track_order=(("p0", "track"), tr.order + 1, {"long_name": "sorted mode number"}),
+        step_mac=(("step",), tr.min_mac, {"long_name": "min MAC between neighbours"}),
+        event_kind=(("event",), np.array([e.kind for e in events], dtype=object)),
+        event_param=(("event",), np.array([e.param for e in events], dtype=float)),
+        event_modes=(("event", "pair"), np.array([e.modes for e in events]).reshape(-1, 2)),
+        event_gap_hz=(("event",), np.array([e.gap_hz for e in events], dtype=float)),
+    ).assign_coords(track=np.arange(1, freq.shape[1] + 1))
+    result.data.attrs["refined_points"] = tr.refined
+
+
+class SweepResult(Result):
+    """Natural frequencies over one or two swept parameters (dims ``p0``, ``p1``).
+
+    Variables: ``frequency`` (sorted), ``eigenvalue``, ``shape``, ``weighted_shape``;
+    for 1-D sweeps also ``tracked_frequency`` (p0, track), ``track_order`` and the
+    crossing/veering events (``event_kind``, ``event_param``, ``event_modes``,
+    ``event_gap_hz``).
+    """
+
+    kind: ClassVar[str] = "sweep"
+
+    @property
+    def parameters(self) -> list[str]:
+        """Swept parameter paths."""
+        return json.loads(self.data.attrs["parameters"])
+
+    def events(self) -> list[dict[str, Any]]:
+        """Crossings and veerings as dictionaries."""
+        ds = self.data
+        if "event_kind" not in ds:
+            return []
+        return [
+            {
+                "kind": str(k),
+                "param": float(p),
+                "modes": [int(m) for m in mm],
+                "gap_hz": float(g),
+            }
+            for k, p, mm, g in zip(
+                ds["event_kind"].values,
+                ds["event_param"].values,
+                ds["event_modes"].values,
+                ds["event_gap_hz"].values,
+                strict=True,
+            )
+        ]
+
+    def table(self) -> str:
+        """Frequencies at the first, middle and last point, and the events."""
+        ds = self.data
+        lines = [f"{ds.attrs.get('title', '')}: sweep of {', '.join(self.parameters)}"]
+        if len(self.parameters) == 1:
+            p = ds["p0"].values
+            idx = sorted({0, len(p) // 2, len(p) - 1})
+            var = "tracked_frequency" if "tracked_frequency" in ds else "frequency"
+            f = ds[var].values
+            head = f"{'':>8}" + "".join(f"{p[i]:>16.6g}" for i in idx)
+            lines.append(head)
+            for j in range(f.shape[1]):
+                lines.append(
+                    f"{'mode ' + str(j + 1):>8}" + "".join(f"{f[i, j]:>16.6g}" for i in idx)
+                )
+            ev = self.events()
+            lines.append(f"events: {len(ev)}")
+            for e in ev:
+                lines.append(
+                    f"  {e['kind']:<9} at {e['param']:.6g} between modes {e['modes'][0]} and "
+                    f"{e['modes'][1]} (gap {e['gap_hz']:.4g} Hz)"
+                )
+        else:
+            lines.append(f"grid {ds.sizes['p0']} x {ds.sizes['p1']} points")
+        return "\n".join(lines)
+
+    def plot(self) -> Figure:
+        """Tracked frequencies against the parameter, veerings and crossings marked."""
+        from ..plot.sweep import plot_sweep
+
+        return plot_sweep(self)

@@ -1,0 +1,181 @@
+"""Mode tracking along a 1-D sweep, and detection of crossings and veerings.
+
+Modes are followed by shape, not by sorted order: between neighbouring points the
+mass-weighted MAC matrix is assigned one-to-one (Hungarian algorithm), so a track is one
+physical mode. A **crossing** is two tracks exchanging their frequency order (the
+frequencies coincide; the modes do not interact). A **veering** is two neighbouring
+sorted frequencies approaching to a local minimum of their gap without crossing while
+their shapes exchange (paper 003's "mode transition").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import linear_sum_assignment
+
+__all__ = ["Event", "Tracking", "find_events", "track_modes"]
+
+
+@dataclass(frozen=True)
+class Tracking:
+    """Result of :func:`track_modes`.
+
+    Attributes
+    ----------
+    order : ndarray of int, shape (n_points, n_tracks)
+        Sorted mode index (0-based) of each track at each point.
+    min_mac : ndarray, shape (n_points - 1,)
+        Smallest MAC of the assignment between each point and the next.
+    refined : int
+        Number of extra points evaluated to resolve low-MAC steps.
+    """
+
+    order: NDArray[np.intp]
+    min_mac: NDArray[np.float64]
+    refined: int
+
+
+def _assign(ya: NDArray, yb: NDArray) -> tuple[NDArray[np.intp], float]:
+    """Permutation p with sorted mode p[j] at b matching sorted mode j at a, and its min MAC."""
+    mac = (ya.T @ yb) ** 2  # columns orthonormal: denominators are 1
+    rows, cols = linear_sum_assignment(-mac)
+    perm = np.empty(ya.shape[1], dtype=np.intp)
+    perm[rows] = cols
+    return perm, float(mac[rows, cols].min())
+
+
+def track_modes(
+    params: NDArray[np.float64],
+    y: NDArray[np.float64],
+    evaluate: Callable[[float], NDArray[np.float64]] | None = None,
+    *,
+    threshold: float = 0.8,
+    max_depth: int = 6,
+) -> Tracking:
+    """Follow modes along a sweep by shape.
+
+    Parameters
+    ----------
+    params : ndarray, shape (n_points,)
+        Parameter values, monotonic.
+    y : ndarray, shape (n_points, n_dof, n_mode)
+        Mass-weighted (orthonormal) shapes at each point.
+    evaluate : callable, optional
+        ``evaluate(p) -> y(p)`` for refinement: where the best assignment between two
+        neighbours has a MAC below ``threshold``, the step is bisected (up to
+        ``max_depth`` times) and the modes are tracked through the new points.
+    """
+    n_pts, _, n_modes = y.shape
+    order = np.empty((n_pts, n_modes), dtype=np.intp)
+    order[0] = np.arange(n_modes)
+    min_mac = np.ones(max(n_pts - 1, 0))
+    refined = 0
+
+    def step(pa: float, ya: NDArray, pb: float, yb: NDArray, depth: int) -> tuple[NDArray, float]:
+        nonlocal refined
+        perm, m = _assign(ya, yb)
+        if m >= threshold or evaluate is None or depth >= max_depth:
+            return perm, m
+        pm = 0.5 * (pa + pb)
+        ym = evaluate(pm)
+        refined += 1
+        p1, m1 = step(pa, ya, pm, ym, depth + 1)
+        p2, m2 = step(pm, ym, pb, yb, depth + 1)
+        return p2[p1], min(m1, m2)
+
+    for i in range(n_pts - 1):
+        perm, m = step(float(params[i]), y[i], float(params[i + 1]), y[i + 1], 0)
+        order[i + 1] = perm[order[i]]
+        min_mac[i] = m
+    return Tracking(order, min_mac, refined)
+
+
+@dataclass(frozen=True)
+class Event:
+    """A crossing or veering between two modes along a sweep.
+
+    ``modes`` are 1-based sorted mode numbers just before the event (for a crossing,
+    the two tracks' sorted numbers on the lower-parameter side).
+    """
+
+    kind: str
+    param: float
+    modes: tuple[int, int]
+    gap_hz: float
+
+
+def find_events(
+    params: NDArray[np.float64],
+    freq: NDArray[np.float64],
+    y: NDArray[np.float64],
+    tracking: Tracking,
+    *,
+    veer_gap: float = 0.05,
+    exchange_mac: float = 0.5,
+) -> list[Event]:
+    """Crossings and veerings along a tracked 1-D sweep.
+
+    Parameters
+    ----------
+    params : ndarray (n_points,)
+    freq : ndarray (n_points, n_mode)
+        Sorted natural frequencies (Hz).
+    y : ndarray (n_points, n_dof, n_mode)
+        Mass-weighted shapes.
+    tracking : Tracking
+    veer_gap : float
+        A veering needs a local minimum of the relative gap
+        ``(f_{i+1} - f_i) / (f_{i+1} + f_i)`` below this value.
+    exchange_mac : float
+        ...and the shapes must exchange: the MAC between sorted mode ``i`` before the
+        minimum and sorted mode ``i+1`` after it must exceed this value.
+    """
+    events: list[Event] = []
+    n_pts, n_modes = freq.shape
+    tf = np.take_along_axis(freq, tracking.order, axis=1)  # tracked frequencies
+    for a in range(n_modes):
+        for b in range(a + 1, n_modes):
+            d = tf[:, a] - tf[:, b]
+            for i in np.nonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)[0]:
+                s = d[i] / (d[i] - d[i + 1])
+                p = params[i] + s * (params[i + 1] - params[i])
+                ma, mb = sorted((int(tracking.order[i, a]) + 1, int(tracking.order[i, b]) + 1))
+                events.append(Event("crossing", float(p), (ma, mb), 0.0))
+    if n_pts < 3:
+        return events
+    track_at = np.argsort(tracking.order, axis=1)  # sorted position -> track
+    for m in range(n_modes - 1):
+        lo, hi = freq[:, m], freq[:, m + 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            g = np.where(hi + lo > 0, (hi - lo) / (hi + lo), np.inf)
+        for i in range(1, n_pts - 1):
+            if not (g[i] <= g[i - 1] and g[i] < g[i + 1] and g[i] < veer_gap):
+                continue
+            # shapes exchange across the minimum: compare the farthest points on each
+            # side while the gap keeps growing away from it
+            j0 = i
+            while j0 > 0 and g[j0 - 1] >= g[j0]:
+                j0 -= 1
+            j1 = i
+            while j1 < n_pts - 1 and g[j1 + 1] >= g[j1]:
+                j1 += 1
+            if track_at[j0, m] != track_at[j1, m]:
+                continue  # the tracks swap order: a crossing, not a veering
+            cross = float((y[j0][:, m] @ y[j1][:, m + 1]) ** 2)
+            if cross < exchange_mac:
+                continue
+            # parabolic interpolation of the minimum
+            x0, x1, x2 = params[i - 1], params[i], params[i + 1]
+            g0, g1, g2 = g[i - 1], g[i], g[i + 1]
+            den = (x0 - x1) * (x0 - x2) * (x1 - x2)
+            A = (x2 * (g1 - g0) + x1 * (g0 - g2) + x0 * (g2 - g1)) / den
+            B = (x2**2 * (g0 - g1) + x1**2 * (g2 - g0) + x0**2 * (g1 - g2)) / den
+            p = float(-B / (2 * A)) if A > 0 else float(x1)
+            p = min(max(p, float(x0)), float(x2))
+            events.append(Event("veering", p, (m + 1, m + 2), float(hi[i] - lo[i])))
+    events.sort(key=lambda e: e.param)
+    return events
