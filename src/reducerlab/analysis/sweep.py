@@ -141,13 +141,14 @@ def parse_values(path: str, spec: str) -> Axis:
     items = [x.strip() for x in (s[4:] if relative else s).split(",") if x.strip()]
     if not items:
         raise ReducerlabError(f"sweep {path!r}: no values in {spec!r}")
-    if all(x.endswith("%") for x in items):
+    percent = all(x.endswith("%") for x in items)
+    if percent:
         relative = True
         items = [x[:-1].strip() for x in items]
     values: list[Any] = []
     for x in items:
         if re.fullmatch(_NUM, x):
-            values.append(float(x))
+            values.append(float(x) / 100.0 if percent else float(x))
         elif relative:
             raise ReducerlabError(f"sweep {path!r}: relative value {x!r} is not a number")
         elif re.match(_NUM, x):

@@ -10,6 +10,7 @@ their shapes exchange (paper 003's "mode transition").
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -140,9 +141,14 @@ def find_events(
     for a in range(n_modes):
         for b in range(a + 1, n_modes):
             d = tf[:, a] - tf[:, b]
-            for i in np.nonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)[0]:
-                s = d[i] / (d[i] - d[i + 1])
-                p = params[i] + s * (params[i + 1] - params[i])
+            nz = np.nonzero(d)[0]  # a crossing may sit exactly on a grid point
+            for i, j in itertools.pairwise(nz):
+                if np.sign(d[i]) == np.sign(d[j]):
+                    continue
+                if j > i + 1:
+                    p = params[i + 1]  # the frequencies coincide on a grid point
+                else:
+                    p = params[i] + d[i] / (d[i] - d[j]) * (params[j] - params[i])
                 ma, mb = sorted((int(tracking.order[i, a]) + 1, int(tracking.order[i, b]) + 1))
                 events.append(Event("crossing", float(p), (ma, mb), 0.0))
     if n_pts < 3:
@@ -168,14 +174,20 @@ def find_events(
             cross = float((y[j0][:, m] @ y[j1][:, m + 1]) ** 2)
             if cross < exchange_mac:
                 continue
-            # parabolic interpolation of the minimum
-            x0, x1, x2 = params[i - 1], params[i], params[i + 1]
-            g0, g1, g2 = g[i - 1], g[i], g[i + 1]
+            # locate the veering at the minimum of the eigenvalue gap lambda_{i+1} -
+            # lambda_i inside the window (parabolic interpolation): for two coupled
+            # modes that is where their shapes are an equal mix
+            dl = (hi**2 - lo**2)[j0 : j1 + 1]
+            k = j0 + int(np.argmin(dl))
+            k = min(max(k, 1), n_pts - 2)
+            x0, x1, x2 = params[k - 1], params[k], params[k + 1]
+            g0, g1, g2 = (hi[k + q] ** 2 - lo[k + q] ** 2 for q in (-1, 0, 1))
             den = (x0 - x1) * (x0 - x2) * (x1 - x2)
             A = (x2 * (g1 - g0) + x1 * (g0 - g2) + x0 * (g2 - g1)) / den
             B = (x2**2 * (g0 - g1) + x1**2 * (g2 - g0) + x0**2 * (g1 - g2)) / den
             p = float(-B / (2 * A)) if A > 0 else float(x1)
-            p = min(max(p, float(x0)), float(x2))
+            p = min(max(p, float(min(x0, x2))), float(max(x0, x2)))
+            i = k
             events.append(Event("veering", p, (m + 1, m + 2), float(hi[i] - lo[i])))
     events.sort(key=lambda e: e.param)
     return events
