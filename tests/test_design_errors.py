@@ -22,6 +22,7 @@ BASE = EXAMPLE.read_text()
 OPERATING = """[operating]
 speed = "1500 rpm"                 # pinion
 torque = "60 N*m"                  # transmitted by the pinion
+speed_range = ["1200 rpm", "1800 rpm"]   # operating range for `reducerlab check`
 """
 
 

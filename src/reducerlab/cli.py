@@ -108,7 +108,7 @@ def modal(
         _, model = _model_from(design)
         result = run_modal(model, rigid_tol=rigid_tol)
         written = _write_modal(result, output) if output is not None else []
-    except ReducerlabError as exc:
+    except (ReducerlabError, OSError) as exc:
         _fail(exc)
         return
     if fmt is Format.json:
@@ -151,7 +151,7 @@ def sensitivity(
             res.save(output / "sensitivity.nc")
             res.plot().savefig(output / "sensitivity.png", dpi=120)
             err.print(f"wrote {output / 'sensitivity.nc'}, {output / 'sensitivity.png'}")
-    except ReducerlabError as exc:
+    except (ReducerlabError, OSError) as exc:
         _fail(exc)
         return
     if fmt is Format.json:
@@ -213,7 +213,7 @@ def kinematics(
     try:
         result = _run_kinematics(load_design(design))
         written = _write_kinematics(result, output) if output is not None else []
-    except ReducerlabError as exc:
+    except (ReducerlabError, OSError) as exc:
         _fail(exc)
         return
     typer.echo(result.to_json() if fmt is Format.json else result.table())
@@ -298,7 +298,7 @@ def sweep(
             )
         fig = result.plot()
         fig.savefig(output / "sweep.png", dpi=120)
-    except ReducerlabError as exc:
+    except (ReducerlabError, OSError) as exc:
         _fail(exc)
         return
     if fmt is Format.json:
@@ -341,7 +341,7 @@ def campbell(
             res.save(output / "campbell.nc")
             res.plot().savefig(output / "campbell.png", dpi=120)
             err.print(f"wrote {output / 'campbell.nc'}, {output / 'campbell.png'}")
-    except ReducerlabError as exc:
+    except (ReducerlabError, OSError) as exc:
         _fail(exc)
         return
     typer.echo(json.dumps({"crossings": res.crossings()}) if fmt is Format.json else res.table())
@@ -370,7 +370,7 @@ def check(
                 raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
             rng = (parts[0], parts[1])
         report = resonance_check(load_design(design), margin=margin, speed_range=rng)
-    except ReducerlabError as exc:
+    except (ReducerlabError, OSError) as exc:
         _fail(exc)
         return
     typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
@@ -409,7 +409,7 @@ def demo(
                 if hasattr(design, "kinematics"):
                     res_k = _run_kinematics(design)
                     _write_kinematics(res_k, outdir)
-            except ReducerlabError as exc:
+            except (ReducerlabError, OSError) as exc:
                 _fail(exc)
             summary.append((path, res_m, res_k))
             progress.advance(task)

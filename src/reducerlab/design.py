@@ -116,7 +116,8 @@ NonNegativeDamping = Damping
 TorsionalDamping = quantity("torsional damping", ge=0)
 Force = quantity("force")
 Torque = quantity("torque")
-AngularVelocity = quantity("angular velocity")
+#: Speeds are bounded by 1e7 rad/s (about 95 million rpm) so that squares stay finite.
+AngularVelocity = quantity("angular velocity", ge=-1e7, le=1e7)
 Angle = quantity("angle")
 PositiveInt = Annotated[int, Field(strict=True, gt=0)]
 
@@ -161,6 +162,10 @@ def read_toml(path: str | Path) -> dict[str, Any]:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise DesignError(f"{p}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise DesignError(f"{p}: not a text file in UTF-8 (TOML must be UTF-8)") from None
+    except OSError as exc:
+        raise DesignError(f"{p}: cannot read the design file ({exc.strerror})") from None
 
 
 _RULES = {

@@ -12,6 +12,7 @@ pint is imported lazily so that ``import reducerlab`` stays fast.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from functools import cache
 from typing import Any
@@ -117,6 +118,11 @@ def parse_quantity(value: Any, kind: str) -> float:
         if kind == "angular velocity" and _is_ambiguous_speed(text):
             raise ValueError(
                 "Hz is ambiguous for an angular velocity; write 'rpm', 'rev/s' or 'rad/s'"
+            )
+        if kind == "frequency" and re.search(r"rad|rev|rpm|rps|cycle|turn", text.lower()):
+            raise ValueError(
+                f"{text!r}: a frequency is in Hz (cycles per second); angle-based units are "
+                "ambiguous here"
             )
         try:
             q = ureg.Quantity(text)

@@ -1,9 +1,9 @@
 """A spur gear pair on elastic bearings: bending-torsional, 6 DOFs.
 
 The generic example of reducerlab's core (issue 2). Each gear has two translations
-``x, y`` in the plane of rotation and the rotation ``rz``; gear rotations are positive
-in the direction each gear turns when the pinion drives, so the relative displacement
-along the line of action is
+``x, y`` in the plane of rotation and the rotation ``rz``; both rotations are measured
+counter-clockwise about +z (the pinion drives counter-clockwise, the gear then turns
+clockwise, i.e. negative). The relative displacement along the line of action is
 
 ``delta = (x_p - x_g) sin(alpha) + (y_p - y_g) cos(alpha) + r_bp rz_p + r_bg rz_g - e(t)``
 
@@ -72,7 +72,9 @@ class GearMesh(Spec):
     damping: Damping = 0.0
     backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
     stiffness_harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
-    stiffness_phases: list[quantity("angle")] = Field(default_factory=list)  # type: ignore[valid-type]
+    stiffness_phases: list[angle_between(-360, 360, closed=True)] = Field(  # type: ignore[valid-type]
+        default_factory=list
+    )
 
     @model_validator(mode="after")
     def _phases_match(self) -> GearMesh:
@@ -131,11 +133,6 @@ class GearPairDesign(Design):
         return self.mesh.module * z * math.cos(self.mesh.pressure_angle) / 2.0
 
     @property
-    def ratio(self) -> float:
-        """Transmission ratio ``z_gear / z_pinion`` (input pinion)."""
-        return self.gear.teeth / self.pinion.teeth
-
-    @property
     def input_speed(self) -> float:
         """Input (pinion) speed (rad/s)."""
         return self.operating.speed
@@ -143,11 +140,6 @@ class GearPairDesign(Design):
     def kinematics(self) -> ExternalGearPair:
         """Kinematics of the pair (pinion input)."""
         return ExternalGearPair(self.pinion.teeth, self.gear.teeth)
-
-    @property
-    def mesh_frequency(self) -> float:
-        """Mesh angular frequency ``z_p * Omega`` (rad/s)."""
-        return self.pinion.teeth * self.operating.speed
 
 
 def build_model(design: GearPairDesign) -> Model:
@@ -167,13 +159,16 @@ def build_model(design: GearPairDesign) -> Model:
     s, c = math.sin(alpha), math.cos(alpha)
     rbp, rbg = design.base_radius("pinion"), design.base_radius("gear")
     dofs = [Dof(b, k) for b in ("pinion", "gear") for k in ("x", "y", "rz")]
+    kin = design.kinematics()
     law: TimeLaw
     if design.mesh.stiffness_harmonics:
+        omega_mesh = 2 * math.pi * kin.mesh_frequencies(design.operating.speed)["mesh"]
         law = Fourier(
             mean=design.mesh.stiffness,
             amplitudes=tuple(design.mesh.stiffness_harmonics),
             phases=tuple(design.mesh.stiffness_phases),
-            omega=design.mesh_frequency,
+            omega=omega_mesh,
+            ref_speed=design.operating.speed,
         )
     else:
         law = Constant(design.mesh.stiffness)
@@ -205,9 +200,11 @@ def build_model(design: GearPairDesign) -> Model:
     )
     torque = design.operating.torque
     if torque:
+        # the gear turns at omega / i (i < 0): the load torque opposes that rotation,
+        # so it acts counter-clockwise, T |i|; no net torque on the rigid rotation
         elements += [
             Load("pinion.rz", torque, name="input_torque"),
-            Load("gear.rz", -torque * design.ratio, name="load_torque"),
+            Load("gear.rz", torque * abs(kin.ratio), name="load_torque"),
         ]
     return Model(
         dofs,

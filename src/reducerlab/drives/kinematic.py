@@ -67,7 +67,7 @@ class KinematicsDesign(Design):
     input_speed: AngularVelocity
     nutation_angle: angle_between(0, 180) | None = None  # type: ignore[valid-type]
     teeth: dict[str, PositiveInt]
-    contact: Literal["internal", "external"] = "internal"
+    contact: Literal["internal", "external"] | None = None
     output: str | None = None
 
     @model_validator(mode="after")
@@ -86,6 +86,8 @@ class KinematicsDesign(Design):
             problems.append(f"drive {self.drive!r} needs nutation_angle (e.g. '5 deg')")
         if self.drive not in NUTATING and self.nutation_angle is not None:
             problems.append(f"drive {self.drive!r} has no nutation_angle")
+        if self.drive not in NUTATING and self.contact is not None:
+            problems.append(f"drive {self.drive!r} has no bevel contact type")
         if self.output is not None and self.output not in outputs:
             problems.append(f"output for drive {self.drive!r} must be one of {list(outputs)}")
         if self.input_speed == 0:
@@ -104,12 +106,13 @@ class KinematicsDesign(Design):
         out = self.output or TEETH[self.drive][1][0]
         if self.drive == "nutation":
             return NutationDrive(
-                z["nutating"], z["central"], self.nutation_angle, self.contact, out
+                z["nutating"], z["central"], self.nutation_angle, self.contact or "internal", out
             )
         if self.drive == "double_nutation":
             return DoubleNutationDrive(
-                z["z1"], z["z2"], z["z3"], z["z4"], self.nutation_angle, self.contact
-            )
+                z["z1"], z["z2"], z["z3"], z["z4"], self.nutation_angle,
+                self.contact or "internal",
+            )  # fmt: skip
         if self.drive == "khv":
             return KHVDrive(z["planet"], z["ring"])
         if self.drive == "cycloid_ball":

@@ -47,6 +47,7 @@ from ..design import (
     Torque,
     TorsionalDamping,
     TorsionalStiffness,
+    angle_between,
     quantity,
 )
 from ..errors import ModelError
@@ -67,9 +68,11 @@ from ..model.laws import TimeLaw
 
 __all__ = ["LumpedDesign", "build_model"]
 
-Coefficients = dict[str, Annotated[float, Field(allow_inf_nan=False)]]
+Coefficients = Annotated[
+    dict[str, Annotated[float, Field(allow_inf_nan=False)]], Field(min_length=1)
+]
 Frequency = quantity("frequency", gt=0)
-Angle = quantity("angle")
+Phase = angle_between(-360, 360, closed=True)
 
 
 class DofSpec(Spec):
@@ -141,7 +144,7 @@ class MeshSpec(Spec):
     backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
     error: quantity("length") = 0.0  # type: ignore[valid-type]
     harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
-    phases: list[Angle] = Field(default_factory=list)  # type: ignore[valid-type]
+    phases: list[Phase] = Field(default_factory=list)  # type: ignore[valid-type]
     frequency: Frequency | None = None  # type: ignore[valid-type]
     order: Annotated[float, Field(gt=0)] | None = None
     name: str = ""
@@ -168,7 +171,7 @@ class CentripetalSpec(Spec):
     type: Literal["centripetal"]
     dof: str
     mass: Mass
-    ratio: float = 1.0
+    ratio: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0
     name: str = ""
 
 
@@ -266,10 +269,10 @@ def _value(a: float | None, b: float | None) -> float:
 
 def build_model(design: LumpedDesign) -> Model:
     """Turn the written-out model into a :class:`~reducerlab.model.Model`."""
-    dofs = [Dof(d.body, d.kind, d.radius) for d in design.dofs]
-    radius = {d.name: d.radius for d in dofs}
     elements = []
     try:
+        dofs = [Dof(d.body, d.kind, d.radius) for d in design.dofs]
+        radius = {d.name: d.radius for d in dofs}
         for e in design.elements:
             kw = {"name": e.name} if e.name else {}
             if isinstance(e, InertiaSpec):
@@ -308,10 +311,16 @@ def build_model(design: LumpedDesign) -> Model:
 def _mesh(e: MeshSpec, speed: float, kw: dict) -> Mesh:
     law: TimeLaw
     if e.harmonics:
-        omega = 2 * math.pi * e.frequency if e.frequency is not None else e.order * speed
-        if not omega > 0:
-            raise ModelError(f"mesh {e.name!r}: order needs speed > 0 to set the mesh frequency")
-        law = Fourier(e.stiffness, tuple(e.harmonics), omega, tuple(e.phases))
+        if e.frequency is not None:  # fixed in time, whatever the speed
+            law = Fourier(e.stiffness, tuple(e.harmonics), 2 * math.pi * e.frequency,
+                          tuple(e.phases))  # fmt: skip
+        else:  # a multiple of the input speed: follows the model speed
+            if not speed > 0:
+                raise ModelError(
+                    f"mesh {e.name!r}: order needs speed > 0 to set the mesh frequency"
+                )
+            law = Fourier(e.stiffness, tuple(e.harmonics), e.order * speed, tuple(e.phases),
+                          ref_speed=speed)  # fmt: skip
     else:
         law = Constant(e.stiffness)
     return Mesh(

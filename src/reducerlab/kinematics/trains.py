@@ -59,6 +59,28 @@ def _teeth(**z: int) -> None:
             raise ReducerlabError(f"{name}: tooth number must be a positive integer, got {v!r}")
 
 
+def _angle(name: str, value: object) -> None:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating):
+        raise ReducerlabError(f"{name} must be a number in rad, got {value!r}")
+    if not 0 < float(value) < math.pi:
+        raise ReducerlabError(f"{name} must lie in (0°, 180°), got {math.degrees(value):g}°")
+
+
+def _pair_cones(z_n: int, z_c: int, theta: float, contact: str) -> tuple[float, float]:
+    """Pitch cone angles ``(delta_nutating, delta_central)`` (rad) of one bevel pair."""
+    if contact == "external":
+        return external_cone_angles(z_n, z_c, theta)
+    if z_n > z_c:
+        return internal_cone_angles(z_n, z_c, theta)
+    dc, dn = internal_cone_angles(z_c, z_n, theta)
+    return dn, dc
+
+
+def _omega_magnitude(omega_h: float, dpsi: float, theta: float) -> float:
+    """|omega| of a gear in steady precession: |omega_H zeta + psi' b| (rad/s)."""
+    return math.sqrt(max(omega_h**2 + dpsi**2 + 2 * omega_h * dpsi * math.cos(theta), 0.0))
+
+
 def rolling_spin(
     omega_h: float, omega_c: float, z_c: int, z_n: int, contact: str = "internal"
 ) -> float:
@@ -145,10 +167,7 @@ class NutationDrive(DriveKinematics):
         _sigma(self.contact)
         if self.output not in ("central", "nutating"):
             raise ReducerlabError(f"output must be 'central' or 'nutating', got {self.output!r}")
-        if not 0 < self.nutation_angle < math.pi:
-            raise ReducerlabError(
-                f"nutation angle must lie in (0°, 180°), got {math.degrees(self.nutation_angle):g}°"
-            )
+        _angle("nutation angle", self.nutation_angle)
         if self.contact == "internal" and self.z_nutating == self.z_central:
             raise ReducerlabError("an internal pair needs different tooth numbers")
         if self.z_nutating == self.z_central and self.output == "nutating":
@@ -173,13 +192,11 @@ class NutationDrive(DriveKinematics):
 
     def speeds(self, omega_in: float) -> dict[str, float]:
         dpsi, wc = self._rates(omega_in)
-        th = self.nutation_angle
-        w = math.sqrt(omega_in**2 + dpsi**2 + 2 * omega_in * dpsi * math.cos(th))
         return {
             "input (crank)": omega_in,
             "nutating gear: spin psi'": dpsi,
             "nutating gear: net rotation phi' + psi'": omega_in + dpsi,
-            "nutating gear: |omega|": w,
+            "nutating gear: |omega|": _omega_magnitude(omega_in, dpsi, self.nutation_angle),
             "central gear": wc,
         }
 
@@ -188,13 +205,7 @@ class NutationDrive(DriveKinematics):
         return {"mesh": self.z_nutating * abs(dpsi) / TWO_PI}
 
     def cone_angles(self) -> dict[str, float]:
-        zn, zc, th = self.z_nutating, self.z_central, self.nutation_angle
-        if self.contact == "external":
-            dn, dc = external_cone_angles(zn, zc, th)
-        elif zn > zc:
-            dn, dc = internal_cone_angles(zn, zc, th)
-        else:
-            dc, dn = internal_cone_angles(zc, zn, th)
+        dn, dc = _pair_cones(self.z_nutating, self.z_central, self.nutation_angle, self.contact)
         return {"nutating gear": dn, "central gear": dc}
 
     def nutating_motion(self, omega_in: float) -> NutatingMotion:
@@ -239,8 +250,7 @@ class DoubleNutationDrive(DriveKinematics):
         _sigma(self.contact)
         if self.z1 * self.z4 == self.z2 * self.z3:
             raise ReducerlabError("z1 z4 = z2 z3: the output does not turn")
-        if not 0 < self.nutation_angle < math.pi:
-            raise ReducerlabError("nutation angle must lie in (0°, 180°)")
+        _angle("nutation angle", self.nutation_angle)
         self.cone_angles()
 
     def _rates(self, omega_in: float) -> tuple[float, float]:
@@ -254,14 +264,11 @@ class DoubleNutationDrive(DriveKinematics):
 
     def speeds(self, omega_in: float) -> dict[str, float]:
         dpsi, w4 = self._rates(omega_in)
-        th = self.nutation_angle
         return {
             "input (crank)": omega_in,
             "nutating gears 1+3: spin psi'": dpsi,
             "nutating gears 1+3: net rotation phi' + psi'": omega_in + dpsi,
-            "nutating gears 1+3: |omega|": math.sqrt(
-                omega_in**2 + dpsi**2 + 2 * omega_in * dpsi * math.cos(th)
-            ),
+            "nutating gears 1+3: |omega|": _omega_magnitude(omega_in, dpsi, self.nutation_angle),
             "gear 2 (fixed)": 0.0,
             "gear 4 (output)": w4,
         }
@@ -273,18 +280,9 @@ class DoubleNutationDrive(DriveKinematics):
             "mesh 2 (gears 3-4)": self.z3 * abs(dpsi) / TWO_PI,
         }
 
-    def _pair(self, zn: int, zc: int) -> tuple[float, float]:
-        th = self.nutation_angle
-        if self.contact == "external":
-            return external_cone_angles(zn, zc, th)
-        if zn > zc:
-            return internal_cone_angles(zn, zc, th)
-        dc, dn = internal_cone_angles(zc, zn, th)
-        return dn, dc
-
     def cone_angles(self) -> dict[str, float]:
-        d1, d2 = self._pair(self.z1, self.z2)
-        d3, d4 = self._pair(self.z3, self.z4)
+        d1, d2 = _pair_cones(self.z1, self.z2, self.nutation_angle, self.contact)
+        d3, d4 = _pair_cones(self.z3, self.z4, self.nutation_angle, self.contact)
         return {"gear 1": d1, "gear 2": d2, "gear 3": d3, "gear 4": d4}
 
     def nutating_motion(self, omega_in: float) -> NutatingMotion:

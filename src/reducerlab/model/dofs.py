@@ -60,7 +60,8 @@ class Dof:
         if self.kind not in FAMILIES:
             raise ModelError(f"Dof {self.body}.{self.kind}: kind must be one of {KINDS}")
         if self.kind == "u":
-            if self.radius is None or not self.radius > 0:
+            ok = isinstance(self.radius, int | float) and not isinstance(self.radius, bool)
+            if not ok or not (0 < self.radius < float("inf")):
                 raise ModelError(
                     f"Dof {self.name}: an equivalent linear displacement needs a radius > 0 m"
                 )

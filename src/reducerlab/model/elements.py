@@ -98,10 +98,28 @@ class Element(ABC):
         """Local blocks, given the element's :class:`Dof` objects and the speed (rad/s)."""
 
 
+def _number(value: object) -> float | None:
+    """Real part of a real or complex scalar, or None if ``value`` is not a number."""
+    if isinstance(value, bool) or not isinstance(value, int | float | complex | np.number):
+        return None
+    return float(np.real(value))
+
+
 def _nonneg(owner: str, name: str, value: float) -> None:
-    v = np.real(value)
-    if not (np.isfinite(v) and v >= 0):
+    v = _number(value)
+    if v is None or not (np.isfinite(v) and v >= 0):
         raise ModelError(f"{owner}: {name} must be a finite number >= 0, got {value!r}")
+
+
+def _coefficients(owner: str, coef: Mapping[str, float]) -> dict[str, float]:
+    out = dict(coef)
+    if not out:
+        raise ModelError(f"{owner}: needs at least one coefficient")
+    for dof, g in out.items():
+        v = _number(g)
+        if v is None or not np.isfinite(v):
+            raise ModelError(f"{owner}: coefficient of {dof!r} must be a finite number, got {g!r}")
+    return out
 
 
 def _as_law(value: TimeLaw | float, owner: str, what: str) -> TimeLaw:
@@ -137,8 +155,8 @@ class Inertia(Element):
     def __post_init__(self) -> None:
         if not self.name:
             object.__setattr__(self, "name", f"inertia:{self.dof}")
-        v = np.real(self.value)
-        if not (np.isfinite(v) and v > 0):
+        v = _number(self.value)
+        if v is None or not (np.isfinite(v) and v > 0):
             raise ModelError(f"{self.name}: value must be > 0, got {self.value!r}")
 
     @property
@@ -176,11 +194,9 @@ class Coupling(Element):
     name: str = ""
 
     def __post_init__(self) -> None:
-        coef = dict(self.coefficients)
-        if not coef:
-            raise ModelError("Coupling: needs at least one coefficient")
         if not self.name:
-            object.__setattr__(self, "name", "coupling:" + "-".join(coef))
+            object.__setattr__(self, "name", "coupling:" + "-".join(dict(self.coefficients)))
+        coef = _coefficients(self.name, self.coefficients)
         object.__setattr__(self, "coefficients", coef)
         _nonneg(self.name, "stiffness", self.stiffness)
         _nonneg(self.name, "damping", self.damping)
@@ -262,16 +278,16 @@ class Mesh(Element):
     name: str = ""
 
     def __post_init__(self) -> None:
-        coef = dict(self.coefficients)
-        if not coef:
-            raise ModelError("Mesh: needs at least one projection coefficient")
         if not self.name:
-            object.__setattr__(self, "name", "mesh:" + "-".join(coef))
+            object.__setattr__(self, "name", "mesh:" + "-".join(dict(self.coefficients)))
+        coef = _coefficients(self.name, self.coefficients)
         object.__setattr__(self, "coefficients", coef)
         object.__setattr__(self, "stiffness", _as_law(self.stiffness, self.name, "stiffness"))
         object.__setattr__(self, "error", _as_law(self.error, self.name, "error"))
         if self.backlash is None:
             object.__setattr__(self, "backlash", Backlash(0.0))
+        elif not isinstance(self.backlash, Backlash):
+            raise ModelError(f"{self.name}: backlash must be a Backlash, got {self.backlash!r}")
         mean = np.real(self.stiffness.mean)
         if not (np.isfinite(mean) and mean > 0):
             raise ModelError(f"{self.name}: mean stiffness must be > 0 N/m, got {mean!r}")
@@ -289,10 +305,10 @@ class Mesh(Element):
     def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
         line = Line(
             g=self.g,
-            stiffness=self.stiffness,  # type: ignore[arg-type]
+            stiffness=self.stiffness.at_speed(speed),  # type: ignore[union-attr]
             damping=self.damping,
             backlash=self.backlash,  # type: ignore[arg-type]
-            error=self.error,  # type: ignore[arg-type]
+            error=self.error.at_speed(speed),  # type: ignore[union-attr]
         )
         return Contribution(lines=(line,))
 
@@ -321,12 +337,18 @@ class Centripetal(Element):
         if not self.name:
             object.__setattr__(self, "name", f"centripetal:{self.dof}")
         _nonneg(self.name, "mass", self.mass)
+        r = _number(self.ratio)
+        if r is None or not np.isfinite(r):
+            raise ModelError(f"{self.name}: ratio must be a finite number, got {self.ratio!r}")
 
     @property
     def dofs(self) -> tuple[str, ...]:
         return (self.dof,)
 
     def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        (d,) = dofs
+        if d.is_rotation:
+            raise ModelError(f"{self.name}: centripetal terms act on translations, not {d.name}")
         omega = self.ratio * speed
         return Contribution(stiffness=np.array([[-self.mass * omega**2]]))
 
@@ -353,4 +375,4 @@ class Load(Element):
         return (self.dof,)
 
     def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
-        return Contribution(loads=((0, self.value),))  # type: ignore[arg-type]
+        return Contribution(loads=((0, self.value.at_speed(speed)),))  # type: ignore[union-attr]

@@ -53,6 +53,16 @@ class TimeLaw(ABC):
         """Times in ``[t0, t1]`` where the law or its derivative jumps (s)."""
         return np.empty(0)
 
+    def at_speed(self, speed: float) -> TimeLaw:
+        """The law at model speed ``speed`` (rad/s).
+
+        Laws built with a reference speed (``ref_speed``, e.g. a mesh frequency that is
+        a multiple of the input speed) scale their time axis by ``speed / ref_speed``;
+        at zero speed they become their mean (a gear pair at rest). Other laws are
+        returned unchanged.
+        """
+        return self
+
     @abstractmethod
     def flat(self) -> tuple[int, NDArray[np.float64]]:
         """``(kind, params)`` for :func:`evaluate_flat`."""
@@ -60,8 +70,12 @@ class TimeLaw(ABC):
 
 def _check_finite(name: str, *values: float) -> None:
     for v in values:
-        if not np.all(np.isfinite(np.real(v))):
-            raise ModelError(f"{name}: parameters must be finite, got {v!r}")
+        try:
+            ok = np.all(np.isfinite(np.real(np.asarray(v, dtype=complex))))
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ModelError(f"{name}: parameters must be finite numbers, got {v!r}")
 
 
 @dataclass(frozen=True)
@@ -109,11 +123,20 @@ class Fourier(TimeLaw):
     amplitudes: tuple[float, ...]
     omega: float
     phases: tuple[float, ...] = field(default=())
+    ref_speed: float | None = None
 
     def __post_init__(self) -> None:
-        amps = tuple(np.atleast_1d(np.asarray(self.amplitudes)).tolist())
-        phases = self.phases or (0.0,) * len(amps)
-        phases = tuple(np.atleast_1d(np.asarray(phases)).tolist())
+        try:
+            amps = tuple(np.atleast_1d(np.asarray(self.amplitudes, dtype=complex)).tolist())
+            phases = (0.0,) * len(amps) if len(np.atleast_1d(self.phases)) == 0 else self.phases
+            phases = tuple(np.atleast_1d(np.asarray(phases, dtype=float)).tolist())
+            float(np.real(self.omega))
+        except (TypeError, ValueError):
+            raise ModelError(
+                f"Fourier: amplitudes, phases and omega must be numbers, got {self.amplitudes!r}, "
+                f"{self.phases!r}, {self.omega!r}"
+            ) from None
+        amps = tuple(a.real if a.imag == 0 else a for a in amps)
         if len(phases) != len(amps):
             raise ModelError(
                 f"Fourier: {len(amps)} amplitudes but {len(phases)} phases; give one per harmonic"
@@ -121,8 +144,21 @@ class Fourier(TimeLaw):
         if not np.real(self.omega) > 0:
             raise ModelError(f"Fourier: omega must be > 0 rad/s, got {self.omega!r}")
         _check_finite("Fourier", self.mean, self.omega, *amps, *phases)
+        if self.ref_speed is not None and not (
+            isinstance(self.ref_speed, int | float) and math.isfinite(self.ref_speed)
+            and self.ref_speed > 0
+        ):  # fmt: skip
+            raise ModelError(f"Fourier: ref_speed must be > 0 rad/s, got {self.ref_speed!r}")
         object.__setattr__(self, "amplitudes", amps)
         object.__setattr__(self, "phases", phases)
+
+    def at_speed(self, speed: float) -> TimeLaw:
+        if self.ref_speed is None:
+            return self
+        if speed == 0:
+            return Constant(self.mean)
+        return Fourier(self.mean, self.amplitudes, self.omega * speed / self.ref_speed,
+                       self.phases)  # fmt: skip
 
     def _arg(self, t: ArrayLike) -> NDArray[np.float64]:
         r = np.arange(1, len(self.amplitudes) + 1)
@@ -171,10 +207,28 @@ class PiecewisePolynomial(TimeLaw):
     breaks: tuple[float, ...]
     coefficients: tuple[tuple[float, ...], ...]
     t0: float = 0.0
+    ref_speed: float | None = None
 
     def __post_init__(self) -> None:
-        breaks = np.atleast_1d(np.asarray(self.breaks, dtype=float))
-        coef = np.atleast_2d(np.asarray(self.coefficients))
+        try:
+            breaks = np.atleast_1d(np.asarray(self.breaks, dtype=float))
+            coef = np.atleast_2d(np.asarray(self.coefficients, dtype=float))
+            float(self.period)
+        except (TypeError, ValueError):
+            raise ModelError(
+                "PiecewisePolynomial: breaks and coefficients must be numbers, with one row "
+                "of equal length per piece"
+            ) from None
+        if breaks.size == 0 or coef.ndim != 2:
+            raise ModelError("PiecewisePolynomial: needs at least one piece (breaks = [0])")
+        _check_finite("PiecewisePolynomial", *breaks)
+        if self.ref_speed is not None and not (
+            isinstance(self.ref_speed, int | float) and math.isfinite(self.ref_speed)
+            and self.ref_speed > 0
+        ):  # fmt: skip
+            raise ModelError(
+                f"PiecewisePolynomial: ref_speed must be > 0 rad/s, got {self.ref_speed!r}"
+            )
         if not np.real(self.period) > 0:
             raise ModelError(f"PiecewisePolynomial: period must be > 0 s, got {self.period!r}")
         if breaks[0] != 0.0 or np.any(np.diff(breaks) <= 0) or breaks[-1] >= 1.0:
@@ -189,6 +243,16 @@ class PiecewisePolynomial(TimeLaw):
         _check_finite("PiecewisePolynomial", self.period, self.t0, *coef.ravel())
         object.__setattr__(self, "breaks", tuple(breaks.tolist()))
         object.__setattr__(self, "coefficients", tuple(tuple(row) for row in coef.tolist()))
+
+    def at_speed(self, speed: float) -> TimeLaw:
+        if self.ref_speed is None:
+            return self
+        if speed == 0:
+            return Constant(self.mean)
+        f = speed / self.ref_speed
+        return PiecewisePolynomial(
+            self.period / abs(f), self.breaks, self.coefficients, self.t0 / abs(f)
+        )
 
     def _piece(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
         s = np.mod((np.asarray(t, dtype=float) - self.t0) / self.period, 1.0)
@@ -287,7 +351,11 @@ class Backlash:
     half_width: float
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(np.real(self.half_width)) and np.real(self.half_width) >= 0):
+        try:
+            h = float(np.real(self.half_width))
+        except (TypeError, ValueError):
+            h = math.nan
+        if not (math.isfinite(h) and h >= 0):
             raise ModelError(f"Backlash: half width must be >= 0 m, got {self.half_width!r}")
 
     @classmethod
