@@ -1,13 +1,17 @@
 """Batched generalised symmetric eigenproblems ``K phi = lambda M phi``.
 
 One call solves a whole stack of small problems with numpy's batched LAPACK drivers:
-``M = L L^T`` (batched Cholesky), ``A = L^-1 K L^-T`` (batched triangular solves),
-``A y = lambda y`` (batched ``eigh``), ``phi = L^-T y``. The eigenvectors ``y`` are
-orthonormal in the Euclidean sense, i.e. the shapes ``phi`` are mass-normalised, and
-``y`` itself is the mass-weighted shape used for mode tracking.
+``M = L L^T`` (Cholesky, once when ``M`` is shared by the stack), ``A = L^-1 K L^-T``,
+``A y = lambda y`` (batched ``eigh``, split over threads for large stacks: numpy's
+linear-algebra loops release the GIL), ``phi = L^-T y``. The eigenvectors ``y`` are
+orthonormal, i.e. the shapes ``phi`` are mass-normalised, and ``y`` is the
+mass-weighted shape used for mode tracking.
 """
 
 from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from numpy.typing import NDArray
@@ -15,6 +19,23 @@ from numpy.typing import NDArray
 from ..errors import ModelError
 
 __all__ = ["eigh_batch"]
+
+#: Stacks at least this large are split over threads.
+THREAD_MIN = 2000
+
+
+def _sym(a: NDArray) -> NDArray:
+    return 0.5 * (a + np.swapaxes(a, -1, -2))
+
+
+def _eigh(A: NDArray) -> tuple[NDArray, NDArray]:
+    n_threads = min(os.cpu_count() or 1, 8)
+    if A.ndim < 3 or A.shape[0] < THREAD_MIN or n_threads < 2:
+        return np.linalg.eigh(A)
+    parts = np.array_split(A, n_threads)
+    with ThreadPoolExecutor(n_threads) as pool:
+        out = list(pool.map(np.linalg.eigh, parts))
+    return np.concatenate([o[0] for o in out]), np.concatenate([o[1] for o in out])
 
 
 def eigh_batch(
@@ -26,6 +47,7 @@ def eigh_batch(
     ----------
     M, K : ndarray, shape (..., n, n)
         Symmetric mass (positive definite) and stiffness matrices; broadcast together.
+        A single ``M`` (n, n) for a stack of ``K`` is factorised once.
 
     Returns
     -------
@@ -36,15 +58,20 @@ def eigh_batch(
     y : ndarray, shape (..., n, n)
         Mass-weighted shapes ``L^T phi`` (orthonormal columns).
     """
-    M, K = np.broadcast_arrays(np.asarray(M, float), np.asarray(K, float))
+    M = np.asarray(M, float)
+    K = _sym(np.asarray(K, float))
     try:
-        L = np.linalg.cholesky(0.5 * (M + np.swapaxes(M, -1, -2)))
+        L = np.linalg.cholesky(_sym(M))
     except np.linalg.LinAlgError:
         raise ModelError("a mass matrix of the batch is not positive definite") from None
-    Ksym = 0.5 * (K + np.swapaxes(K, -1, -2))
-    X = np.linalg.solve(L, Ksym)  # L^-1 K
-    A = np.linalg.solve(L, np.swapaxes(X, -1, -2))  # L^-1 (L^-1 K)^T = L^-1 K L^-T
-    A = 0.5 * (A + np.swapaxes(A, -1, -2))
-    lam, y = np.linalg.eigh(A)
+    if M.ndim == 2:
+        Linv = np.linalg.inv(L)
+        A = Linv @ K @ Linv.T
+        lam, y = _eigh(_sym(A))
+        return lam, Linv.T @ y, y
+    L, K = np.broadcast_arrays(L, K)
+    X = np.linalg.solve(L, K)  # L^-1 K
+    A = np.linalg.solve(L, np.swapaxes(X, -1, -2))  # L^-1 K L^-T
+    lam, y = _eigh(_sym(A))
     phi = np.linalg.solve(np.swapaxes(L, -1, -2), y)
     return lam, phi, y

@@ -253,9 +253,10 @@ class _Evaluator:
         if self.affine is not None:
             M0, K0, dM, dK = self.affine
             t = points - self.anchor  # (n_pts, n_axes)
-            M = M0 + np.einsum("pa,aij->pij", t, dM)
             K = K0 + np.einsum("pa,aij->pij", t, dK)
-            return M, K
+            if not np.any(dM):
+                return M0, K  # one mass matrix for the whole chunk: factorised once
+            return M0 + np.einsum("pa,aij->pij", t, dM), K
         Ms, Ks = [], []
         for row in points:
             mats = self.model_at(list(row)).matrices()
@@ -567,15 +568,13 @@ def _add_tracking(result: SweepResult, ev: _Evaluator, params: NDArray) -> None:
     ds = result.data
     y = ds["weighted_shape"].values
     freq = ds["frequency"].values
-    order_idx = np.argsort(params)
-    if not np.array_equal(order_idx, np.arange(len(params))):
-        order_idx = np.arange(len(params))  # keep the user's order; tracking still works
 
-    def evaluate(p: float) -> NDArray:
-        return ev.solve(np.array([[p]]))[2][0]
+    def evaluate(p: float) -> tuple[NDArray, NDArray]:
+        lam_p, _, y_p = ev.solve(np.array([[p]]))
+        return lam_p[0], y_p[0]
 
-    tr = track_modes(params, y, evaluate)
-    events = find_events(params, freq, y, tr)
+    tr = track_modes(params, ds["eigenvalue"].values, y, evaluate)
+    events = find_events(params, freq, tr.y, tr)
     tf = np.take_along_axis(freq, tr.order, axis=1)
     result.data = ds.assign(
         tracked_frequency=(("p0", "track"), tf, {"units": "Hz"}),
@@ -585,6 +584,7 @@ def _add_tracking(result: SweepResult, ev: _Evaluator, params: NDArray) -> None:
         event_param=(("event",), np.array([e.param for e in events], dtype=float)),
         event_modes=(("event", "pair"), np.array([e.modes for e in events]).reshape(-1, 2)),
         event_gap_hz=(("event",), np.array([e.gap_hz for e in events], dtype=float)),
+        weighted_shape=(ds["weighted_shape"].dims, tr.y),
     ).assign_coords(track=np.arange(1, freq.shape[1] + 1))
     result.data.attrs["refined_points"] = tr.refined
 

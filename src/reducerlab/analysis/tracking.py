@@ -10,7 +10,7 @@ their shapes exchange (paper 003's "mode transition").
 
 from __future__ import annotations
 
-import itertools
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -19,6 +19,10 @@ from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 __all__ = ["Event", "Tracking", "find_events", "track_modes"]
+
+
+#: Relative eigenvalue gap below which modes form one repeated eigenvalue.
+DEGENERATE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -33,11 +37,54 @@ class Tracking:
         Smallest MAC of the assignment between each point and the next.
     refined : int
         Number of extra points evaluated to resolve low-MAC steps.
+    y : ndarray, shape (n_points, n_dof, n_mode)
+        The shapes, with the basis of every repeated eigenvalue rotated to follow its
+        neighbour (any basis of such an eigenspace is equally valid).
     """
 
     order: NDArray[np.intp]
     min_mac: NDArray[np.float64]
     refined: int
+    y: NDArray[np.float64]
+
+
+def _clusters(lam: NDArray) -> list[NDArray[np.intp]]:
+    """Groups of (sorted) modes sharing one repeated eigenvalue."""
+    scale = max(float(np.max(np.abs(lam))), np.finfo(float).tiny)
+    out, start = [], 0
+    for i in range(1, lam.size + 1):
+        if i == lam.size or lam[i] - lam[i - 1] > DEGENERATE * scale:
+            if i - start > 1:
+                out.append(np.arange(start, i))
+            start = i
+    return out
+
+
+def _polar(S: NDArray) -> NDArray:
+    """Orthogonal factor of the polar decomposition (nearest orthogonal matrix)."""
+    if S.shape == (2, 2):  # closed form, the common case of a double eigenvalue
+        a, b, c, d = S.ravel()
+        if a * d - b * c >= 0:
+            p, q = a + d, c - b
+            Q = np.array([[p, -q], [q, p]])
+        else:
+            p, q = a - d, c + b
+            Q = np.array([[p, q], [q, -p]])
+        n = math.hypot(p, q)
+        return Q / n if n > 0 else np.eye(2)
+    U, _, Vt = np.linalg.svd(S)
+    return U @ Vt
+
+
+def _align(clusters: list[NDArray[np.intp]], yb: NDArray, ya: NDArray) -> NDArray:
+    """Rotate the basis of each repeated eigenvalue of ``b`` onto the modes of ``a``
+    that span the same space (orthogonal Procrustes)."""
+    yb = yb.copy()
+    for c in clusters:
+        P = yb[:, c].T @ ya  # overlaps with every mode of a
+        J = np.sort(np.argpartition(-np.einsum("ij,ij->j", P, P), c.size - 1)[: c.size])
+        yb[:, c] = yb[:, c] @ _polar(P[:, J])
+    return yb
 
 
 def _assign(ya: NDArray, yb: NDArray) -> tuple[NDArray[np.intp], float]:
@@ -51,8 +98,9 @@ def _assign(ya: NDArray, yb: NDArray) -> tuple[NDArray[np.intp], float]:
 
 def track_modes(
     params: NDArray[np.float64],
+    lam: NDArray[np.float64],
     y: NDArray[np.float64],
-    evaluate: Callable[[float], NDArray[np.float64]] | None = None,
+    evaluate: Callable[[float], tuple[NDArray, NDArray]] | None = None,
     *,
     threshold: float = 0.8,
     max_depth: int = 6,
@@ -63,36 +111,48 @@ def track_modes(
     ----------
     params : ndarray, shape (n_points,)
         Parameter values, monotonic.
+    lam : ndarray, shape (n_points, n_mode)
+        Sorted eigenvalues (to recognise repeated eigenvalues).
     y : ndarray, shape (n_points, n_dof, n_mode)
         Mass-weighted (orthonormal) shapes at each point.
     evaluate : callable, optional
-        ``evaluate(p) -> y(p)`` for refinement: where the best assignment between two
-        neighbours has a MAC below ``threshold``, the step is bisected (up to
-        ``max_depth`` times) and the modes are tracked through the new points.
+        ``evaluate(p) -> (lam(p), y(p))`` for refinement: where the best assignment
+        between two neighbours has a MAC below ``threshold``, the step is bisected (up
+        to ``max_depth`` times) and the modes are tracked through the new points.
     """
     n_pts, _, n_modes = y.shape
+    y = y.copy()
+    scale = np.maximum(np.max(np.abs(lam), axis=1), np.finfo(float).tiny)
+    repeated = np.any(np.diff(lam, axis=1) <= DEGENERATE * scale[:, None], axis=1)
     order = np.empty((n_pts, n_modes), dtype=np.intp)
     order[0] = np.arange(n_modes)
     min_mac = np.ones(max(n_pts - 1, 0))
     refined = 0
 
-    def step(pa: float, ya: NDArray, pb: float, yb: NDArray, depth: int) -> tuple[NDArray, float]:
+    def step(
+        pa: float, ya: NDArray, pb: float, lb: NDArray, yb: NDArray, depth: int, rep: bool
+    ) -> tuple[NDArray, float, NDArray]:
         nonlocal refined
+        if rep:
+            yb = _align(_clusters(lb), yb, ya)
         perm, m = _assign(ya, yb)
         if m >= threshold or evaluate is None or depth >= max_depth:
-            return perm, m
+            return perm, m, yb
         pm = 0.5 * (pa + pb)
-        ym = evaluate(pm)
+        lm, ym = evaluate(pm)
         refined += 1
-        p1, m1 = step(pa, ya, pm, ym, depth + 1)
-        p2, m2 = step(pm, ym, pb, yb, depth + 1)
-        return p2[p1], min(m1, m2)
+        p1, m1, ym = step(pa, ya, pm, lm, ym, depth + 1, True)
+        p2, m2, yb = step(pm, ym, pb, lb, yb, depth + 1, True)
+        return p2[p1], min(m1, m2), yb
 
     for i in range(n_pts - 1):
-        perm, m = step(float(params[i]), y[i], float(params[i + 1]), y[i + 1], 0)
+        perm, m, y[i + 1] = step(
+            float(params[i]), y[i], float(params[i + 1]), lam[i + 1], y[i + 1], 0,
+            bool(repeated[i + 1]),
+        )  # fmt: skip
         order[i + 1] = perm[order[i]]
         min_mac[i] = m
-    return Tracking(order, min_mac, refined)
+    return Tracking(order, min_mac, refined, y)
 
 
 @dataclass(frozen=True)
@@ -141,10 +201,12 @@ def find_events(
     for a in range(n_modes):
         for b in range(a + 1, n_modes):
             d = tf[:, a] - tf[:, b]
-            nz = np.nonzero(d)[0]  # a crossing may sit exactly on a grid point
-            for i, j in itertools.pairwise(nz):
-                if np.sign(d[i]) == np.sign(d[j]):
-                    continue
+            # differences at round-off level are zero; a crossing may sit on a point
+            d = np.where(np.abs(d) <= 1e-9 * (np.abs(tf[:, a]) + np.abs(tf[:, b])), 0.0, d)
+            nz = np.nonzero(d)[0]
+            sg = np.sign(d[nz])
+            for q in np.nonzero(sg[:-1] != sg[1:])[0]:
+                i, j = int(nz[q]), int(nz[q + 1])
                 if j > i + 1:
                     p = params[i + 1]  # the frequencies coincide on a grid point
                 else:
@@ -154,40 +216,44 @@ def find_events(
     if n_pts < 3:
         return events
     track_at = np.argsort(tracking.order, axis=1)  # sorted position -> track
-    for m in range(n_modes - 1):
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gaps = np.where(
+            freq[:, 1:] + freq[:, :-1] > 0,
+            (freq[:, 1:] - freq[:, :-1]) / (freq[:, 1:] + freq[:, :-1]),
+            np.inf,
+        )  # (n_pts, n_modes - 1)
+    inner = gaps[1:-1]
+    cand = (
+        (inner <= gaps[:-2]) & (inner < gaps[2:]) & (inner < veer_gap) & (inner > DEGENERATE)
+    )  # interior local minima; a persistent repeated eigenvalue is not a veering
+    for i, m in zip(*np.nonzero(cand), strict=True):
+        i, m = int(i) + 1, int(m)
+        g = gaps[:, m]
         lo, hi = freq[:, m], freq[:, m + 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            g = np.where(hi + lo > 0, (hi - lo) / (hi + lo), np.inf)
-        for i in range(1, n_pts - 1):
-            if not (g[i] <= g[i - 1] and g[i] < g[i + 1] and g[i] < veer_gap):
-                continue
-            # shapes exchange across the minimum: compare the farthest points on each
-            # side while the gap keeps growing away from it
-            j0 = i
-            while j0 > 0 and g[j0 - 1] >= g[j0]:
-                j0 -= 1
-            j1 = i
-            while j1 < n_pts - 1 and g[j1 + 1] >= g[j1]:
-                j1 += 1
-            if track_at[j0, m] != track_at[j1, m]:
-                continue  # the tracks swap order: a crossing, not a veering
-            cross = float((y[j0][:, m] @ y[j1][:, m + 1]) ** 2)
-            if cross < exchange_mac:
-                continue
-            # locate the veering at the minimum of the eigenvalue gap lambda_{i+1} -
-            # lambda_i inside the window (parabolic interpolation): for two coupled
-            # modes that is where their shapes are an equal mix
-            dl = (hi**2 - lo**2)[j0 : j1 + 1]
-            k = j0 + int(np.argmin(dl))
-            k = min(max(k, 1), n_pts - 2)
-            x0, x1, x2 = params[k - 1], params[k], params[k + 1]
-            g0, g1, g2 = (hi[k + q] ** 2 - lo[k + q] ** 2 for q in (-1, 0, 1))
-            den = (x0 - x1) * (x0 - x2) * (x1 - x2)
-            A = (x2 * (g1 - g0) + x1 * (g0 - g2) + x0 * (g2 - g1)) / den
-            B = (x2**2 * (g0 - g1) + x1**2 * (g2 - g0) + x0**2 * (g1 - g2)) / den
-            p = float(-B / (2 * A)) if A > 0 else float(x1)
-            p = min(max(p, float(min(x0, x2))), float(max(x0, x2)))
-            i = k
-            events.append(Event("veering", p, (m + 1, m + 2), float(hi[i] - lo[i])))
+        # shapes exchange across the minimum: compare the farthest points on each
+        # side while the gap keeps growing away from it
+        j0 = i
+        while j0 > 0 and g[j0 - 1] >= g[j0]:
+            j0 -= 1
+        j1 = i
+        while j1 < n_pts - 1 and g[j1 + 1] >= g[j1]:
+            j1 += 1
+        if track_at[j0, m] != track_at[j1, m]:
+            continue  # the tracks swap order: a crossing, not a veering
+        if float((y[j0][:, m] @ y[j1][:, m + 1]) ** 2) < exchange_mac:
+            continue
+        # locate the veering at the minimum of the eigenvalue gap lambda_{i+1} -
+        # lambda_i inside the window (parabolic interpolation): for two coupled
+        # modes that is where their shapes are an equal mix
+        dl = (hi**2 - lo**2)[j0 : j1 + 1]
+        k = min(max(j0 + int(np.argmin(dl)), 1), n_pts - 2)
+        x0, x1, x2 = params[k - 1], params[k], params[k + 1]
+        g0, g1, g2 = (hi[k + q] ** 2 - lo[k + q] ** 2 for q in (-1, 0, 1))
+        den = (x0 - x1) * (x0 - x2) * (x1 - x2)
+        A = (x2 * (g1 - g0) + x1 * (g0 - g2) + x0 * (g2 - g1)) / den
+        B = (x2**2 * (g0 - g1) + x1**2 * (g2 - g0) + x0**2 * (g1 - g2)) / den
+        p = float(-B / (2 * A)) if A > 0 else float(x1)
+        p = min(max(p, float(min(x0, x2))), float(max(x0, x2)))
+        events.append(Event("veering", p, (m + 1, m + 2), float(hi[k] - lo[k])))
     events.sort(key=lambda e: e.param)
     return events
