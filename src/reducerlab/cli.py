@@ -387,6 +387,7 @@ def demo(
     """Run every bundled example end to end and write its outputs."""
     from rich.progress import Progress
 
+    from .analysis.campbell import campbell as run_campbell
     from .analysis.modal import modal as run_modal
     from .drives import build_model, has_model, load_design
     from .examples import example_files
@@ -406,6 +407,9 @@ def demo(
                 if has_model(design):
                     res_m = run_modal(build_model(design))
                     _write_modal(res_m, outdir)
+                    camp = run_campbell(design)
+                    camp.save(outdir / "campbell.nc")
+                    camp.plot().savefig(outdir / "campbell.png", dpi=120)
                 if hasattr(design, "kinematics"):
                     res_k = _run_kinematics(design)
                     _write_kinematics(res_k, outdir)
