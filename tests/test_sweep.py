@@ -239,3 +239,20 @@ def test_bad_axis_and_options():
         sweep(d, parse_values("mesh.stiffness", "1,2"), chunk_size=0)
     with pytest.raises(ReducerlabError, match="workers"):
         sweep(d, parse_values("mesh.stiffness", "1,2"), workers=0)
+
+
+def test_tied_parameters_move_together():
+    # "a+b" sets both to the value; relative factors scale each from its own value
+    d = load_design(EXAMPLE)
+    path = "pinion.bearing.stiffness_x+gear.bearing.stiffness_x"
+    res = sweep(d, parse_values(path, "rel:1,2"), workers=1)
+    data = d.model_dump()
+    data["pinion"]["bearing"]["stiffness_x"] *= 2
+    data["gear"]["bearing"]["stiffness_x"] *= 2
+    from reducerlab.analysis.modal import modal
+    from reducerlab.drives import design_from_dict
+
+    f2 = modal(build_model(design_from_dict(data))).frequencies
+    np.testing.assert_allclose(res.data["frequency"].values[1], f2, rtol=1e-9)
+    with pytest.raises(ReducerlabError, match="lists a parameter twice"):
+        sweep(d, parse_values("mesh.stiffness+mesh.stiffness", "1e8,2e8"), workers=1)

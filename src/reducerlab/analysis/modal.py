@@ -95,6 +95,41 @@ def _energy_labels(
     return labels, fam_out, body_out
 
 
+def _rigid_and_elastic(
+    model: Model, M: NDArray, K: NDArray, rigid_tol: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Eigenvalues, shapes, rigid flags, and the speed-term eigenvalues of rigid modes.
+
+    Rigid-body modes are the motions that strain no element: the null space of the
+    stiffness without speed-dependent terms (``K`` at zero speed). Speed terms are
+    linearised in a rotating frame and do not respect its symmetries (e.g. the
+    centripetal ``-m Omega^2`` on a tangential translation that is a pure phase shift
+    of the rotating assembly), so rigid modes are kept at exactly 0 Hz and the elastic
+    modes are solved on their mass-orthogonal complement; what the speed terms would
+    do to each rigid mode (``phi^T K phi``) is returned as ``drift`` (rad^2/s^2).
+    """
+    lam, phi = _solve(M, K, model)
+    scale = float(np.max(np.abs(lam))) if lam.size else 1.0
+    tiny = np.finfo(float).tiny
+    if model.speed == 0.0:
+        rigid = np.abs(lam) <= rigid_tol * max(scale, tiny)
+        return np.where(rigid, 0.0, lam), phi, rigid, np.zeros(int(rigid.sum()))
+    K0 = model.with_speed(0.0).matrices().K
+    lam0, phi0 = _solve(M, K0, model)
+    null = np.abs(lam0) <= rigid_tol * max(float(np.max(np.abs(lam0))), tiny)
+    if not null.any() or np.array_equal(K0, K):
+        rigid = np.abs(lam) <= rigid_tol * max(scale, tiny)
+        return np.where(rigid, 0.0, lam), phi, rigid, np.zeros(int(rigid.sum()))
+    N, V = phi0[:, null], phi0[:, ~null]  # M-orthonormal bases
+    drift = np.einsum("im,ij,jm->m", N, K, N)
+    lam_e, z = np.linalg.eigh(0.5 * (V.T @ K @ V + (V.T @ K @ V).T))
+    lam_all = np.concatenate([np.zeros(N.shape[1]), lam_e])
+    phi_all = np.concatenate([N, V @ z], axis=1)
+    order = np.argsort(lam_all, kind="stable")
+    rigid = np.concatenate([np.ones(N.shape[1], bool), np.zeros(lam_e.size, bool)])[order]
+    return lam_all[order], phi_all[:, order], rigid, drift
+
+
 def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
     """Natural frequencies, mode shapes and energy classification of a model.
 
@@ -105,7 +140,10 @@ def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
     rigid_tol : float
         Eigenvalues with ``|lambda| <= rigid_tol * max|lambda|`` are rigid-body modes
         (reported as exactly 0 Hz). The default sits about six orders of magnitude
-        above the round-off of ``eigh`` (~1e-16 max|lambda|).
+        above the round-off of ``eigh`` (~1e-16 max|lambda|). With speed-dependent
+        terms, rigid modes are the null space of the stiffness at zero speed (see
+        :func:`_rigid_and_elastic`); the attribute ``rigid_speed_eigenvalues`` records
+        what the speed terms would make of them.
 
     Returns
     -------
@@ -114,10 +152,7 @@ def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
     if not (isinstance(rigid_tol, int | float) and 0 <= rigid_tol < 1):
         raise ReducerlabError(f"rigid_tol must be a number in [0, 1), got {rigid_tol!r}")
     mats = model.matrices()
-    lam, phi = _solve(mats.M, mats.K, model)
-    scale = float(np.max(np.abs(lam))) if lam.size else 1.0
-    rigid = np.abs(lam) <= rigid_tol * max(scale, np.finfo(float).tiny)
-    lam = np.where(rigid, 0.0, lam)
+    lam, phi, rigid, drift = _rigid_and_elastic(model, mats.M, mats.K, rigid_tol)
     unstable = lam < 0
     freq = np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
     # sign: largest component positive
@@ -187,6 +222,7 @@ def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
             "title": model.name or "modal analysis",
             "speed_rad_s": model.speed,
             "rigid_tol": rigid_tol,
+            "rigid_speed_eigenvalues": json.dumps([float(x) for x in drift]),
             **provenance(model.metadata),
         },
     )

@@ -11,6 +11,7 @@ scheduler address is given. Where ``M`` and ``K`` are affine in the swept parame
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -53,7 +54,9 @@ class Axis:
         A dotted path into the design (``"mesh.stiffness"``,
         ``"pinion.bearing.stiffness_x"``, ``"elements.4.stiffness"``), or a model
         parameter (``"support:gear.x.stiffness"``, ``"speed"``). Prefix ``design:`` or
-        ``model:`` to choose when both exist; otherwise the design wins.
+        ``model:`` to choose when both exist; otherwise the design wins. Several paths
+        joined by ``+`` are tied: they take the same value (relative sweeps scale each
+        from its own design value); the coordinate shows the first one.
     values : sequence
         The values: numbers in SI, or strings with units for design fields. When
         ``relative`` they are factors of the design value (1.5 = 150 %).
@@ -166,6 +169,8 @@ class _Target:
     keys: tuple[Any, ...]
     base: float
     integer: bool = False
+    axis: int = 0  # which sweep axis drives it
+    scale: float = 1.0  # value = axis value * scale (tied relative parameters)
 
 
 def _walk(data: Any, keys: Sequence[Any]) -> Any:
@@ -228,24 +233,25 @@ class _Evaluator:
         from ..drives import build_model, design_from_dict
 
         model = self.model
+        per = [float(values[t.axis]) * t.scale for t in self.targets]
         if any(t.where == "design" for t in self.targets):
             data = json.loads(json.dumps(self.design_data))
-            for t, v in zip(self.targets, values, strict=True):
+            for t, v in zip(self.targets, per, strict=True):
                 if t.where == "design":
                     parent = _walk(data, t.keys[:-1])
-                    parent[t.keys[-1]] = round(float(v)) if t.integer else float(v)
+                    parent[t.keys[-1]] = round(v) if t.integer else v
             try:
                 model = build_model(design_from_dict(data, "sweep point"))
             except DesignError as exc:
                 raise ReducerlabError(
-                    f"sweep point {dict(zip([t.path for t in self.targets], values, strict=True))}"
+                    f"sweep point {dict(zip([t.path for t in self.targets], per, strict=True))}"
                     f" is not a valid design:\n{exc}"
                 ) from None
             if model.dof_names != self.model.dof_names:
                 raise ReducerlabError("sweep: the swept field changes the model's DOFs")
-        for t, v in zip(self.targets, values, strict=True):
+        for t, v in zip(self.targets, per, strict=True):
             if t.where == "model":
-                model = model.with_parameter(t.path, float(v))
+                model = model.with_parameter(t.path, v)
         return model
 
     def matrices(self, points: NDArray) -> tuple[NDArray, NDArray]:
@@ -271,7 +277,7 @@ class _Evaluator:
 
 def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
     """Detect ``M, K`` affine in the swept values; store the batch form if so."""
-    n_ax = len(ev.targets)
+    n_ax = len(lows)
     base = ev.model_at(list(lows)).matrices()
     dM, dK = [], []
     for a in range(n_ax):
@@ -423,22 +429,38 @@ def sweep(
         design, model = None, target
     else:
         raise ReducerlabError(f"sweep: target must be a Design or a Model, got {type(target)}")
-    targets = tuple(_resolve(design, model, a.path) for a in axes)
+    groups = []
+    for i, a in enumerate(axes):
+        members = [_resolve(design, model, p.strip()) for p in a.path.split("+")]
+        if len({(t.where, t.path) for t in members}) != len(members):
+            raise ReducerlabError(f"sweep {a.path!r}: a tied path lists a parameter twice")
+        first = members[0].base
+        groups.append(
+            [
+                dataclasses.replace(
+                    t, axis=i, scale=(t.base / first if (a.relative and first) else 1.0)
+                )
+                for t in members
+            ]
+        )
     columns: list[NDArray] = []
-    for a, t in zip(axes, targets, strict=True):
+    for a, group in zip(axes, groups, strict=True):
+        t = group[0]
         vals = list(a.values)
         if a.relative:
             vals = [float(v) * t.base for v in vals]
         if any(isinstance(v, str) for v in vals):
-            if t.where != "design":
+            if any(m.where != "design" for m in group):
                 raise ReducerlabError(
                     f"sweep {a.path!r}: a model parameter takes SI numbers, not {vals[0]!r}"
                 )
             vals = [_si_of(design, t, v) for v in vals]
         col = np.asarray(vals, dtype=float)
-        if t.integer and not np.all(col == np.round(col)):
+        if any(m.integer for m in group) and not np.all(col == np.round(col)):
             raise ReducerlabError(f"sweep {a.path!r}: an integer field takes whole numbers")
         columns.append(col)
+    targets = tuple(t for group in groups for t in group)
+    firsts = tuple(group[0] for group in groups)
     grid = np.meshgrid(*columns, indexing="ij")
     points = np.stack([g.ravel() for g in grid], axis=-1)  # (n_points, n_axes)
     ev = _Evaluator(
@@ -490,7 +512,7 @@ def sweep(
         lam = np.concatenate([p["lam"] for p in parts])
         phi = np.concatenate([p["phi"] for p in parts])
         y = np.concatenate([p["y"] for p in parts])
-        result = _assemble(axes, columns, targets, lam, phi, y, model, design, vectorised)
+        result = _assemble(axes, columns, firsts, lam, phi, y, model, design, vectorised)
         if track and len(axes) == 1 and len(columns[0]) > 1:
             _add_tracking(result, ev, columns[0])
         if not temporary:

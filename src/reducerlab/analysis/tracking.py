@@ -232,11 +232,13 @@ def find_events(
         lo, hi = freq[:, m], freq[:, m + 1]
         # shapes exchange across the minimum: compare the farthest points on each
         # side while the gap keeps growing away from it
+        # window: away from the minimum while the gap grows, up to 3x its minimum (the
+        # shapes of two coupled modes have exchanged by then: sin(2 angle) = 1/3)
         j0 = i
-        while j0 > 0 and g[j0 - 1] >= g[j0]:
+        while j0 > 0 and g[j0 - 1] >= g[j0] and g[j0] < 3 * g[i]:
             j0 -= 1
         j1 = i
-        while j1 < n_pts - 1 and g[j1 + 1] >= g[j1]:
+        while j1 < n_pts - 1 and g[j1 + 1] >= g[j1] and g[j1] < 3 * g[i]:
             j1 += 1
         if track_at[j0, m] != track_at[j1, m]:
             continue  # the tracks swap order: a crossing, not a veering

@@ -14,7 +14,7 @@ from ..design import Design, read_toml, validate_design
 from ..errors import DesignError
 from ..kinematics import DriveKinematics
 from ..model import Model
-from . import gear_pair, kinematic, lumped
+from . import cycloid_ball, gear_pair, kinematic, lumped
 
 __all__ = [
     "DRIVES",
@@ -41,6 +41,11 @@ DRIVES: dict[str, DriveType] = {
         gear_pair.GearPairDesign,
         gear_pair.build_model,
         "spur gear pair on bearings, bending-torsional",
+    ),
+    "cycloid_ball": DriveType(
+        cycloid_ball.CycloidBallDesign,
+        cycloid_ball.build_model,
+        "cycloid ball transmission, 7-DOF translational-torsional (paper 003)",
     ),
     "kinematics": DriveType(
         kinematic.KinematicsDesign,

@@ -1,0 +1,313 @@
+"""Cycloid ball planetary transmission (paper 003): lumped stiffness and the 7-DOF
+translational-torsional model.
+
+Components (paper 003 Fig. 1): 1 input shaft (eccentric ``e``), 2 centre disc (output,
+epitrochoid groove, ``Z_c`` lobes), 3 planetary disc (hypotrochoid groove,
+``Z_p = Z_c + 2`` lobes), 5 end cover disc (fixed to the housing through its torsional
+support; joined to the planetary disc by the cross-ball equal-speed mechanism).
+Coordinates in the frame rotating with the input shaft (paper 003 Eq. 3-7):
+
+``X = [x1, u1, x2, u2, x3, u3, u5]``, ``u_i = r_i theta_i`` (``r_1 = e``).
+
+Relative displacements (Eq. 3-5) become couplings:
+``delta_23 = x2 - x3 + u2 - u3`` (cycloid-ball pairs, lumped stiffness ``K_mx``),
+``delta_53 = u5 - u3`` (cross-ball mechanism, ``K_w``),
+``delta_13 = x1 - x3 - u1`` (eccentric bearing, ``k_3x``);
+supports ``k_1x, k_1u, k_2x, k_2u, k_5u`` and the centripetal ``-m_i Omega^2`` on
+``x1, x2, x3`` (Eq. 7 ``K_omega``).
+
+Geometry: the grooves act as pitch circles of radius ``r = Z e / 2`` (the rolling
+circle radius is ``e / 2`` and ``Z_p - Z_c = 2``), which is paper 003's Table 1
+(``r2 = 47.5 mm``, ``r3 = r5 = 50 mm``, ``e = 2.5 mm``); the ball count is
+``(Z_c + Z_p) / 2``. See ``docs/assumptions.md``.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from ..design import (
+    AngularVelocity,
+    Damping,
+    Design,
+    Length,
+    Mass,
+    MomentOfInertia,
+    NonNegativeStiffness,
+    PositiveInt,
+    Spec,
+    Stiffness,
+    angle_between,
+)
+from ..kinematics import CycloidBallDrive
+from ..model import (
+    Centripetal,
+    Constant,
+    Coupling,
+    Dof,
+    Fourier,
+    Inertia,
+    Mesh,
+    Model,
+    Support,
+)
+from ..model.laws import TimeLaw
+
+__all__ = ["CycloidBallDesign", "build_model", "cross_ball_stiffness", "cycloid_ball_stiffness"]
+
+
+def cycloid_ball_stiffness(single_pair: float, balls: int, deformation_coefficient: float) -> float:
+    """Mean lumped stiffness of the cycloid-ball pairs along x (N/m), paper 003 Eq. 1, 10.
+
+    ``K_mx = (k_m / a) sum_i sin^2(theta_i)``; for ``Z_m`` balls evenly spread over the
+    circle ``sum sin^2 = Z_m / 2``, so ``K_mx = k_m Z_m / (2 a)``. The same form gives
+    the damping (Eq. 8) from the single-pair damping.
+    """
+    return single_pair * balls / (2.0 * deformation_coefficient)
+
+
+def cycloid_ball_law(
+    single_pair: float,
+    balls: int,
+    deformation_coefficient: float,
+    short_width: float | None,
+    speed: float,
+) -> TimeLaw:
+    """Time-varying lumped stiffness of paper 003 Eq. 10 (N/m).
+
+    ``K_mx(t) = K (1 + (1 - K_s^-2) K_s^Z cos(Omega t))`` with ``K`` the mean of
+    :func:`cycloid_ball_stiffness`, ``K_s`` the short-width coefficient and ``Omega``
+    the input speed; the law follows the model speed. Without ``K_s`` (or at zero
+    speed) the law is its mean.
+    """
+    mean = cycloid_ball_stiffness(single_pair, balls, deformation_coefficient)
+    if short_width is None or speed == 0:
+        return Constant(mean)
+    amp = mean * (1.0 - short_width**-2) * short_width**balls
+    return Fourier(mean, (amp,), abs(speed), ref_speed=abs(speed))
+
+
+def cross_ball_stiffness(single_pair: float, loaded_balls: int = 6) -> float:
+    """Lumped torsional stiffness of the cross-ball mechanism (N/m on ``u``), Eq. 2.
+
+    Three radial taper grooves on each side carry equal loads, so the resultant moment
+    over the largest angular deflection gives ``K_w = 6 k_w`` (``loaded_balls = 6``);
+    the damping follows the same form (Eq. 9).
+    """
+    return loaded_balls * single_pair
+
+
+class InputShaft(Spec):
+    """Input shaft (component 1): mass, inertia, supports (N/m on x and on u1 = e theta1)."""
+
+    mass: Mass
+    moment_of_inertia: MomentOfInertia
+    radial_stiffness: NonNegativeStiffness
+    torsional_stiffness: NonNegativeStiffness = 0.0
+    radial_damping: Damping = 0.0
+    torsional_damping: Damping = 0.0
+
+
+class CentreDisc(Spec):
+    """Centre disc (component 2, output): epitrochoid groove with ``lobes`` lobes."""
+
+    lobes: PositiveInt
+    mass: Mass
+    moment_of_inertia: MomentOfInertia
+    radial_stiffness: NonNegativeStiffness
+    torsional_stiffness: NonNegativeStiffness = 0.0
+    radial_damping: Damping = 0.0
+    torsional_damping: Damping = 0.0
+    pitch_radius: Length | None = None
+
+
+class PlanetaryDisc(Spec):
+    """Planetary disc (component 3): hypotrochoid groove, on the eccentric bearing."""
+
+    lobes: PositiveInt
+    mass: Mass
+    moment_of_inertia: MomentOfInertia
+    bearing_stiffness: NonNegativeStiffness
+    bearing_damping: Damping = 0.0
+    pitch_radius: Length | None = None
+
+
+class EndCoverDisc(Spec):
+    """End cover disc (component 5): torsional support to the housing (N/m on u5)."""
+
+    moment_of_inertia: MomentOfInertia
+    torsional_stiffness: Stiffness
+    torsional_damping: Damping = 0.0
+    mass: Mass | None = None  # listed in paper 003 Table 1; no translational DOF uses it
+    pitch_radius: Length | None = None
+
+
+class CycloidBallPair(Spec):
+    """Cycloid-ball meshing pairs (Eq. 1, 8, 10)."""
+
+    ball_stiffness: Stiffness
+    deformation_coefficient: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)]
+    balls: PositiveInt | None = None
+    ball_damping: Damping = 0.0
+    short_width_coefficient: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] | None = None
+    groove_half_angle: angle_between(0, 90) | None = None  # type: ignore[valid-type]
+
+
+class CrossBall(Spec):
+    """Cross-ball equal-speed mechanism (Eq. 2, 9)."""
+
+    ball_stiffness: Stiffness
+    loaded_balls: PositiveInt = 6
+    ball_damping: Damping = 0.0
+
+
+class CycloidBallDesign(Design):
+    """Design of a cycloid ball transmission (``type = "cycloid_ball"``)."""
+
+    type: Literal["cycloid_ball"] = "cycloid_ball"
+    input_speed: AngularVelocity
+    eccentricity: Length
+    output: Literal["centre", "planetary"] = "centre"
+    centripetal: bool = True
+    speed_range: list[AngularVelocity] | None = None
+    input_shaft: InputShaft
+    centre_disc: CentreDisc
+    planetary_disc: PlanetaryDisc
+    end_cover_disc: EndCoverDisc
+    cycloid_pair: CycloidBallPair
+    cross_ball: CrossBall
+
+    @model_validator(mode="after")
+    def _geometry(self) -> CycloidBallDesign:
+        zc, zp = self.centre_disc.lobes, self.planetary_disc.lobes
+        problems = []
+        if zp != zc + 2:
+            problems.append(
+                f"planetary_disc.lobes must be centre_disc.lobes + 2 (hypotrochoid over "
+                f"epitrochoid), got {zp} and {zc}"
+            )
+        elif self.cycloid_pair.balls is not None and self.cycloid_pair.balls != (zc + zp) // 2:
+            problems.append(
+                f"cycloid_pair.balls must be (centre lobes + planetary lobes) / 2 = "
+                f"{(zc + zp) // 2}, got {self.cycloid_pair.balls}"
+            )
+        for name, z in (("centre_disc", zc), ("planetary_disc", zp), ("end_cover_disc", zp)):
+            r = getattr(self, name).pitch_radius
+            want = z * self.eccentricity / 2
+            if r is not None and abs(r - want) > 1e-6 * want:
+                problems.append(
+                    f"{name}.pitch_radius = {r * 1e3:.6g} mm disagrees with lobes x "
+                    f"eccentricity / 2 = {want * 1e3:.6g} mm"
+                )
+        rng = self.speed_range
+        if rng is not None and (len(rng) != 2 or not 0 <= rng[0] <= rng[1]):
+            problems.append("speed_range must be [min, max] with 0 <= min <= max")
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
+
+    @property
+    def balls(self) -> int:
+        """Ball count ``(Z_c + Z_p) / 2``."""
+        return (self.centre_disc.lobes + self.planetary_disc.lobes) // 2
+
+    def pitch_radius(self, lobes: int) -> float:
+        """Pitch radius ``Z e / 2`` of a groove with ``lobes`` lobes (m)."""
+        return lobes * self.eccentricity / 2.0
+
+    def kinematics(self) -> CycloidBallDrive:
+        """Ratio and ball-passing frequency of the drive."""
+        return CycloidBallDrive(self.centre_disc.lobes, self.planetary_disc.lobes, self.output)
+
+    @property
+    def mesh_stiffness(self) -> float:
+        """Mean lumped stiffness ``K_mx`` of the cycloid-ball pairs (N/m)."""
+        p = self.cycloid_pair
+        return cycloid_ball_stiffness(p.ball_stiffness, self.balls, p.deformation_coefficient)
+
+
+def build_model(design: CycloidBallDesign) -> Model:
+    """The 7-DOF model of paper 003 Eq. 3-7 and 11 on the generic core."""
+    e = design.eccentricity
+    r2 = design.pitch_radius(design.centre_disc.lobes)
+    r3 = design.pitch_radius(design.planetary_disc.lobes)
+    r5 = r3
+    s, c, p, v = (
+        design.input_shaft,
+        design.centre_disc,
+        design.planetary_disc,
+        design.end_cover_disc,
+    )
+    pair, cross = design.cycloid_pair, design.cross_ball
+    dofs = [
+        Dof("input_shaft", "x"),
+        Dof("input_shaft", "u", radius=e),
+        Dof("centre_disc", "x"),
+        Dof("centre_disc", "u", radius=r2),
+        Dof("planetary_disc", "x"),
+        Dof("planetary_disc", "u", radius=r3),
+        Dof("end_cover_disc", "u", radius=r5),
+    ]
+    damping = cycloid_ball_stiffness(pair.ball_damping, design.balls, pair.deformation_coefficient)
+    elements = [
+        Inertia("input_shaft.x", s.mass),
+        Inertia("input_shaft.u", s.moment_of_inertia),
+        Inertia("centre_disc.x", c.mass),
+        Inertia("centre_disc.u", c.moment_of_inertia),
+        Inertia("planetary_disc.x", p.mass),
+        Inertia("planetary_disc.u", p.moment_of_inertia),
+        Inertia("end_cover_disc.u", v.moment_of_inertia),
+        Support("input_shaft.x", s.radial_stiffness, s.radial_damping, name="k1x"),
+        Support("input_shaft.u", s.torsional_stiffness, s.torsional_damping, name="k1u"),
+        Support("centre_disc.x", c.radial_stiffness, c.radial_damping, name="k2x"),
+        Support("centre_disc.u", c.torsional_stiffness, c.torsional_damping, name="k2u"),
+        Support("end_cover_disc.u", v.torsional_stiffness, v.torsional_damping, name="k5u"),
+        # delta_13 = x1 - x3 - u1: eccentric bearing (paper 003 Eq. 5)
+        Coupling(
+            {"input_shaft.x": 1.0, "planetary_disc.x": -1.0, "input_shaft.u": -1.0},
+            p.bearing_stiffness,
+            p.bearing_damping,
+            name="k3x",
+        ),
+        # delta_23 = x2 - x3 + u2 - u3: cycloid-ball pairs (Eq. 3, 1, 8, 10)
+        Mesh(
+            {
+                "centre_disc.x": 1.0,
+                "planetary_disc.x": -1.0,
+                "centre_disc.u": 1.0,
+                "planetary_disc.u": -1.0,
+            },
+            stiffness=cycloid_ball_law(
+                pair.ball_stiffness,
+                design.balls,
+                pair.deformation_coefficient,
+                pair.short_width_coefficient,
+                design.input_speed,
+            ),
+            damping=damping,
+            name="cycloid_pairs",
+        ),
+        # delta_53 = u5 - u3: cross-ball equal-speed mechanism (Eq. 4, 2, 9)
+        Coupling(
+            {"end_cover_disc.u": 1.0, "planetary_disc.u": -1.0},
+            cross_ball_stiffness(cross.ball_stiffness, cross.loaded_balls),
+            cross_ball_stiffness(cross.ball_damping, cross.loaded_balls),
+            name="cross_ball",
+        ),
+    ]
+    if design.centripetal:
+        for body, m in (
+            ("input_shaft", s.mass),
+            ("centre_disc", c.mass),
+            ("planetary_disc", p.mass),
+        ):
+            elements.append(Centripetal(f"{body}.x", m, name=f"centripetal_{body}"))
+    return Model(
+        dofs,
+        elements,
+        speed=design.input_speed,
+        name=design.name or "cycloid ball transmission",
+        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+    )
