@@ -109,9 +109,11 @@ class InternalGearPair:
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v)):
                 raise ReducerlabError(f"{name} must be a finite number, got {v!r}")
-        if inv(self.pressure_angle) + 2 * (self.x2 - self.x1) * math.tan(
-            self.pressure_angle
-        ) / (self.z2 - self.z1) <= 0:
+        if (
+            inv(self.pressure_angle)
+            + 2 * (self.x2 - self.x1) * math.tan(self.pressure_angle) / (self.z2 - self.z1)
+            <= 0
+        ):
             raise ReducerlabError(
                 f"x2 - x1 = {self.x2 - self.x1:.4g} gives no positive working pressure angle"
             )

@@ -215,7 +215,7 @@ class Model:
             line_damping=np.array(c_line, dtype=float),
             half_backlash=np.array(b_line, dtype=float),
             error_laws=e_laws,
-            load_dofs=np.array(load_dofs, dtype=np.intp),
+            load_matrix=np.eye(n)[:, load_dofs].reshape(n, len(load_dofs)),
             load_laws=load_laws,
         )
 

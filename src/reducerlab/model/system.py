@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import ReducerlabError
 from .laws import TimeLaw, evaluate_flat
 
 __all__ = ["NonlinearSystem", "pack_laws"]
@@ -51,8 +52,9 @@ class NonlinearSystem:
         Dead-zone half widths (m).
     e_kind, e_params : ndarray
         Transmission error laws (m).
-    load_dofs : ndarray of int
-        DOF index of each load.
+    load_matrix : ndarray, shape (n, n_loads)
+        Generalised force of each load per unit law value (a unit column for a load on
+        one DOF; a distribution after a change of coordinates).
     f_kind, f_params : ndarray
         Load laws (N or N m).
     """
@@ -69,7 +71,7 @@ class NonlinearSystem:
     half_backlash: NDArray[np.float64]
     e_kind: NDArray[np.int64]
     e_params: NDArray[np.float64]
-    load_dofs: NDArray[np.intp]
+    load_matrix: NDArray[np.float64]
     f_kind: NDArray[np.int64]
     f_params: NDArray[np.float64]
 
@@ -118,10 +120,64 @@ class NonlinearSystem:
 
     def external_forces(self, t: float) -> NDArray[np.float64]:
         """Generalised load vector ``F(t)``."""
-        F = np.zeros(self.n)
-        for j, dof in enumerate(self.load_dofs):
-            F[dof] += evaluate_flat(int(self.f_kind[j]), self.f_params[j], t)[0]
-        return F
+        values = np.array(
+            [
+                evaluate_flat(int(k), p, t)[0]
+                for k, p in zip(self.f_kind, self.f_params, strict=True)
+            ]
+        )
+        return self.load_matrix @ values if values.size else np.zeros(self.n)
+
+    def reduced(
+        self, T: NDArray[np.float64], names: list[str]
+    ) -> tuple[NonlinearSystem, NDArray[np.float64]]:
+        """The same equations in relative coordinates ``u = T q`` without rigid motion.
+
+        ``T`` (n - r, n) must annihilate the rigid-body modes ``R`` (``K R = 0``,
+        ``C R = 0``, ``G R = 0``; r = n - rank). With ``S = M^-1 T^T (T M^-1 T^T)^-1``,
+        ``q = R eta + S u`` splits the motion into the free rigid part ``eta`` and the
+        elastic part ``u``, mass-orthogonally, and the Galerkin projection gives
+        ``S^T M S u'' + S^T C S u' + S^T K S u + (G S)^T [k f(G S u - e) + c(...)]
+        = S^T F``: paper 004's Eq. 3-6 for any model (its relative coordinates
+        ``X_DH, X_VH, X_VL`` are one choice of ``T``). Returns the reduced system and
+        ``S``.
+        """
+        T = np.asarray(T, dtype=float)
+        if T.ndim != 2 or T.shape[1] != self.n or len(names) != T.shape[0]:
+            raise ReducerlabError(
+                f"reduced: T must be (n_relative, {self.n}) with one name per row, got "
+                f"{T.shape} and {len(names)} names"
+            )
+        Minv_Tt = np.linalg.solve(self.M, T.T)
+        W = np.linalg.inv(T @ Minv_Tt)
+        S = Minv_Tt @ W
+        # rigid modes: null space of T; they must carry no stiffness, damping or mesh
+        _, sv, vt = np.linalg.svd(T)
+        R = vt[np.sum(sv > 1e-12 * sv.max()) :].T
+        for name, A in (("K", self.K), ("C", self.C), ("G", self.G)):
+            if R.size and A.size and np.abs(A @ R).max() > 1e-9 * max(np.abs(A).max(), 1e-300):
+                raise ReducerlabError(
+                    f"reduced: the rows of T leave a motion that {name} resists; T must "
+                    "describe every relative (elastic) motion"
+                )
+        red = NonlinearSystem(
+            dof_names=list(names),
+            M=S.T @ self.M @ S,
+            C=S.T @ self.C @ S,
+            K=S.T @ self.K @ S,
+            G=self.G @ S,
+            line_names=self.line_names,
+            k_kind=self.k_kind,
+            k_params=self.k_params,
+            line_damping=self.line_damping,
+            half_backlash=self.half_backlash,
+            e_kind=self.e_kind,
+            e_params=self.e_params,
+            load_matrix=S.T @ self.load_matrix,
+            f_kind=self.f_kind,
+            f_params=self.f_params,
+        )
+        return red, S
 
     def rhs(self, t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
         """State derivative ``[q', q'']`` for ``y = [q, q']`` (plain numpy reference)."""

@@ -1,0 +1,1 @@
+"""Contact and mesh stiffness of gear teeth."""
