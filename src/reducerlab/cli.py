@@ -8,6 +8,7 @@ never as a traceback.
 from __future__ import annotations
 
 import json
+import math
 import sys
 from enum import StrEnum
 from pathlib import Path
@@ -376,6 +377,84 @@ def check(
     typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
     if not report["ok"]:
         raise typer.Exit(code=1)
+
+
+khv_app = typer.Typer(help="KHV planetary drive tools (paper 004).", no_args_is_help=True)
+app.add_typer(khv_app, name="khv")
+
+
+@khv_app.command("closed-graph")
+def khv_closed_graph(
+    design: Annotated[Path, typer.Argument(help="KHV design file (TOML).")],
+    output: Annotated[Path, typer.Option("--output", "-o", help="Figure file (PNG).")] = Path(
+        "closed-graph.png"
+    ),
+) -> None:
+    """Draw the closed graph (x1 vs x2, limit lines, feasible region) and mark the design."""
+    from .design import read_toml, validate_design
+    from .drives.khv import Gears
+    from .plot.khv import plot_closed_graph
+
+    try:
+        data = read_toml(design)
+        if data.get("type") != "khv":
+            raise ReducerlabError(f"{design}: type = {data.get('type')!r}: not a KHV design")
+        gears = validate_design(Gears, data.get("gears", {}), f"{design}: gears")
+        pair = gears.pair()
+        fig = plot_closed_graph(pair, gears.shift_line if gears.x2 is None else None)
+        output.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(output, dpi=120)
+    except (ReducerlabError, OSError) as exc:
+        _fail(exc)
+        return
+    for c in pair.conditions():
+        flag = "ok  " if c.ok else "FAIL"
+        typer.echo(f"{flag} {c.name:<28} margin {c.margin:+.4g}   ({c.rule})")
+    typer.echo(f"contact ratio {pair.contact_ratio:.4f}, working pressure angle "
+               f"{math.degrees(pair.working_pressure_angle):.3f} deg")  # fmt: skip
+    err.print(f"wrote {output}", highlight=False)
+
+
+@khv_app.command("stiffness")
+def khv_stiffness(
+    design: Annotated[Path, typer.Argument(help="KHV design file (TOML).")],
+    x1: Annotated[
+        str, typer.Option(help="Planet shift coefficients to compare, comma separated.")
+    ] = "0.416,0.626,0.835",
+    output: Annotated[Path, typer.Option("--output", "-o", help="Figure file (PNG).")] = Path(
+        "mesh-stiffness.png"
+    ),
+) -> None:
+    """Time-varying mesh stiffness for several x1 on the design's shift line (Fig. 5)."""
+    from .drives import design_from_dict, load_design
+    from .plot.khv import plot_mesh_stiffness
+
+    try:
+        d = load_design(design)
+        if d.type != "khv":
+            raise ReducerlabError(f"{design}: type = {d.type!r}: not a KHV design")
+        try:
+            values = [float(v) for v in x1.split(",") if v.strip()]
+        except ValueError:
+            raise ReducerlabError(f"--x1: {x1!r} is not a list of numbers") from None
+        if not values:
+            raise ReducerlabError("--x1: give at least one value")
+        laws = {}
+        for v in values:
+            data = d.model_dump()
+            data["gears"]["x1"] = v
+            data["gears"]["x2"] = None
+            dv = design_from_dict(data, f"{design} with x1 = {v:g}")
+            law = dv.stiffness_law()
+            laws[f"x1 = {v:g}: eps = {dv.gears.pair().contact_ratio:.3f}, "
+                 f"mean {law.mean / 1e8:.3f}e8 N/m"] = law  # fmt: skip
+            typer.echo(f"x1 = {v:g}: k_C = {dv.pitch_stiffness():.4g} N/m, mean {law.mean:.4g} N/m")
+        output.parent.mkdir(parents=True, exist_ok=True)
+        plot_mesh_stiffness(laws).savefig(output, dpi=120)
+    except (ReducerlabError, OSError) as exc:
+        _fail(exc)
+        return
+    err.print(f"wrote {output}", highlight=False)
 
 
 @app.command()

@@ -14,7 +14,7 @@ from ..design import Design, read_toml, validate_design
 from ..errors import DesignError
 from ..kinematics import DriveKinematics
 from ..model import Model
-from . import cycloid_ball, gear_pair, kinematic, lumped
+from . import cycloid_ball, gear_pair, khv, kinematic, lumped
 
 __all__ = [
     "DRIVES",
@@ -46,6 +46,11 @@ DRIVES: dict[str, DriveType] = {
         cycloid_ball.CycloidBallDesign,
         cycloid_ball.build_model,
         "cycloid ball transmission, 7-DOF translational-torsional (paper 003)",
+    ),
+    "khv": DriveType(
+        khv.KHVDesign,
+        khv.build_model,
+        "KHV planetary drive with a small tooth difference, 4-DOF torsional (paper 004)",
     ),
     "kinematics": DriveType(
         kinematic.KinematicsDesign,

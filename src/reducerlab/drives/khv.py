@@ -1,0 +1,252 @@
+"""KHV planetary drive with a small tooth-number difference (paper 004).
+
+Carrier H (input, driven by D through a shaft) carries planet V, which meshes inside
+the fixed ring K; the planet's rotation reaches the load L through the
+equal-angular-velocity mechanism W (a torsional shaft). 4 torsional DOFs in equivalent
+displacements along the line of action (paper 004 Eq. 1):
+``X_D = theta_D r_bH, X_H = theta_H r_bH, X_V = theta_V r_bV, X_L = theta_L r_bV``,
+with ``r_bV`` the planet's base radius and ``r_bH = a' cos(alpha')`` (= the difference
+of the base radii: the carrier moves the planet's base circle along the line of action
+by ``a' cos(alpha') theta_H``). Eq. 2: shafts ``k_DH (X_D - X_H)``, ``k_VL (X_V - X_L)``,
+mesh ``k_m(t) f(X_V - X_H - e(t), b) + c_m (...)'``.
+
+The internal pair's geometry (profile shift, working pressure angle, contact ratio,
+interference) is :class:`reducerlab.geometry.InternalGearPair`; the mesh stiffness is
+ISO 6336-1 (Eq. 7-8) with the single/double-tooth parabolic law (Eq. 9).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import Field, model_validator
+
+from ..contact.iso6336 import pitch_point_stiffness, single_double_law
+from ..design import (
+    AngularVelocity,
+    Design,
+    Length,
+    Mass,
+    MomentOfInertia,
+    PositiveInt,
+    Spec,
+    Torque,
+    angle_between,
+    quantity,
+)
+from ..errors import ReducerlabError
+from ..geometry import InternalGearPair
+from ..kinematics import KHVDrive
+from ..model import Backlash, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
+
+__all__ = ["PAPER_LINE", "KHVDesign", "build_model", "relative_coordinates"]
+
+#: The points M and N of paper 004 Fig. 3; x2 is on the straight line through them when
+#: a design gives x1 only.
+PAPER_LINE = (0.416, 0.601, 0.835, 0.995)
+Shift = Annotated[float, Field(ge=-1.5, le=3.0, allow_inf_nan=False)]
+Ratio = Annotated[float, Field(ge=0, lt=1, allow_inf_nan=False)]
+TorsionalStiffness = quantity("torsional stiffness", gt=0)
+
+
+class Gears(Spec):
+    """The internal pair: planet V (external) in ring K (internal), Table 1."""
+
+    planet_teeth: PositiveInt
+    ring_teeth: PositiveInt
+    module: Length
+    addendum: Annotated[float, Field(gt=0, le=1.5, allow_inf_nan=False)] = 1.0
+    pressure_angle: angle_between(5, 45) = math.radians(20.0)  # type: ignore[valid-type]
+    face_width: Length
+    x1: Shift
+    x2: Shift | None = None
+    shift_line: tuple[float, float, float, float] = PAPER_LINE
+
+    @model_validator(mode="after")
+    def _teeth(self) -> Gears:
+        if self.ring_teeth <= self.planet_teeth:
+            raise ValueError(
+                f"ring_teeth ({self.ring_teeth}) must exceed planet_teeth ({self.planet_teeth})"
+            )
+        if self.shift_line[0] == self.shift_line[2]:
+            raise ValueError("shift_line needs two points with different x1")
+        return self
+
+    @property
+    def shift2(self) -> float:
+        """x2: given, or on the line through the two points of ``shift_line``."""
+        if self.x2 is not None:
+            return self.x2
+        a1, a2, b1, b2 = self.shift_line
+        return a2 + (b2 - a2) * (self.x1 - a1) / (b1 - a1)
+
+    def pair(self) -> InternalGearPair:
+        """The geometry of the internal pair."""
+        return InternalGearPair(
+            self.planet_teeth,
+            self.ring_teeth,
+            self.module,
+            self.x1,
+            self.shift2,
+            addendum=self.addendum,
+            pressure_angle=self.pressure_angle,
+            face_width=self.face_width,
+        )
+
+
+class Inertias(Spec):
+    """Moments of inertia (Table 2) and the planet's mass (not in the paper)."""
+
+    drive: MomentOfInertia
+    carrier: MomentOfInertia
+    planet: MomentOfInertia
+    load: MomentOfInertia
+    planet_mass: Mass
+
+
+class Shafts(Spec):
+    """Torsional stiffness of the input shaft (D-H) and of the W mechanism (V-L)."""
+
+    input_stiffness: TorsionalStiffness  # type: ignore[valid-type]
+    output_stiffness: TorsionalStiffness  # type: ignore[valid-type]
+    damping_ratio: Ratio = 0.0
+
+
+class MeshSpec(Spec):
+    """Mesh damping ratio, backlash (half width, as paper 004 Eq. 11) and error Eq. 12."""
+
+    damping_ratio: Ratio = 0.0
+    half_backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
+    error_amplitude: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
+    error_phase: angle_between(-360, 360, closed=True) = 0.0  # type: ignore[valid-type]
+    time_varying: bool = True
+
+
+class KHVDesign(Design):
+    """Design of a KHV drive (``type = "khv"``)."""
+
+    type: Literal["khv"] = "khv"
+    input_speed: AngularVelocity
+    input_torque: Torque = 0.0
+    load_torque: Torque = 0.0
+    speed_range: list[AngularVelocity] | None = None
+    gears: Gears
+    inertia: Inertias
+    shafts: Shafts
+    mesh: MeshSpec = MeshSpec()
+
+    @model_validator(mode="after")
+    def _feasible(self) -> KHVDesign:
+        if self.input_speed <= 0:
+            raise ValueError("input_speed must be > 0 (the mesh period follows from it)")
+        try:
+            pair = self.gears.pair()
+            pair.check()
+        except ReducerlabError as exc:
+            raise ValueError(f"gears: {exc}") from None
+        if not 1.0 < pair.contact_ratio < 2.0:
+            raise ValueError(
+                f"gears: contact ratio {pair.contact_ratio:.4g} outside (1, 2), where the "
+                "single/double-tooth law of paper 004 applies"
+            )
+        return self
+
+    def kinematics(self) -> KHVDrive:
+        """Carrier input, ring fixed, planet output."""
+        return KHVDrive(self.gears.planet_teeth, self.gears.ring_teeth)
+
+    @property
+    def mesh_frequency(self) -> float:
+        """Mesh angular frequency ``z_K omega_H`` (rad/s)."""
+        return 2 * math.pi * self.kinematics().mesh_frequencies(self.input_speed)["mesh K-V"]
+
+    def pitch_stiffness(self) -> float:
+        """ISO 6336 single-pair stiffness at the pitch point k_C (N/m), Eq. 7-8."""
+        g = self.gears
+        return pitch_point_stiffness(
+            g.face_width, g.planet_teeth, g.ring_teeth, g.x1, g.shift2, internal=True
+        )
+
+    def stiffness_law(self):
+        """Mesh stiffness over a mesh period (Eq. 9, intervals derived)."""
+        period = 2 * math.pi / self.mesh_frequency
+        law = single_double_law(
+            self.pitch_stiffness(), self.gears.pair().contact_ratio, period, self.input_speed
+        )
+        return law
+
+
+def _reduced_mass(a: float, b: float) -> float:
+    return a * b / (a + b)
+
+
+def build_model(design: KHVDesign) -> Model:
+    """The 4-DOF torsional model of paper 004 Eq. 1-2 on the generic core."""
+    pair = design.gears.pair()
+    aw = pair.working_pressure_angle
+    rbH = pair.centre_distance * math.cos(aw)
+    rbV = pair.base_radius(1)
+    inertia, shafts, mesh = design.inertia, design.shafts, design.mesh
+    MD = inertia.drive / rbH**2
+    MH = (inertia.carrier + inertia.planet_mass * rbH**2 / math.cos(aw) ** 2) / rbH**2
+    MV = inertia.planet / rbV**2
+    ML = inertia.load / rbV**2
+    kDH = shafts.input_stiffness / rbH**2
+    kVL = shafts.output_stiffness / rbV**2
+    law = design.stiffness_law()
+    if not mesh.time_varying:
+        from ..model import Constant
+
+        law = Constant(law.mean)
+    cDH = 2 * shafts.damping_ratio * math.sqrt(kDH * _reduced_mass(MD, MH))
+    cVL = 2 * shafts.damping_ratio * math.sqrt(kVL * _reduced_mass(MV, ML))
+    cm = 2 * mesh.damping_ratio * math.sqrt(law.mean * _reduced_mass(MV, MH))
+    wm = design.mesh_frequency
+    error = Fourier(
+        0.0, (mesh.error_amplitude,), wm, (mesh.error_phase - math.pi / 2,),
+        ref_speed=design.input_speed,
+    )  # fmt: skip  # e sin(wm t + phi)
+    dofs = [
+        Dof("drive", "u", radius=rbH),
+        Dof("carrier", "u", radius=rbH),
+        Dof("planet", "u", radius=rbV),
+        Dof("load", "u", radius=rbV),
+    ]
+    elements = [
+        Inertia("drive.u", inertia.drive),
+        Inertia("carrier.u", MH * rbH**2),
+        Inertia("planet.u", inertia.planet),
+        Inertia("load.u", inertia.load),
+        Coupling({"drive.u": 1.0, "carrier.u": -1.0}, kDH, cDH, name="input_shaft"),
+        Coupling({"planet.u": 1.0, "load.u": -1.0}, kVL, cVL, name="output_mechanism"),
+        Mesh(
+            {"planet.u": 1.0, "carrier.u": -1.0},
+            stiffness=law,
+            damping=cm,
+            backlash=Backlash.half(mesh.half_backlash),
+            error=error,
+            name="mesh",
+        ),
+    ]
+    if design.input_torque:
+        elements.append(Load("drive.u", design.input_torque / rbH, name="drive_torque"))
+    if design.load_torque:
+        elements.append(Load("load.u", -design.load_torque / rbV, name="load_torque"))
+    return Model(
+        dofs,
+        elements,
+        speed=design.input_speed,
+        name=design.name or "KHV drive",
+        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+    )
+
+
+def relative_coordinates() -> tuple[NDArray[np.float64], list[str]]:
+    """Paper 004 Eq. 3: ``X_DH = X_D - X_H``, ``X_VH = X_V - X_H``, ``X_VL = X_V - X_L``
+    as a matrix ``T`` over ``[X_D, X_H, X_V, X_L]`` (without ``e(t)``, which stays in
+    the mesh law), for :meth:`reducerlab.model.NonlinearSystem.reduced`."""
+    T = np.array([[1.0, -1.0, 0.0, 0.0], [0.0, -1.0, 1.0, 0.0], [0.0, 0.0, 1.0, -1.0]])
+    return T, ["X_DH", "X_VH", "X_VL"]

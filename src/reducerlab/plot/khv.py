@@ -1,0 +1,112 @@
+"""The closed graph of an internal gear pair (paper 004 Fig. 3)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ReducerlabError
+from ..geometry import InternalGearPair
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["closed_graph", "plot_closed_graph", "plot_mesh_stiffness"]
+
+LIMITS = (
+    "contact ratio",
+    "involute interference",
+    "tip overlap interference",
+    "pointed planet teeth",
+)
+
+
+def closed_graph(
+    base: InternalGearPair,
+    x1: np.ndarray,
+    x2: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """Margins of every feasibility condition on the grid ``x1 x x2`` (rows: x2)."""
+    out = {name: np.full((x2.size, x1.size), np.nan) for name in LIMITS}
+    for i, b in enumerate(x2):
+        for j, a in enumerate(x1):
+            try:
+                g = InternalGearPair(
+                    base.z1, base.z2, base.module, float(a), float(b), addendum=base.addendum,
+                    pressure_angle=base.pressure_angle, face_width=base.face_width,
+                )  # fmt: skip
+                conds = {c.name: c.margin for c in g.conditions()}
+            except (ReducerlabError, ValueError, ZeroDivisionError):
+                continue
+            for name in LIMITS:
+                v = conds[name]
+                out[name][i, j] = np.clip(v, -10, 10) if np.isfinite(v) else 10.0
+    return out
+
+
+def plot_closed_graph(
+    pair: InternalGearPair,
+    line: tuple[float, float, float, float] | None = None,
+    x1_range: tuple[float, float] = (-0.2, 1.4),
+    x2_range: tuple[float, float] = (-0.1, 1.6),
+    n: int = 121,
+) -> Figure:
+    """x1 vs x2 with the limit lines of each condition, the feasible region shaded, the
+    design point and, if given, the design line through two points (paper's line 4)."""
+    from matplotlib.figure import Figure
+
+    x1 = np.linspace(*x1_range, n)
+    x2 = np.linspace(*x2_range, n)
+    margins = closed_graph(pair, x1, x2)
+    fig = Figure(figsize=(6.6, 5.6), layout="constrained")
+    ax = fig.subplots()
+    from matplotlib.lines import Line2D
+
+    feasible = np.ones((n, n), bool)
+    handles = []
+    for k, (name, m) in enumerate(margins.items()):
+        feasible &= np.nan_to_num(m, nan=-1.0) >= 0
+        ax.contour(x1, x2, np.nan_to_num(m, nan=-1.0), levels=[0.0], colors=[f"C{k}"])
+        handles.append(Line2D([], [], color=f"C{k}", label=f"{k + 1}: {name} limit"))
+    ax.contourf(x1, x2, feasible.astype(float), levels=[0.5, 1.5], colors=["0.85"])
+    if line is not None:
+        a1, a2, b1, b2 = line
+        xs = np.array(x1_range)
+        ax.plot(xs, a2 + (b2 - a2) * (xs - a1) / (b1 - a1), "k--", lw=1.0,
+                label="design line (through M, N)")  # fmt: skip
+        ax.plot([a1, b1], [a2, b2], "ks", ms=5)
+        ax.annotate("M", (a1, a2), xytext=(4, -12), textcoords="offset points")
+        ax.annotate("N", (b1, b2), xytext=(4, -12), textcoords="offset points")
+    ax.plot([pair.x1], [pair.x2], "r*", ms=14, label=f"design ({pair.x1:.3f}, {pair.x2:.3f})")
+    ax.set_xlabel("x1 (planet)")
+    ax.set_ylabel("x2 (ring)")
+    ax.set_xlim(*x1_range)
+    ax.set_ylim(*x2_range)
+    ax.set_title(
+        f"closed graph z1={pair.z1}, z2={pair.z2}, ha*={pair.addendum:g} (grey: feasible)",
+        fontsize=9,
+    )
+    ax.legend(handles=handles + ax.get_legend_handles_labels()[0], fontsize=7, loc="upper left")
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def plot_mesh_stiffness(laws: dict[str, object], periods: float = 2.0) -> Figure:
+    """Mesh stiffness over ``periods`` mesh periods for several laws (paper 004 Fig. 5),
+    against time in mesh periods; each law's mean dashed."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.0, 4.0), layout="constrained")
+    ax = fig.subplots()
+    for k, (label, law) in enumerate(laws.items()):
+        T = law.period  # type: ignore[attr-defined]
+        s = np.linspace(0, periods, 2001)
+        ax.plot(s, law(s * T) / 1e8, color=f"C{k}", label=label)  # type: ignore[operator]
+        ax.axhline(law.mean / 1e8, color=f"C{k}", ls="--", lw=0.8)  # type: ignore[attr-defined]
+    ax.set_xlabel("time (mesh periods)")
+    ax.set_ylabel("mesh stiffness (1e8 N/m)")
+    ax.set_title("time-varying mesh stiffness (dashed: mean)", fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return fig
