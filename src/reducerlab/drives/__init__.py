@@ -14,7 +14,7 @@ from ..design import Design, read_toml, validate_design
 from ..errors import DesignError
 from ..kinematics import DriveKinematics
 from ..model import Model
-from . import cycloid_ball, gear_pair, khv, kinematic, lumped
+from . import cycloid_ball, gear_pair, khv, kinematic, lumped, nutation
 
 __all__ = [
     "DRIVES",
@@ -51,6 +51,11 @@ DRIVES: dict[str, DriveType] = {
         khv.KHVDesign,
         khv.build_model,
         "KHV planetary drive with a small tooth difference, 4-DOF torsional (paper 004)",
+    ),
+    "nutation": DriveType(
+        nutation.NutationDesign,
+        nutation.build_model,
+        "nutation drive, single- or double-sided, bending-torsional-axial (paper 000)",
     ),
     "kinematics": DriveType(
         kinematic.KinematicsDesign,
