@@ -379,6 +379,48 @@ def check(
         raise typer.Exit(code=1)
 
 
+@app.command()
+def bifurcation(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    param: Annotated[str, typer.Option("--param", "-p", help="Parameter path.")],
+    values: Annotated[
+        str, typer.Option("--values", "-v", help="'lin:START:STOP:N', a list, or 'rel:...'.")
+    ],
+    periods: Annotated[int, typer.Option(help="Mesh periods integrated.")] = 600,
+    keep: Annotated[int, typer.Option(help="Last periods kept as Poincaré points.")] = 100,
+    steps: Annotated[
+        int | None, typer.Option(help="RK4 steps per period (default: from the model).")
+    ] = None,
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "bifurcation-output"
+    ),
+) -> None:
+    """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter."""
+    from rich.progress import Progress
+
+    from .analysis.nonlinear import bifurcation as run_bifurcation
+    from .analysis.sweep import parse_values
+    from .drives import load_design
+
+    try:
+        d = load_design(design)
+        axis = parse_values(param, values)
+        with Progress(console=err, transient=True) as progress:
+            task = progress.add_task("bifurcation", total=None)
+            res = run_bifurcation(
+                d, axis, periods=periods, keep=keep, steps_per_period=steps,
+                progress=lambda done, total: progress.update(task, completed=done, total=total),
+            )  # fmt: skip
+        output.mkdir(parents=True, exist_ok=True)
+        res.save(output / "bifurcation.nc")
+        res.plot().savefig(output / "bifurcation.png", dpi=120)
+    except (ReducerlabError, OSError) as exc:
+        _fail(exc)
+        return
+    typer.echo(json.dumps(res.to_dict()))
+    err.print(f"wrote {output / 'bifurcation.nc'}, {output / 'bifurcation.png'}", highlight=False)
+
+
 khv_app = typer.Typer(help="KHV planetary drive tools (paper 004).", no_args_is_help=True)
 app.add_typer(khv_app, name="khv")
 

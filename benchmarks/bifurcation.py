@@ -1,0 +1,77 @@
+"""Benchmark: a KHV bifurcation diagram (paper 004 Fig. 7 setting) with the compiled
+RK4 ensemble kernel, against ``solve_ivp`` RK45 (rtol 1e-8), the baseline a user picks.
+
+Prints the wall time of model building and of the kernel for N_VALUES x 600 mesh
+periods, the per-trajectory time of a sample of solve_ivp runs and the speed-up, and
+the same kernel on the 12-DOF nutation drive. Run:
+``.venv/bin/python benchmarks/bifurcation.py [N_VALUES]``.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import os
+import platform
+import sys
+import time
+
+import numpy as np
+import scipy.integrate
+
+from reducerlab.analysis.response import ensemble, forcing_period, to_system
+from reducerlab.analysis.sweep import _Evaluator, _resolve
+from reducerlab.drives import build_model, load_design
+from reducerlab.examples import example_dir
+
+PERIODS, KEEP = 600, 100
+
+
+def systems_for(design_file: str, path: str, values: np.ndarray):
+    design = load_design(example_dir() / design_file)
+    model = build_model(design)
+    ev = _Evaluator(design.model_dump(mode="python"), model, (_resolve(design, model, path),))
+    return [to_system(ev.model_at([v])) for v in values]
+
+
+def main() -> None:
+    n_values = int(sys.argv[1]) if len(sys.argv) > 1 else 1000
+    values = np.linspace(0.416, 0.835, n_values)
+    t0 = time.perf_counter()
+    systems = systems_for("khv.toml", "gears.x1", values)
+    t_build = time.perf_counter() - t0
+    ensemble(systems[:2], periods=2, keep=1)  # compile (cached on disk after the first run)
+    t0 = time.perf_counter()
+    ensemble(systems, periods=PERIODS, keep=KEEP)
+    t_kernel = time.perf_counter() - t0
+    # baseline: solve_ivp RK45, rtol 1e-8, on a few members
+    sample = systems[:: max(1, n_values // 3)][:3]
+    t0 = time.perf_counter()
+    for s in sample:
+        T = forcing_period(s)
+        t_eval = np.arange(500, 600) * T
+        y0 = np.zeros(2 * s.n)
+        scipy.integrate.solve_ivp(
+            s.rhs, (0, PERIODS * T), y0, method="RK45", rtol=1e-8, atol=1e-14, t_eval=t_eval
+        )
+    t_ivp = (time.perf_counter() - t0) / len(sample)
+    per = t_kernel / n_values
+    # 12-DOF nutation drive through the same kernel (mesh stiffness sweep, 100 values)
+    nut = systems_for("nutation_double_sided.toml", "mesh1.stiffness",
+                      np.linspace(1.5e8, 3e8, 100))  # fmt: skip
+    ensemble(nut[:2], periods=2, keep=1)
+    t0 = time.perf_counter()
+    ensemble(nut, periods=PERIODS, keep=KEEP)
+    t_nut = time.perf_counter() - t0
+    print(f"date: {dt.date.today().isoformat()}")
+    print(
+        f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+    )
+    print(f"KHV (3 elastic DOF) {n_values} values x {PERIODS} mesh periods:")
+    print(f"  model building: {t_build:.2f} s; kernel: {t_kernel:.2f} s")
+    print(f"  {per * 1e3:.2f} ms per trajectory")
+    print(f"  solve_ivp RK45 rtol 1e-8: {t_ivp:.2f} s/trajectory -> speed-up x{t_ivp / per:.0f}")
+    print(f"nutation drive (11 elastic DOF) 100 values x {PERIODS} periods: kernel {t_nut:.2f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,131 @@
+"""The compiled RK4 ensemble kernel against the event-driven reference, convergence,
+energy balance, ensemble independence, divergence errors; bifurcation and spectra."""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+import pytest
+
+from reducerlab.analysis.nonlinear import bifurcation, spectrum_peaks
+from reducerlab.analysis.response import ensemble, forcing_period, simulate_reference, to_system
+from reducerlab.analysis.sweep import Axis
+from reducerlab.drives import load_design
+from reducerlab.errors import ReducerlabError
+from reducerlab.examples import example_dir
+from reducerlab.model import (
+    Backlash,
+    Coupling,
+    Dof,
+    Fourier,
+    Inertia,
+    Load,
+    Mesh,
+    Model,
+    PiecewisePolynomial,
+    Support,
+)  # fmt: skip
+
+W = 2 * math.pi * 100.0
+
+
+def rattle(F=1.0, b=1e-6, k_law=None):
+    """Single-DOF gear pair with backlash, time-varying stiffness and error."""
+    law = k_law if k_law is not None else Fourier(1e6, (2e5,), W)
+    return Model(
+        [Dof("a", "x")],
+        [
+            Inertia("a.x", 1.0),
+            Mesh({"a.x": 1.0}, stiffness=law, damping=60.0, backlash=Backlash.half(b),
+                 error=Fourier(0.0, (2e-6,), W, (-math.pi / 2,)), name="m"),
+            Load("a.x", F),
+        ],
+    ).nonlinear()  # fmt: skip
+
+
+def test_kernel_matches_the_event_driven_reference():
+    s = rattle()
+    T = forcing_period(s)
+    ref = simulate_reference(s, np.arange(25, 30) * T)
+    fast = ensemble([s], periods=30, keep=5, steps_per_period=2048)
+    scale = np.abs(ref[:, 0]).max()
+    # the backlash kink limits fixed-step RK4 to low order: 2048 steps per period give
+    # ~4e-5 relative (8192 steps: 4e-7, the reference's own level is < 1e-9)
+    np.testing.assert_allclose(fast.poincare[0, :5, 0], ref[:, 0], atol=2e-4 * scale)
+
+
+def test_convergence_with_step_count():
+    s = rattle()
+    fine = ensemble([s], periods=30, keep=5, steps_per_period=8192).poincare[0, :5, 0]
+    errs = []
+    for n in (512, 4096):
+        x = ensemble([s], periods=30, keep=5, steps_per_period=n).poincare[0, :5, 0]
+        errs.append(np.abs(x - fine).max() / np.abs(fine).max())
+    # 8x more steps: the backlash kink makes the convergence irregular and of low order
+    # (measured 4.6e-5 -> 5.6e-7, x80); ask for at least x20
+    assert errs[1] < errs[0] / 20
+
+
+def test_piecewise_law_steps_are_aligned_with_its_jumps():
+    law = PiecewisePolynomial(2 * math.pi / W, (0.0, 0.37), ((1.3e6,), (0.9e6,)))
+    s = rattle(k_law=law, b=0.0)
+    T = forcing_period(s)
+    ref = simulate_reference(s, np.arange(15, 20) * T)
+    fast = ensemble([s], periods=20, keep=5, steps_per_period=256)
+    # no backlash and steps aligned with the jumps: full 4th order (64 -> 256 steps:
+    # 5.2e-5 -> 2.2e-7 relative); 256 steps to 1e-6
+    np.testing.assert_allclose(fast.poincare[0, :5, 0], ref[:, 0], rtol=1e-6)
+
+
+def test_energy_balance_of_an_undamped_linear_run():
+    m = Model(
+        [Dof("a", "x"), Dof("b", "x")],
+        [Inertia("a.x", 2.0), Inertia("b.x", 1.0), Support("a.x", 3e5),
+         Coupling({"a.x": 1.0, "b.x": -1.0}, 1e5)],
+    ).nonlinear()  # fmt: skip
+    y0 = np.array([1e-3, -2e-3, 0.0, 0.0])
+    res = ensemble([m], periods=200, keep=200, steps_per_period=64, y0=y0, period=2e-3)
+    E = [0.5 * y[2:] @ m.M @ y[2:] + 0.5 * y[:2] @ m.K @ y[:2] for y in res.poincare[0]]
+    # RK4 at omega h < 0.15 loses ~1e-7 of the energy per 100 periods
+    assert abs(E[-1] / E[0] - 1) < 1e-5
+
+
+def test_ensemble_results_do_not_depend_on_size_or_threads():
+    systems = [rattle(F=f) for f in (0.5, 1.0, 1.5, 2.0, 2.5)]
+    all5 = ensemble(systems, periods=20, keep=3, steps_per_period=256).poincare
+    alone = ensemble([systems[2]], periods=20, keep=3, steps_per_period=256).poincare
+    np.testing.assert_array_equal(all5[2], alone[0])
+    n = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = ensemble(systems, periods=20, keep=3, steps_per_period=256).poincare
+    finally:
+        numba.set_num_threads(n)
+    np.testing.assert_array_equal(one, all5)
+
+
+def test_divergence_names_member_time_and_dof():
+    bad = Model([Dof("a", "x")], [Inertia("a.x", 1.0), Support("a.x", 1.0), Load("a.x", 1e3)])
+    with pytest.raises(ReducerlabError, match=r"diverged for case 7 at t = .* a\.x"):
+        ensemble([bad.nonlinear()], periods=50, keep=1, period=1.0, labels=["case 7"],
+                 limit=1e2)  # fmt: skip
+
+
+def test_spectrum_peaks_as_multiples_of_the_mesh_frequency():
+    f = 100.0
+    t = np.arange(0, 2.0, 1e-4)
+    x = np.sin(2 * math.pi * f * t) + 0.5 * np.sin(2 * math.pi * 0.48 * f * t)
+    peaks = spectrum_peaks(x, 1e-4, f, count=2)
+    assert [round(p[0], 2) for p in peaks] == [1.0, 0.48]
+
+
+def test_khv_bifurcation_smoke_and_rigid_motion_removed():
+    design = load_design(example_dir() / "khv.toml")
+    res = bifurcation(design, Axis.linspace("gears.x1", 0.42, 0.8, 3), periods=40, keep=5)
+    assert res.data["poincare"].shape == (3, 5)
+    assert np.all(np.isfinite(res.data["poincare"].values))
+    from reducerlab.drives import build_model
+
+    assert to_system(build_model(design)).n == 3  # 4 DOFs minus the rigid rotation
