@@ -9,8 +9,14 @@ import numba
 import numpy as np
 import pytest
 
-from reducerlab.analysis.nonlinear import bifurcation, spectrum_peaks
-from reducerlab.analysis.response import ensemble, forcing_period, simulate_reference, to_system
+from reducerlab.analysis.nonlinear import bifurcation, classify, spectrum_peaks
+from reducerlab.analysis.response import (
+    ensemble,
+    forcing_period,
+    lyapunov,
+    simulate_reference,
+    to_system,
+)
 from reducerlab.analysis.sweep import Axis
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError
@@ -129,3 +135,29 @@ def test_khv_bifurcation_smoke_and_rigid_motion_removed():
     from reducerlab.drives import build_model
 
     assert to_system(build_model(design)).n == 3  # 4 DOFs minus the rigid rotation
+
+
+def forced_oscillator(second: float | None = None):
+    els = [Inertia("a.x", 1.0), Support("a.x", 4e5, 40.0), Load("a.x", Fourier(0.0, (1.0,), W))]
+    if second is not None:
+        els.append(Load("a.x", Fourier(0.0, (1.0,), second * W), name="second"))
+    return Model([Dof("a", "x")], els).nonlinear()
+
+
+def test_lyapunov_exponent_of_a_damped_linear_oscillator():
+    # every perturbation of m x'' + c x' + k x = F(t) decays as exp(-c t / 2m):
+    # the largest exponent is -c/(2m) = -20 1/s; 250 periods of renormalisation at
+    # 128 steps give it to 0.1 %
+    lam = lyapunov([forced_oscillator()], periods=300, transient=50, steps_per_period=128)
+    assert lam[0] == pytest.approx(-20.0, rel=5e-3)
+
+
+def test_motion_classification():
+    f = W / (2 * math.pi)
+    periodic = ensemble([forced_oscillator()], periods=300, keep=40, steps_per_period=128)
+    assert classify(periodic.poincare[0, :40, 0], -20.0, f) == "period-1"
+    # a second, incommensurate forcing (golden ratio): the Poincare points fill a curve
+    quasi = ensemble([forced_oscillator((1 + 5**0.5) / 2)], periods=300, keep=40,
+                     steps_per_period=128, period=2 * math.pi / W)  # fmt: skip
+    assert classify(quasi.poincare[0, :40, 0], -20.0, f) == "quasi-periodic"
+    assert classify(quasi.poincare[0, :40, 0], 5.0, f) == "chaotic"

@@ -21,7 +21,7 @@ from .sweep import Axis, _Evaluator, _resolve
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["BifurcationResult", "bifurcation", "spectrum_peaks"]
+__all__ = ["BifurcationResult", "bifurcation", "classify", "spectrum_peaks"]
 
 
 def bifurcation(
@@ -104,14 +104,7 @@ class BifurcationResult(Result):
         """Smallest n <= max_period such that the Poincaré sequence repeats every n
         points (to ``tol`` of its range), else 0 (not periodic within max_period)."""
         pts = self.data["poincare"].values
-        out = np.zeros(pts.shape[0], dtype=np.int64)
-        for i, row in enumerate(pts):
-            span = max(np.ptp(row), np.abs(row).max(), 1e-300)
-            for n in range(1, max_period + 1):
-                if np.all(np.abs(row[n:] - row[:-n]) <= tol * span):
-                    out[i] = n
-                    break
-        return out
+        return np.array([_period_of(row, tol, max_period) for row in pts], dtype=np.int64)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary."""
@@ -136,6 +129,36 @@ class BifurcationResult(Result):
         ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
         ax.grid(alpha=0.3)
         return fig
+
+
+def _period_of(row: NDArray, tol: float, max_period: int) -> int:
+    span = max(np.ptp(row), np.abs(row).max(), 1e-300)
+    for n in range(1, max_period + 1):
+        if np.all(np.abs(row[n:] - row[:-n]) <= tol * span):
+            return n
+    return 0
+
+
+def classify(
+    poincare: NDArray[np.float64],
+    exponent: float,
+    frequency: float,
+    *,
+    tol: float = 1e-3,
+    max_period: int = 12,
+    chaos: float = 0.01,
+) -> str:
+    """Label a steady motion from its Poincaré points and largest Lyapunov exponent.
+
+    ``"chaotic"`` when the exponent exceeds ``chaos`` x the forcing frequency (1/s per
+    Hz: a separation growing by e within ~100 periods), else ``"period-n"`` when the
+    Poincaré sequence repeats every n <= ``max_period`` points (to ``tol`` of its
+    range), else ``"quasi-periodic"``.
+    """
+    if exponent > chaos * frequency:
+        return "chaotic"
+    n = _period_of(np.asarray(poincare, float), tol, max_period)
+    return f"period-{n}" if n else "quasi-periodic"
 
 
 def spectrum_peaks(
