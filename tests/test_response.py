@@ -161,3 +161,36 @@ def test_motion_classification():
                      steps_per_period=128, period=2 * math.pi / W)  # fmt: skip
     assert classify(quasi.poincare[0, :40, 0], -20.0, f) == "quasi-periodic"
     assert classify(quasi.poincare[0, :40, 0], 5.0, f) == "chaotic"
+
+
+def test_response_outputs_and_cli(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.analysis.nonlinear import ResponseResult, response
+    from reducerlab.cli import app
+
+    # linear permanent-contact gear pair forced at W by its error: the response sits at
+    # the forcing frequency (peak 1.00x) and the load factor exceeds 1
+    res = response(Model(
+        [Dof("a", "x")],
+        [Inertia("a.x", 1.0),
+         Mesh({"a.x": 1.0}, stiffness=1e6, damping=60.0,
+              error=Fourier(0.0, (2e-6,), W, (-math.pi / 2,)), name="m"),
+         Load("a.x", 10.0)],
+    ), periods=200, keep=10, history=20)  # fmt: skip
+    assert res.peaks(1)[0][0] == pytest.approx(1.0, abs=0.01)
+    assert res.data.attrs["dynamic_load_factor"] > 1.0
+    assert res.data.attrs["mean_mesh_force"] == pytest.approx(10.0, rel=1e-3)
+    assert res.plot().axes
+    p = res.save(tmp_path / "r.nc")
+    assert ResponseResult.load(p).data["delta"].size == res.data["delta"].size
+    khv = str(example_dir() / "khv.toml")
+    args = ["response", khv, "--periods", "60", "--keep", "5", "--history", "4"]
+    r = CliRunner().invoke(app, [*args, "-o", str(tmp_path / "k")])
+    assert r.exit_code == 0, r.output
+    assert "dynamic load factor" in r.output and (tmp_path / "k" / "response.png").exists()
+    r = CliRunner().invoke(app, ["bifurcation", str(example_dir() / "khv.toml"), "-p",
+                                 "gears.x1", "-v", "0.5,0.6", "--periods", "30", "--keep", "3",
+                                 "-o", str(tmp_path / "b")])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "b" / "bifurcation.png").exists()

@@ -21,7 +21,14 @@ from .sweep import Axis, _Evaluator, _resolve
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["BifurcationResult", "bifurcation", "classify", "spectrum_peaks"]
+__all__ = [
+    "BifurcationResult",
+    "ResponseResult",
+    "bifurcation",
+    "classify",
+    "response",
+    "spectrum_peaks",
+]
 
 
 def bifurcation(
@@ -172,3 +179,112 @@ def spectrum_peaks(
     peaks = [i for i in range(1, amp.size - 1) if amp[i] >= amp[i - 1] and amp[i] > amp[i + 1]]
     peaks.sort(key=lambda i: -amp[i])
     return [(float(f[i] / f_ref), float(amp[i])) for i in peaks[:count]]
+
+
+class ResponseResult(Result):
+    """Steady response of one design: time histories of the mesh deflection (dynamic
+    transmission error along the line of action), its velocity and the mesh force over
+    the last periods, the Poincaré points, and the dynamic load factor."""
+
+    kind: ClassVar[str] = "response"
+
+    def _uniform(self) -> tuple[NDArray, float]:
+        """The deflection resampled on a uniform time grid (steps differ per segment)."""
+        ds = self.data
+        t = ds["time"].values
+        tu = np.linspace(t[0], t[-1], t.size)
+        return np.interp(tu, t, ds["delta"].values), float(tu[1] - tu[0])
+
+    def peaks(self, count: int = 6) -> list[tuple[float, float]]:
+        """Largest spectral peaks of the mesh deflection, as multiples of the forcing
+        frequency (paper 004 Fig. 8 labels)."""
+        x, dt = self._uniform()
+        return spectrum_peaks(x, dt, self.data.attrs["forcing_hz"], count)
+
+    def plot(self) -> Figure:
+        """Phase trajectory, Poincaré map and labelled spectrum (paper 004 Fig. 8)."""
+        from matplotlib.figure import Figure
+
+        ds = self.data
+        fig = Figure(figsize=(11, 3.6), layout="constrained")
+        a1, a2, a3 = fig.subplots(1, 3)
+        d, v = ds["delta"].values * 1e6, ds["delta_velocity"].values * 1e3
+        a1.plot(d, v, lw=0.6)
+        a1.set_xlabel("mesh deflection (um)")
+        a1.set_ylabel("velocity (mm/s)")
+        a1.set_title("phase trajectory", fontsize=9)
+        a2.plot(ds["poincare_delta"].values * 1e6, ds["poincare_velocity"].values * 1e3, ".k")
+        a2.set_xlabel("mesh deflection (um)")
+        a2.set_title("Poincaré map", fontsize=9)
+        x, dt = self._uniform()
+        x = x - x.mean()
+        amp = 2 * np.abs(np.fft.rfft(x * np.hanning(x.size))) / np.sum(np.hanning(x.size))
+        f = np.fft.rfftfreq(x.size, dt) / ds.attrs["forcing_hz"]
+        a3.plot(f, amp * 1e6)
+        for m, a in self.peaks(5):
+            a3.annotate(f"{m:.2f}x", (m, a * 1e6), fontsize=7)
+        a3.set_xlim(0, 4)
+        a3.set_xlabel("frequency / forcing frequency")
+        a3.set_ylabel("amplitude (um)")
+        a3.set_title(f"spectrum (DLF {ds.attrs['dynamic_load_factor']:.3f})", fontsize=9)
+        for ax in (a1, a2, a3):
+            ax.grid(alpha=0.3)
+        fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
+        return fig
+
+
+def response(
+    target: Design | Model,
+    *,
+    periods: int = 600,
+    keep: int = 100,
+    history: int = 20,
+    steps_per_period: int | None = None,
+    line: int = 0,
+) -> ResponseResult:
+    """Steady nonlinear response of a design or model (compiled kernel, rigid motion
+    removed): mesh deflection, its velocity, mesh force and dynamic load factor over
+    the last ``history`` periods, and the Poincaré points of the last ``keep``."""
+    from ..drives import build_model
+    from ..model.laws import evaluate_flat
+    from .response import to_system
+
+    model = build_model(target) if isinstance(target, Design) else target
+    if not isinstance(model, Model):
+        raise ReducerlabError("response: target must be a Design or a Model")
+    s = to_system(model)
+    if not 0 <= line < s.G.shape[0]:
+        raise ReducerlabError(f"response: the model has no mesh line {line}")
+    res = ensemble([s], periods=periods, keep=keep, history=history,
+                   steps_per_period=steps_per_period)  # fmt: skip
+    n = s.n
+    H = res.history[0]
+    t = res.history_time
+    g = s.G[line]
+    e = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in t])
+    delta = H[:, :n] @ g - e[:, 0]
+    dvel = H[:, n:] @ g - e[:, 1]
+    force = np.array([s.mesh_forces(ti, y[:n], y[n:])[line] for ti, y in zip(t, H, strict=True)])
+    mean_force = float(np.mean(force))
+    dlf = float(np.max(np.abs(force)) / abs(mean_force)) if mean_force else float("inf")
+    P = res.poincare[0, :keep]
+    e0 = evaluate_flat(int(s.e_kind[line]), s.e_params[line], 0.0)
+    data = xr.Dataset(
+        {
+            "delta": ("time", delta, {"units": "m", "long_name": "mesh deflection (DTE)"}),
+            "delta_velocity": ("time", dvel, {"units": "m/s"}),
+            "mesh_force": ("time", force, {"units": "N"}),
+            "poincare_delta": ("point", P[:, :n] @ g - e0[0], {"units": "m"}),
+            "poincare_velocity": ("point", P[:, n:] @ g - e0[1], {"units": "m/s"}),
+        },
+        coords={"time": ("time", t, {"units": "s"}), "point": np.arange(keep)},
+        attrs={
+            "title": model.name,
+            "forcing_hz": float(1.0 / res.period[0]),
+            "dynamic_load_factor": dlf,
+            "mean_mesh_force": mean_force,
+            "line": s.line_names[line],
+            **provenance(model.metadata),
+        },
+    )
+    return ResponseResult(data)
