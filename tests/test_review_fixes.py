@@ -129,3 +129,18 @@ def test_fourier_accepts_numpy_phases_and_centripetal_needs_a_translation():
         m.matrices()
     with pytest.raises(ReducerlabError, match="nutation angle must be a number"):
         NutationDrive(59, 60, "5")
+
+
+@pytest.mark.parametrize(
+    ("example", "where"),
+    [("gear_pair.toml", ("operating",)), ("nutation_double_sided.toml", ()),
+     ("khv.toml", ()), ("cycloid_ball.toml", ()), ("torsional_chain.toml", ())],
+)  # fmt: skip
+def test_every_speed_range_is_checked(example, where):
+    data = load_design(example_dir() / example).model_dump()
+    node = data
+    for key in where:
+        node = node[key]
+    node["speed_range"] = [300.0, 100.0]
+    with pytest.raises(DesignError, match="speed_range: must be \\[min, max\\]"):
+        design_from_dict(data, example)

@@ -45,6 +45,7 @@ __all__ = [
     "NonNegativeStiffness",
     "PositiveInt",
     "Spec",
+    "SpeedRange",
     "Stiffness",
     "Torque",
     "angle_between",
@@ -120,6 +121,18 @@ Torque = quantity("torque")
 AngularVelocity = quantity("angular velocity", ge=-1e7, le=1e7)
 Angle = quantity("angle")
 PositiveInt = Annotated[int, Field(strict=True, gt=0)]
+
+
+def _check_range(r: list[float]) -> list[float]:
+    if len(r) != 2 or not 0 <= r[0] <= r[1]:
+        raise PydanticCustomError(
+            "speed_range", "must be [min, max] with 0 <= min <= max (e.g. ['1000 rpm', '2000 rpm'])"
+        )
+    return r
+
+
+#: An operating speed range ``[min, max]`` (rad/s).
+SpeedRange = Annotated[list[AngularVelocity], AfterValidator(_check_range)]  # type: ignore[valid-type]
 
 
 class Spec(BaseModel):

@@ -38,6 +38,7 @@ from ..design import (
     NonNegativeStiffness,
     PositiveInt,
     Spec,
+    SpeedRange,
     Stiffness,
     angle_between,
 )
@@ -171,7 +172,7 @@ class CycloidBallDesign(Design):
     eccentricity: Length
     output: Literal["centre", "planetary"] = "centre"
     centripetal: bool = True
-    speed_range: list[AngularVelocity] | None = None
+    speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     input_shaft: InputShaft
     centre_disc: CentreDisc
     planetary_disc: PlanetaryDisc
@@ -201,9 +202,6 @@ class CycloidBallDesign(Design):
                     f"{name}.pitch_radius = {r * 1e3:.6g} mm disagrees with lobes x "
                     f"eccentricity / 2 = {want * 1e3:.6g} mm"
                 )
-        rng = self.speed_range
-        if rng is not None and (len(rng) != 2 or not 0 <= rng[0] <= rng[1]):
-            problems.append("speed_range must be [min, max] with 0 <= min <= max")
         if problems:
             raise ValueError("; ".join(problems))
         return self

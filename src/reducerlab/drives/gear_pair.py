@@ -28,6 +28,7 @@ from ..design import (
     NonNegativeStiffness,
     PositiveInt,
     Spec,
+    SpeedRange,
     Stiffness,
     Torque,
     angle_between,
@@ -99,14 +100,7 @@ class Operating(Spec):
 
     speed: AngularVelocity = 0.0
     torque: Torque = 0.0
-    speed_range: list[AngularVelocity] | None = None
-
-    @model_validator(mode="after")
-    def _range(self) -> Operating:
-        r = self.speed_range
-        if r is not None and (len(r) != 2 or not 0 <= r[0] <= r[1]):
-            raise ValueError("speed_range must be [min, max] with 0 <= min <= max")
-        return self
+    speed_range: SpeedRange | None = None  # type: ignore[valid-type]
 
 
 class GearPairDesign(Design):

@@ -33,6 +33,7 @@ from ..design import (
     MomentOfInertia,
     PositiveInt,
     Spec,
+    SpeedRange,
     Torque,
     angle_between,
     quantity,
@@ -132,7 +133,7 @@ class KHVDesign(Design):
     input_speed: AngularVelocity
     input_torque: Torque = 0.0
     load_torque: Torque = 0.0
-    speed_range: list[AngularVelocity] | None = None
+    speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     gears: Gears
     inertia: Inertias
     shafts: Shafts

@@ -43,6 +43,7 @@ from ..design import (
     MomentOfInertia,
     NonNegativeStiffness,
     Spec,
+    SpeedRange,
     Stiffness,
     Torque,
     TorsionalDamping,
@@ -196,7 +197,7 @@ class LumpedDesign(Design):
 
     type: Literal["lumped"] = "lumped"
     speed: AngularVelocity = 0.0
-    speed_range: list[AngularVelocity] | None = None
+    speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     dofs: list[DofSpec] = Field(min_length=1)
     elements: list[ElementSpec] = Field(min_length=1)
 
@@ -204,9 +205,7 @@ class LumpedDesign(Design):
     def _consistent(self) -> LumpedDesign:
         kinds = {d.name: d.kind for d in self.dofs}
         problems = []
-        r = self.speed_range
-        if r is not None and (len(r) != 2 or not 0 <= r[0] <= r[1]):
-            problems.append("speed_range must be [min, max] with 0 <= min <= max")
+
         for i, e in enumerate(self.elements):
             where = f"elements.{i} ({e.type})"
             names = list(e.coefficients) if hasattr(e, "coefficients") else [e.dof]

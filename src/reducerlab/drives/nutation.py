@@ -38,6 +38,7 @@ from ..design import (
     NonNegativeStiffness,
     PositiveInt,
     Spec,
+    SpeedRange,
     Stiffness,
     Torque,
     angle_between,
@@ -123,7 +124,7 @@ class NutationDesign(Design):
     type: Literal["nutation"] = "nutation"
     sides: Literal["single", "double"] = "double"
     input_speed: AngularVelocity
-    speed_range: list[AngularVelocity] | None = None
+    speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     input_torque: Torque = 0.0
     output_torque: Torque = 0.0
     module: Length
