@@ -15,7 +15,7 @@ from ..design import Design
 from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
-from .response import ensemble, to_system
+from .response import ensemble, static_state, to_system
 from .sweep import Axis, _Evaluator, _resolve
 
 if TYPE_CHECKING:
@@ -47,7 +47,8 @@ def bifurcation(
 
     For each value the model is rebuilt (design fields) or changed (model parameters),
     its rigid motion removed, and the ensemble integrated by the compiled RK4 kernel for
-    ``periods`` forcing periods; the last ``keep`` stroboscopic points of mesh ``line``'s
+    ``periods`` forcing periods from static equilibrium under the mean mesh stiffness;
+    the last ``keep`` stroboscopic points of mesh ``line``'s
     deflection ``delta = G q - e`` are kept (paper 004 Fig. 7, 9, 11), in units of
     ``scale`` (m; 1 um = paper 004's b_c).
     """
@@ -76,6 +77,7 @@ def bifurcation(
         res = ensemble(
             systems, periods=periods, keep=keep, steps_per_period=steps_per_period,
             labels=[f"{axis.path} = {v:.6g}" for v in chunk],
+            y0=np.array([static_state(s) for s in systems]),
         )  # fmt: skip
         points[done : done + len(chunk)] = res.delta_poincare[:, :keep, line] / scale
         done += len(chunk)
@@ -256,7 +258,7 @@ def response(
     if not 0 <= line < s.G.shape[0]:
         raise ReducerlabError(f"response: the model has no mesh line {line}")
     res = ensemble([s], periods=periods, keep=keep, history=history,
-                   steps_per_period=steps_per_period)  # fmt: skip
+                   steps_per_period=steps_per_period, y0=static_state(s))  # fmt: skip
     n = s.n
     H = res.history[0]
     t = res.history_time
