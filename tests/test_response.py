@@ -194,3 +194,29 @@ def test_response_outputs_and_cli(tmp_path):
                                  "-o", str(tmp_path / "b")])  # fmt: skip
     assert r.exit_code == 0, r.output
     assert (tmp_path / "b" / "bifurcation.png").exists()
+
+
+def test_bifurcation_resumes_and_runs_on_dask(tmp_path):
+    design = load_design(example_dir() / "khv.toml")
+    axis = Axis.linspace("gears.x1", 0.45, 0.8, 6)
+    kw = dict(periods=40, keep=4, chunk_size=2)
+    first = bifurcation(design, axis, output=tmp_path / "run", **kw)
+    chunks = sorted((tmp_path / "run" / "chunks").glob("chunk_*.npy"))
+    assert len(chunks) == 3
+    stamps = {p.name: p.stat().st_mtime_ns for p in chunks}
+    chunks[1].unlink()  # as if the run had been interrupted
+    again = bifurcation(design, axis, output=tmp_path / "run", **kw)
+    np.testing.assert_array_equal(again.data["poincare"].values, first.data["poincare"].values)
+    for name in (chunks[0].name, chunks[2].name):
+        assert (tmp_path / "run" / "chunks" / name).stat().st_mtime_ns == stamps[name]
+    with pytest.raises(ReducerlabError, match="different bifurcation run"):
+        bifurcation(design, axis, output=tmp_path / "run", periods=41, keep=4, chunk_size=2)
+    distributed = pytest.importorskip("dask.distributed")
+    with (
+        distributed.LocalCluster(
+            n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        dask = bifurcation(design, axis, scheduler=client, **kw)
+    np.testing.assert_array_equal(dask.data["poincare"].values, first.data["poincare"].values)

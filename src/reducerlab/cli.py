@@ -391,9 +391,12 @@ def bifurcation(
     steps: Annotated[
         int | None, typer.Option(help="RK4 steps per period (default: from the model).")
     ] = None,
-    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
-        "bifurcation-output"
-    ),
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Output folder (resumable).")
+    ] = Path("bifurcation-output"),
+    scheduler: Annotated[
+        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
+    ] = None,
 ) -> None:
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter."""
     from rich.progress import Progress
@@ -409,6 +412,7 @@ def bifurcation(
             task = progress.add_task("bifurcation", total=None)
             res = run_bifurcation(
                 d, axis, periods=periods, keep=keep, steps_per_period=steps,
+                output=output, scheduler=scheduler,
                 progress=lambda done, total: progress.update(task, completed=done, total=total),
             )  # fmt: skip
         output.mkdir(parents=True, exist_ok=True)

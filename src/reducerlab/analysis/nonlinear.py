@@ -4,7 +4,11 @@ with spectra whose peaks are labelled as multiples of the mesh frequency."""
 
 from __future__ import annotations
 
+import json
+import os
 from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -41,6 +45,8 @@ def bifurcation(
     line: int = 0,
     scale: float = 1e-6,
     chunk_size: int = 250,
+    output: str | Path | None = None,
+    scheduler: Any = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> BifurcationResult:
     """Bifurcation diagram: Poincaré points of a mesh deflection against a parameter.
@@ -51,6 +57,11 @@ def bifurcation(
     the last ``keep`` stroboscopic points of mesh ``line``'s
     deflection ``delta = G q - e`` are kept (paper 004 Fig. 7, 9, 11), in units of
     ``scale`` (m; 1 um = paper 004's b_c).
+
+    With ``output``, every finished chunk of parameter values is written to
+    ``output/chunks/`` at once and a re-run with the same arguments computes only the
+    missing chunks; with ``scheduler`` (a Dask address or client) the chunks run on the
+    cluster.
     """
     from ..drives import build_model
 
@@ -69,20 +80,60 @@ def bifurcation(
     n_lines = model.nonlinear().G.shape[0]
     if not 0 <= line < n_lines:
         raise ReducerlabError(f"bifurcation: line must be in 0..{n_lines - 1}, got {line}")
-    points = np.empty((values.size, keep))
     chunks = [values[i : i + chunk_size] for i in range(0, values.size, chunk_size)]
-    done = 0
-    for chunk in chunks:
-        systems = [to_system(ev.model_at([v])) for v in chunk]
-        res = ensemble(
-            systems, periods=periods, keep=keep, steps_per_period=steps_per_period,
-            labels=[f"{axis.path} = {v:.6g}" for v in chunk],
-            y0=np.array([static_state(s) for s in systems]),
+    folder = Path(output) if output is not None else None
+    if folder is not None:
+        (folder / "chunks").mkdir(parents=True, exist_ok=True)
+        spec = json.dumps(
+            {"path": axis.path, "values": values.tolist(), "periods": periods, "keep": keep,
+             "steps": steps_per_period, "line": line, "chunk": chunk_size,
+             "design": design.hash if design else None},
+            sort_keys=True,
         )  # fmt: skip
-        points[done : done + len(chunk)] = res.delta_poincare[:, :keep, line] / scale
-        done += len(chunk)
-        if progress:
-            progress(done, values.size)
+        manifest = folder / "bifurcation.json"
+        if manifest.exists() and manifest.read_text() != spec:
+            raise ReducerlabError(f"{folder} holds a different bifurcation run; use another folder")
+        manifest.write_text(spec)
+
+    def chunk_file(i: int) -> Path | None:
+        return None if folder is None else folder / "chunks" / f"chunk_{i:05d}.npy"
+
+    job = _BifurcationChunk(ev, axis.path, periods, keep, steps_per_period, line, scale)
+    results: dict[int, NDArray] = {}
+    todo = []
+    for i in range(len(chunks)):
+        f = chunk_file(i)
+        if f is not None and f.exists():
+            results[i] = np.load(f)
+        else:
+            todo.append(i)
+    done = sum(len(chunks[i]) for i in results)
+    if progress:
+        progress(done, values.size)
+    if scheduler is not None and todo:
+        from dask.distributed import Client, as_completed
+
+        client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+        try:
+            futures = {client.submit(job, chunks[i], pure=False): i for i in todo}
+            for fut in as_completed(futures):
+                i = futures[fut]
+                results[i] = fut.result()
+                _save(chunk_file(i), results[i])
+                done += len(chunks[i])
+                if progress:
+                    progress(done, values.size)
+        finally:
+            if client is not scheduler:
+                client.close()
+    else:
+        for i in todo:
+            results[i] = job(chunks[i])
+            _save(chunk_file(i), results[i])
+            done += len(chunks[i])
+            if progress:
+                progress(done, values.size)
+    points = np.concatenate([results[i] for i in range(len(chunks))])
     data = xr.Dataset(
         {
             "poincare": (
@@ -102,6 +153,36 @@ def bifurcation(
         },
     )
     return BifurcationResult(data)
+
+
+def _save(path: Path | None, arr: NDArray) -> None:
+    if path is None:
+        return
+    tmp = path.with_name(path.stem + ".tmp.npy")
+    np.save(tmp, arr)
+    os.replace(tmp, path)
+
+
+@dataclass
+class _BifurcationChunk:
+    """Poincare points of one chunk of parameter values (picklable for Dask)."""
+
+    ev: _Evaluator
+    path: str
+    periods: int
+    keep: int
+    steps: int | None
+    line: int
+    scale: float
+
+    def __call__(self, chunk: NDArray) -> NDArray:
+        systems = [to_system(self.ev.model_at([v])) for v in chunk]
+        res = ensemble(
+            systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
+            labels=[f"{self.path} = {v:.6g}" for v in chunk],
+            y0=np.array([static_state(s) for s in systems]),
+        )  # fmt: skip
+        return res.delta_poincare[:, : self.keep, self.line] / self.scale
 
 
 class BifurcationResult(Result):
