@@ -220,3 +220,20 @@ def test_bifurcation_resumes_and_runs_on_dask(tmp_path):
     ):
         dask = bifurcation(design, axis, scheduler=client, **kw)
     np.testing.assert_array_equal(dask.data["poincare"].values, first.data["poincare"].values)
+
+
+def test_dimensionless_form_is_the_same_motion():
+    # paper 004 Eq. 13-16: tau = omega_n t, X/b_c; with the same steps per period the
+    # RK4 grids map onto each other, so the states agree to round-off
+    from reducerlab.analysis.response import dimensionless
+
+    s = rattle(b=1e-6)
+    wn = math.sqrt(1e6 / 1.0)
+    d = dimensionless(s, wn, 1e-6, 1.0)
+    a = ensemble([s], periods=40, keep=5, steps_per_period=512)
+    b = ensemble([d], periods=40, keep=5, steps_per_period=512, limit=1e9)  # units of b_c
+    np.testing.assert_allclose(b.poincare[0, :, 0] * 1e-6, a.poincare[0, :, 0], rtol=1e-9)
+    np.testing.assert_allclose(b.period[0], a.period[0] * wn, rtol=1e-12)
+    assert d.half_backlash[0] == pytest.approx(1.0)
+    with pytest.raises(ReducerlabError, match="omega_n must be > 0"):
+        dimensionless(s, 0.0, 1e-6, 1.0)

@@ -32,6 +32,7 @@ from ..model.laws import LAW_FOURIER, LAW_PIECEWISE
 
 __all__ = [
     "Ensemble",
+    "dimensionless",
     "ensemble",
     "forcing_period",
     "lyapunov",
@@ -423,3 +424,68 @@ def lyapunov(
         total += np.log(d / d0)
         Y[1::2] = Y[0::2] + (diff * (d0 / d)[:, None]) * scale
     return total / ((periods - transient) * T[0::2])
+
+
+def _scale_law(kind: int, p: NDArray, value: float, omega_n: float) -> NDArray:
+    """Flat law ``v(t)`` -> ``value * v(tau / omega_n)`` in dimensionless time."""
+    q = p.copy()
+    if kind == 0:
+        q[0] *= value
+    elif kind == LAW_FOURIER:
+        n = int(p[2])
+        q[0] *= value
+        q[1] /= omega_n
+        q[3 : 3 + n] *= value
+    elif kind == LAW_PIECEWISE:
+        n, m = int(p[2]), int(p[3])
+        q[0] *= omega_n
+        q[1] *= omega_n
+        q[4 + n : 4 + n + n * m] *= value
+    return q
+
+
+def dimensionless(
+    s: NonlinearSystem, omega_n: float, length: float, mass: float
+) -> NonlinearSystem:
+    """The equations in paper 004's dimensionless form (Eq. 13-16).
+
+    ``tau = omega_n t``, ``X = X / b_c`` (``length`` = b_c), masses by ``mass`` (paper
+    004: ``M_VH``, with ``omega_n = sqrt(k_mean / M_VH)``): ``M/mass``,
+    ``C/(mass omega_n)``, ``K/(mass omega_n^2)``, mesh stiffness ``k/(mass omega_n^2)``,
+    mesh damping ``c/(mass omega_n)``, backlash and error ``/b_c``, loads
+    ``F/(mass b_c omega_n^2)``; law frequencies become ``omega/omega_n``. The solution is
+    the dimensional one at ``t = tau / omega_n`` divided by ``b_c``.
+    """
+    for name, v in (("omega_n", omega_n), ("length", length), ("mass", mass)):
+        if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+            raise ReducerlabError(f"dimensionless: {name} must be > 0, got {v!r}")
+    w2 = mass * omega_n**2
+    return NonlinearSystem(
+        dof_names=list(s.dof_names),
+        M=s.M / mass,
+        C=s.C / (mass * omega_n),
+        K=s.K / w2,
+        G=s.G.copy(),
+        line_names=list(s.line_names),
+        k_kind=s.k_kind,
+        k_params=np.array(
+            [_scale_law(k, p, 1 / w2, omega_n) for k, p in zip(s.k_kind, s.k_params, strict=True)]
+        ).reshape(s.k_params.shape),
+        line_damping=s.line_damping / (mass * omega_n),
+        half_backlash=s.half_backlash / length,
+        e_kind=s.e_kind,
+        e_params=np.array(
+            [
+                _scale_law(k, p, 1 / length, omega_n)
+                for k, p in zip(s.e_kind, s.e_params, strict=True)
+            ]
+        ).reshape(s.e_params.shape),
+        load_matrix=s.load_matrix,
+        f_kind=s.f_kind,
+        f_params=np.array(
+            [
+                _scale_law(k, p, 1 / (w2 * length), omega_n)
+                for k, p in zip(s.f_kind, s.f_params, strict=True)
+            ]
+        ).reshape(s.f_params.shape),
+    )
