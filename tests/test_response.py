@@ -237,3 +237,16 @@ def test_dimensionless_form_is_the_same_motion():
     assert d.half_backlash[0] == pytest.approx(1.0)
     with pytest.raises(ReducerlabError, match="omega_n must be > 0"):
         dimensionless(s, 0.0, 1e-6, 1.0)
+
+
+def test_bifurcation_with_exponents_labels_the_motion():
+    design = load_design(example_dir() / "khv.toml")
+    res = bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 3), periods=200, keep=20,
+                      exponents=True)  # fmt: skip
+    # permanent contact (docs/assumptions.md): negative exponents, period-1
+    assert np.all(res.data["exponent"].values < 0)
+    assert res.labels() == ["period-1"] * 3
+    assert len(res.plot().axes) == 2  # diagram and motion band
+    plain = bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 3), periods=50, keep=5)
+    with pytest.raises(ReducerlabError, match="no Lyapunov exponents"):
+        plain.labels()

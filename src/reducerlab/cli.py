@@ -397,6 +397,9 @@ def bifurcation(
     scheduler: Annotated[
         str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
     ] = None,
+    classify: Annotated[
+        bool, typer.Option(help="Lyapunov exponents and motion classes (slower).")
+    ] = False,
 ) -> None:
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter."""
     from rich.progress import Progress
@@ -412,7 +415,7 @@ def bifurcation(
             task = progress.add_task("bifurcation", total=None)
             res = run_bifurcation(
                 d, axis, periods=periods, keep=keep, steps_per_period=steps,
-                output=output, scheduler=scheduler,
+                output=output, scheduler=scheduler, exponents=classify,
                 progress=lambda done, total: progress.update(task, completed=done, total=total),
             )  # fmt: skip
         output.mkdir(parents=True, exist_ok=True)
@@ -421,7 +424,10 @@ def bifurcation(
     except (ReducerlabError, OSError) as exc:
         _fail(exc)
         return
-    typer.echo(json.dumps(res.to_dict()))
+    summary = res.to_dict()
+    if classify:
+        summary["motion"] = res.labels()
+    typer.echo(json.dumps(summary))
     err.print(f"wrote {output / 'bifurcation.nc'}, {output / 'bifurcation.png'}", highlight=False)
 
 

@@ -19,7 +19,7 @@ from ..design import Design
 from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
-from .response import ensemble, static_state, to_system
+from .response import ensemble, forcing_period, lyapunov, static_state, to_system
 from .sweep import Axis, _Evaluator, _resolve
 
 if TYPE_CHECKING:
@@ -47,6 +47,7 @@ def bifurcation(
     chunk_size: int = 250,
     output: str | Path | None = None,
     scheduler: Any = None,
+    exponents: bool = False,
     progress: Callable[[int, int], None] | None = None,
 ) -> BifurcationResult:
     """Bifurcation diagram: Poincaré points of a mesh deflection against a parameter.
@@ -61,7 +62,9 @@ def bifurcation(
     With ``output``, every finished chunk of parameter values is written to
     ``output/chunks/`` at once and a re-run with the same arguments computes only the
     missing chunks; with ``scheduler`` (a Dask address or client) the chunks run on the
-    cluster.
+    cluster. With ``exponents``, the largest Lyapunov exponent of every value is
+    computed over the kept periods and :meth:`BifurcationResult.labels` / the figure's
+    band give period-n, quasi-periodic or chaotic.
     """
     from ..drives import build_model
 
@@ -87,6 +90,7 @@ def bifurcation(
         spec = json.dumps(
             {"path": axis.path, "values": values.tolist(), "periods": periods, "keep": keep,
              "steps": steps_per_period, "line": line, "chunk": chunk_size,
+             "exponents": bool(exponents),
              "design": design.hash if design else None},
             sort_keys=True,
         )  # fmt: skip
@@ -98,7 +102,9 @@ def bifurcation(
     def chunk_file(i: int) -> Path | None:
         return None if folder is None else folder / "chunks" / f"chunk_{i:05d}.npy"
 
-    job = _BifurcationChunk(ev, axis.path, periods, keep, steps_per_period, line, scale)
+    job = _BifurcationChunk(
+        ev, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents)
+    )
     results: dict[int, NDArray] = {}
     todo = []
     for i in range(len(chunks)):
@@ -134,6 +140,8 @@ def bifurcation(
             if progress:
                 progress(done, values.size)
     points = np.concatenate([results[i] for i in range(len(chunks))])
+    exponent = points[:, keep] if exponents else None
+    points = points[:, :keep]
     data = xr.Dataset(
         {
             "poincare": (
@@ -149,9 +157,16 @@ def bifurcation(
             "periods": periods,
             "keep": keep,
             "line": line,
+            "forcing_hz": 1.0 / forcing_period(to_system(model)),
             **provenance(model.metadata),
         },
     )
+    if exponent is not None:
+        data["exponent"] = (
+            "p0",
+            exponent,
+            {"units": "1/s", "long_name": "largest Lyapunov exponent"},
+        )
     return BifurcationResult(data)
 
 
@@ -174,15 +189,21 @@ class _BifurcationChunk:
     steps: int | None
     line: int
     scale: float
+    exponents: bool = False
 
     def __call__(self, chunk: NDArray) -> NDArray:
         systems = [to_system(self.ev.model_at([v])) for v in chunk]
+        y0 = np.array([static_state(s) for s in systems])
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
-            labels=[f"{self.path} = {v:.6g}" for v in chunk],
-            y0=np.array([static_state(s) for s in systems]),
+            labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0,
         )  # fmt: skip
-        return res.delta_poincare[:, : self.keep, self.line] / self.scale
+        pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
+        if not self.exponents:
+            return pts
+        lam = lyapunov(systems, periods=self.periods, transient=self.periods - self.keep,
+                       steps_per_period=self.steps)  # fmt: skip
+        return np.concatenate([pts, lam[:, None]], axis=1)
 
 
 class BifurcationResult(Result):
@@ -205,16 +226,48 @@ class BifurcationResult(Result):
             "period": self.periodicity().tolist(),
         }
 
+    def labels(self) -> list[str]:
+        """Motion class of every parameter value (needs ``exponent``, see
+        :func:`bifurcation` with ``exponents=True``)."""
+        ds = self.data
+        if "exponent" not in ds:
+            raise ReducerlabError("no Lyapunov exponents: run bifurcation(..., exponents=True)")
+        f = ds.attrs["forcing_hz"]
+        return [
+            classify(row, float(lam), f)
+            for row, lam in zip(ds["poincare"].values, ds["exponent"].values, strict=True)
+        ]
+
     def plot(self) -> Figure:
-        """Bifurcation diagram (paper 004 Fig. 7)."""
+        """Bifurcation diagram (paper 004 Fig. 7), with the motion classes as a coloured
+        band underneath when the exponents were computed."""
         from matplotlib.figure import Figure
 
         ds = self.data
-        fig = Figure(figsize=(7.5, 4.2), layout="constrained")
-        ax = fig.subplots()
+        fig = Figure(figsize=(7.5, 4.6), layout="constrained")
+        if "exponent" in ds:
+            ax, band = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [12, 1]})
+        else:
+            ax, band = fig.subplots(), None
         p = np.repeat(ds["p0"].values, ds.sizes["point"])
-        ax.plot(p, ds["poincare"].values.ravel(), ",k", alpha=0.6)
-        ax.set_xlabel(ds.attrs["parameter"])
+        ax.plot(p, ds["poincare"].values.ravel(), ".k", ms=1.0, alpha=0.6)
+        if band is not None:
+            labels = self.labels()
+            kinds = sorted(set(labels))
+            colours = {k: f"C{i}" for i, k in enumerate(kinds)}
+            x = ds["p0"].values
+            edges = np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
+            for i, lab in enumerate(labels):
+                band.axvspan(edges[i], edges[i + 1], color=colours[lab], lw=0)
+            from matplotlib.patches import Patch
+
+            handles = [Patch(color=colours[k], label=k) for k in kinds]
+            band.legend(handles=handles, fontsize=7, ncol=len(kinds), loc="upper center",
+                        bbox_to_anchor=(0.5, -0.6))  # fmt: skip
+            band.set_yticks([])
+            band.set_xlabel(ds.attrs["parameter"])
+        else:
+            ax.set_xlabel(ds.attrs["parameter"])
         ax.set_ylabel(f"Poincaré points of mesh deflection ({ds['poincare'].attrs['units']})")
         ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
         ax.grid(alpha=0.3)
