@@ -250,3 +250,46 @@ def test_bifurcation_with_exponents_labels_the_motion():
     plain = bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 3), periods=50, keep=5)
     with pytest.raises(ReducerlabError, match="no Lyapunov exponents"):
         plain.labels()
+
+
+def test_review_regressions(tmp_path):
+    from reducerlab.analysis.nonlinear import response
+
+    s = rattle()
+    # per-member y0 for lyapunov is repeated per pair (used to overrun the kernel)
+    lam = lyapunov([s, s], periods=6, transient=2, steps_per_period=64, y0=np.zeros((2, 2)))
+    assert lam.shape == (2,) and np.all(np.isfinite(lam))
+    with pytest.raises(ReducerlabError, match="y0 must have shape"):
+        lyapunov([s], periods=6, transient=2, y0=np.zeros(3))
+    with pytest.raises(ReducerlabError, match="y0 must have shape"):
+        ensemble([s], periods=2, keep=1, y0=np.zeros(3))
+    with pytest.raises(ReducerlabError, match="labels"):
+        ensemble([s, s], periods=2, keep=1, labels=["one"])
+    # Poincare deflections subtract e at each sampling time, not e(0): error at W/2
+    m = Model([Dof("a", "x")], [
+        Inertia("a.x", 1.0),
+        Mesh({"a.x": 1.0}, stiffness=Fourier(1e6, (1e5,), W), damping=60.0,
+             error=Fourier(0.0, (2e-6,), W / 2), name="m"),
+    ]).nonlinear()  # fmt: skip
+    r = ensemble([m], periods=41, keep=4, steps_per_period=256, period=4 * math.pi / W)
+    T = r.period[0]
+    for k in range(4):
+        t = (41 - 4 + k) * T
+        e = 2e-6 * math.cos(W / 2 * t)
+        assert r.delta_poincare[0, k, 0] == pytest.approx(r.poincare[0, k, 0] - e, abs=1e-15)
+    # resume folder identifies scale and model
+    design = load_design(example_dir() / "khv.toml")
+    axis = Axis.linspace("gears.x1", 0.5, 0.6, 2)
+    bifurcation(design, axis, periods=20, keep=2, output=tmp_path / "r")
+    with pytest.raises(ReducerlabError, match="different bifurcation run"):
+        bifurcation(design, axis, periods=20, keep=2, output=tmp_path / "r", scale=1e-3)
+    with pytest.raises(ReducerlabError, match="chunk_size"):
+        bifurcation(design, axis, periods=20, keep=2, chunk_size=0)
+    with pytest.raises(ReducerlabError, match="history must be"):
+        response(design, periods=20, keep=2, history=0)
+    with pytest.raises(ReducerlabError, match="need >= 4 samples"):
+        spectrum_peaks(np.array([]), 1e-3, 1.0)
+    # a piecewise law that does not repeat within the sampling period is refused
+    law = PiecewisePolynomial(0.0037, (0.0, 0.5), ((1e6,), (2e6,)))
+    with pytest.raises(ReducerlabError, match="does not repeat within the sampling period"):
+        ensemble([rattle(k_law=law)], periods=2, keep=1, period=0.01)

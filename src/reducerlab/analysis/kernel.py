@@ -105,6 +105,7 @@ def rk4_ensemble(
     f_kind,
     f_par,
     y0,
+    t_start,
     period,
     seg_start,
     seg_steps,
@@ -115,7 +116,8 @@ def rk4_ensemble(
 ):
     """Integrate every member for ``n_periods`` forcing periods.
 
-    Returns ``poincare`` (E, n_keep, 2n): the state at the start of each of the last
+    Member ``e`` starts at time ``t_start[e]``. Returns ``poincare`` (E, n_keep, 2n):
+    the state at the start of each of the last
     ``n_keep`` periods and at the end; ``hist`` (E, n_hist * steps, 2n): every step of
     the last ``n_hist`` periods; ``status`` (E, 3): (failed flag, time, state index)
     when a state became non-finite or exceeded ``limit``.
@@ -146,7 +148,7 @@ def rk4_ensemble(
         for p in range(n_periods):
             if p >= n_periods - n_keep:
                 poincare[e, p - (n_periods - n_keep)] = y
-            t_base = p * T
+            t_base = t_start[e] + p * T
             for s in range(S):
                 ns = seg_steps[e, s]
                 if ns == 0:

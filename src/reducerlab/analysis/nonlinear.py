@@ -83,6 +83,8 @@ def bifurcation(
     n_lines = model.nonlinear().G.shape[0]
     if not 0 <= line < n_lines:
         raise ReducerlabError(f"bifurcation: line must be in 0..{n_lines - 1}, got {line}")
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
+        raise ReducerlabError(f"chunk_size must be a positive integer, got {chunk_size!r}")
     chunks = [values[i : i + chunk_size] for i in range(0, values.size, chunk_size)]
     folder = Path(output) if output is not None else None
     if folder is not None:
@@ -90,7 +92,8 @@ def bifurcation(
         spec = json.dumps(
             {"path": axis.path, "values": values.tolist(), "periods": periods, "keep": keep,
              "steps": steps_per_period, "line": line, "chunk": chunk_size,
-             "exponents": bool(exponents),
+             "exponents": bool(exponents), "scale": scale,
+             "model": _fingerprint(model),
              "design": design.hash if design else None},
             sort_keys=True,
         )  # fmt: skip
@@ -168,6 +171,18 @@ def bifurcation(
             {"units": "1/s", "long_name": "largest Lyapunov exponent"},
         )
     return BifurcationResult(data)
+
+
+def _fingerprint(model: Model) -> str:
+    """Hash of the model's flat arrays (identifies the run in a resume folder)."""
+    import hashlib
+
+    s = model.nonlinear()
+    h = hashlib.sha256()
+    for a in (s.M, s.C, s.K, s.G, s.k_params, s.e_params, s.f_params, s.load_matrix,
+              s.line_damping, s.half_backlash):  # fmt: skip
+        h.update(np.ascontiguousarray(a, dtype=float).tobytes())
+    return h.hexdigest()[:16]
 
 
 def _save(path: Path | None, arr: NDArray) -> None:
@@ -309,6 +324,8 @@ def spectrum_peaks(
 ) -> list[tuple[float, float]]:
     """Largest spectral peaks of ``signal`` as ``(multiple of f_ref, amplitude)``, the
     labelling of paper 004 Fig. 8 ("0.48x, 0.57x, ...")."""
+    if np.size(signal) < 4 or not (dt > 0 and f_ref > 0):
+        raise ReducerlabError("spectrum_peaks: need >= 4 samples, dt > 0 and f_ref > 0")
     x = np.asarray(signal, float) - np.mean(signal)
     amp = 2 * np.abs(np.fft.rfft(x * np.hanning(x.size))) / np.sum(np.hanning(x.size))
     f = np.fft.rfftfreq(x.size, dt)
@@ -388,14 +405,17 @@ def response(
     model = build_model(target) if isinstance(target, Design) else target
     if not isinstance(model, Model):
         raise ReducerlabError("response: target must be a Design or a Model")
+    if not (isinstance(history, int) and history >= 1):
+        raise ReducerlabError(f"response: history must be >= 1 period, got {history!r}")
     s = to_system(model)
     if not 0 <= line < s.G.shape[0]:
         raise ReducerlabError(f"response: the model has no mesh line {line}")
     res = ensemble([s], periods=periods, keep=keep, history=history,
                    steps_per_period=steps_per_period, y0=static_state(s))  # fmt: skip
     n = s.n
-    H = res.history[0]
-    t = res.history_time
+    t = res.history_time[0]
+    ok = np.isfinite(t)
+    t, H = t[ok], res.history[0][ok]
     g = s.G[line]
     e = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in t])
     delta = H[:, :n] @ g - e[:, 0]
@@ -404,14 +424,15 @@ def response(
     mean_force = float(np.mean(force))
     dlf = float(np.max(np.abs(force)) / abs(mean_force)) if mean_force else float("inf")
     P = res.poincare[0, :keep]
-    e0 = evaluate_flat(int(s.e_kind[line]), s.e_params[line], 0.0)
+    tP = (periods - keep + np.arange(keep)) * res.period[0]
+    eP = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in tP])
     data = xr.Dataset(
         {
             "delta": ("time", delta, {"units": "m", "long_name": "mesh deflection (DTE)"}),
             "delta_velocity": ("time", dvel, {"units": "m/s"}),
             "mesh_force": ("time", force, {"units": "N"}),
-            "poincare_delta": ("point", P[:, :n] @ g - e0[0], {"units": "m"}),
-            "poincare_velocity": ("point", P[:, n:] @ g - e0[1], {"units": "m/s"}),
+            "poincare_delta": ("point", P[:, :n] @ g - eP[:, 0], {"units": "m"}),
+            "poincare_velocity": ("point", P[:, n:] @ g - eP[:, 1], {"units": "m/s"}),
         },
         coords={"time": ("time", t, {"units": "s"}), "point": np.arange(keep)},
         attrs={

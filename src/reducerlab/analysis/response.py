@@ -130,7 +130,7 @@ class Ensemble:
     delta_poincare: NDArray[np.float64]
     delta_history: NDArray[np.float64]
     period: NDArray[np.float64]
-    history_time: NDArray[np.float64]
+    history_time: NDArray[np.float64]  # (member, step), NaN-padded
     systems: list[NonlinearSystem]
 
 
@@ -142,7 +142,7 @@ def ensemble(
     history: int = 0,
     steps_per_period: int | None = None,
     y0: NDArray[np.float64] | None = None,
-    limit: float = 1.0,
+    limit: float = math.inf,
     labels: Sequence[str] | None = None,
     period: float | None = None,
     _return_stacked: bool = False,
@@ -164,7 +164,9 @@ def ensemble(
     y0 : array, optional
         Initial states (member, 2n) or (2n,); zeros by default.
     limit : float
-        |state| above this (SI: m, m/s) counts as divergence.
+        |state| above this counts as divergence (in the system's coordinates: after
+        rigid-motion removal they are mass-weighted modal amplitudes, not metres); by
+        default only a non-finite state (overflow, NaN) does.
     labels : sequence of str
         Names of the members for error messages (parameter values).
     period : float, optional
@@ -189,12 +191,22 @@ def ensemble(
     if not (isinstance(history, int) and 0 <= history <= periods):
         raise ReducerlabError(f"history must be in [0, periods], got {history!r}")
     E, n = len(systems), s0.n
+    if labels is not None and len(labels) != E:
+        raise ReducerlabError(f"labels: {len(labels)} names for {E} members")
+    if y0 is not None:
+        y0 = np.asarray(y0, float)
+        if y0.shape not in ((2 * n,), (E, 2 * n)):
+            raise ReducerlabError(
+                f"y0 must have shape ({2 * n},) or ({E}, {2 * n}), got {y0.shape}"
+            )
     if period is not None and not (isinstance(period, int | float) and period > 0):
         raise ReducerlabError(f"period must be > 0 s, got {period!r}")
     T = np.array([period if period is not None else forcing_period(s) for s in systems])
     N = steps_per_period or max(steps_for(s, t) for s, t in zip(systems, T, strict=True))
     if not (isinstance(N, int) and N >= 4):
         raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
+    for s, t in zip(systems, T, strict=True):
+        _check_commensurate(s, t)
     brk = [_breaks(s, t) for s, t in zip(systems, T, strict=True)]
     S = max(len(b) for b in brk)
     seg_start = np.ones((E, S + 1))
@@ -240,7 +252,7 @@ def ensemble(
         s0.k_kind, params("k_params"), pad([s.line_damping for s in systems]),
         pad([s.half_backlash for s in systems]), s0.e_kind, params("e_params"),
         pad([s.load_matrix for s in systems]), s0.f_kind, params("f_params"),
-        Y0, T, seg_start, seg_steps, periods, keep, history, limit,
+        Y0, np.zeros(E), T, seg_start, seg_steps, periods, keep, history, limit,
     )  # fmt: skip
     bad = np.nonzero(status[:, 0])[0]
     if bad.size:
@@ -253,24 +265,50 @@ def ensemble(
             f"{limit:g} (or became NaN); reduce the step (steps_per_period > {N}) or check "
             "the parameters"
         )
-    steps = seg_steps.sum(axis=1)
-    hist = hist[:, : history * int(steps.max())]
     G = pad([s.G for s in systems])
-    # deflections without e(t) at the Poincare points (phase 0 of each period)
-    e0 = np.array(
-        [
-            [_law_value(s.e_kind[m], s.e_params[m], 0.0) for m in range(s.G.shape[0])]
-            for s in systems
-        ]
+    L = G.shape[1]
+    # mesh deflections G q - e(t) at the Poincare times and along the history
+    tP = (periods - keep + np.arange(keep + 1))[None, :] * T[:, None]
+    times = np.array(
+        [_history_times(seg_start[e], seg_steps[e], T[e], periods, history) for e in range(E)],
+        dtype=object,
     )
-    dP = np.einsum("eln,epn->epl", G, poincare[:, :, :n]) - e0[:, None, :]
-    dH = np.einsum("eln,epn->epl", G, hist[:, :, :n]) if history else np.empty((E, 0, G.shape[1]))
-    th = np.concatenate(
-        [[0.0], np.cumsum(np.diff(seg_start[0]) / np.maximum(seg_steps[0], 1).repeat(1) * 0)]
-    )  # placeholder grid, replaced below
-    del th
-    times = _history_times(seg_start[0], seg_steps[0], T[0], periods, history)
+    width = max((len(t) for t in times), default=0)
+    tH = np.full((E, width), np.nan)
+    for e, t in enumerate(times):
+        tH[e, : len(t)] = t
+    eP = np.array(
+        [[[_law_value(s.e_kind[m], s.e_params[m], t) for m in range(L)] for t in tP[i]]
+         for i, s in enumerate(systems)]
+    ).reshape(E, keep + 1, L)  # fmt: skip
+    dP = np.einsum("eln,epn->epl", G, poincare[:, :, :n]) - eP
+    if history:
+        hist = hist[:, :width]
+        eH = np.array([[[_law_value(s.e_kind[m], s.e_params[m], t) if np.isfinite(t) else np.nan
+                         for m in range(L)] for t in tH[i]]
+                       for i, s in enumerate(systems)]).reshape(E, width, L)  # fmt: skip
+        dH = np.einsum("eln,epn->epl", G, hist[:, :, :n]) - eH
+    else:
+        dH = np.empty((E, 0, L))
+    times = tH
     return Ensemble(poincare, hist, dP, dH, T, times, list(systems))
+
+
+def _check_commensurate(s: NonlinearSystem, T: float) -> None:
+    """Every law with jumps (piecewise) must repeat within the sampling period T: the
+    kernel aligns its steps with the jumps of one period and reuses that grid. Smooth
+    laws (Fourier) may have any frequency."""
+    for kinds, params in ((s.k_kind, s.k_params), (s.e_kind, s.e_params), (s.f_kind, s.f_params)):
+        for kind, p in zip(kinds, params, strict=True):
+            if kind != LAW_PIECEWISE:
+                continue
+            P = float(p[0])
+            ratio = T / P
+            if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio) or round(ratio) < 1:
+                raise ReducerlabError(
+                    f"a law of period {P:.6g} s does not repeat within the sampling period "
+                    f"{T:.6g} s; give period= as a common multiple of all law periods"
+                )
 
 
 def _law_value(kind: int, params: NDArray, t: float) -> float:
@@ -282,7 +320,7 @@ def _law_value(kind: int, params: NDArray, t: float) -> float:
 def _history_times(
     edges: NDArray, steps: NDArray, T: float, periods: int, history: int
 ) -> NDArray[np.float64]:
-    """Times of the recorded history steps (end of each step), member 0's grid."""
+    """Times of the recorded history steps (end of each step) of one member."""
     if history == 0:
         return np.empty(0)
     one = []
@@ -314,6 +352,8 @@ def simulate_reference(
         raise ReducerlabError("t_eval must be increasing times > 0")
     n = system.n
     y = np.zeros(2 * n) if y0 is None else np.asarray(y0, float).copy()
+    if y.shape != (2 * n,):
+        raise ReducerlabError(f"y0 must have shape ({2 * n},), got {y.shape}")
     t_end = float(t_eval[-1])
     try:
         T = forcing_period(system)
@@ -399,13 +439,27 @@ def lyapunov(
         pairs, periods=1, keep=1, steps_per_period=steps_per_period, _return_stacked=True
     )
     E2, n = len(pairs), systems[0].n
-    Y = np.zeros((E2, 2 * n)) if y0 is None else np.tile(np.asarray(y0, float), (E2, 1))
+    if y0 is None:
+        Y = np.zeros((E2, 2 * n))
+    else:
+        y0 = np.asarray(y0, float)
+        if y0.shape == (2 * n,):
+            Y = np.tile(y0, (E2, 1))
+        elif y0.shape == (len(systems), 2 * n):
+            Y = np.repeat(y0, 2, axis=0)
+        else:
+            raise ReducerlabError(
+                f"y0 must have shape ({2 * n},) or ({len(systems)}, {2 * n}), got {y0.shape}"
+            )
+    inf = math.inf
+    elapsed = 0
     # warm up the reference without perturbation to estimate the state scales
     for _ in range(transient):
-        P, _, status = rk4_ensemble(*stacked, Y, T, seg_start, seg_steps, 1, 1, 0, 1.0)
+        P, _, status = rk4_ensemble(*stacked, Y, elapsed * T, T, seg_start, seg_steps, 1, 1, 0, inf)
         if status[:, 0].any():
             raise ReducerlabError("lyapunov: integration diverged during the transient")
         Y = P[:, 1].copy()
+        elapsed += 1
     ref = Y[0::2]
     amp = np.maximum(np.abs(ref[:, :n]).max(axis=1, keepdims=True), 1e-12)
     w = 2 * math.pi / T[0::2, None]
@@ -414,10 +468,11 @@ def lyapunov(
     Y[1::2, 0] += d0 * scale[:, 0]
     total = np.zeros(len(systems))
     for _ in range(periods - transient):
-        P, _, status = rk4_ensemble(*stacked, Y, T, seg_start, seg_steps, 1, 1, 0, 1.0)
+        P, _, status = rk4_ensemble(*stacked, Y, elapsed * T, T, seg_start, seg_steps, 1, 1, 0, inf)
         if status[:, 0].any():
             raise ReducerlabError("lyapunov: integration diverged")
         Y = P[:, 1].copy()
+        elapsed += 1
         diff = (Y[1::2] - Y[0::2]) / scale
         d = np.linalg.norm(diff, axis=1)
         d = np.where(d > 0, d, d0)
