@@ -22,7 +22,7 @@ from scipy.optimize import brentq
 from ..design import Design
 from ..errors import ReducerlabError
 from ..model import Model
-from ..model.laws import LAW_FOURIER, LAW_PIECEWISE
+from ..model.laws import flat_period
 from ..results import Result, provenance
 from .batch import eigh_batch
 from .sweep import _rigid_clean
@@ -64,13 +64,9 @@ def excitation_orders(target: Design | Model, harmonics: int = 3) -> dict[str, f
         if model.speed > 0:
             s = model.nonlinear()
             for name, kind, params in zip(s.line_names, s.k_kind, s.k_params, strict=True):
-                law_omega = None
-                if kind == LAW_FOURIER:  # params[1] is omega
-                    law_omega = params[1]
-                elif kind == LAW_PIECEWISE:  # params[0] is the period
-                    law_omega = TWO_PI / params[0]
-                if law_omega:
-                    meshes[name] = float(law_omega / model.speed)
+                period = flat_period(int(kind), params)
+                if math.isfinite(period):
+                    meshes[name] = TWO_PI / period / model.speed
     for name, order in meshes.items():
         label = "mesh" if len(meshes) == 1 else name
         for h in range(1, harmonics + 1):

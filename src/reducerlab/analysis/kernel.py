@@ -18,15 +18,15 @@ import numpy as np
 
 __all__ = ["LAW_CONSTANT", "LAW_FOURIER", "LAW_PIECEWISE", "eval_law", "rk4_ensemble"]
 
-LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE = 0, 1, 2
+from ..model.laws import LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE
 
 
 @nb.njit(cache=True, fastmath=False)
 def eval_law(kind: int, p: np.ndarray, t: float) -> tuple[float, float]:
     """Value and derivative of a flat law at time ``t`` (mirrors ``evaluate_flat``)."""
-    if kind == 0:
+    if kind == LAW_CONSTANT:
         return p[0], 0.0
-    if kind == 1:
+    if kind == LAW_FOURIER:
         mean, omega, n = p[0], p[1], int(p[2])
         val, der = mean, 0.0
         for r in range(1, n + 1):

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 from ..model import Model, NonlinearSystem
-from ..model.laws import LAW_FOURIER, LAW_PIECEWISE
+from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_mean, flat_period
 
 __all__ = [
     "Ensemble",
@@ -48,7 +48,7 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
     s = model.nonlinear() if isinstance(model, Model) else model
     if not reduce_rigid:
         return s
-    k_mean = s.K + s.G.T @ (s.G * _law_means(s)[:, None])
+    k_mean = _mean_stiffness(s)
     lam, V = scipy.linalg.eigh(k_mean, s.M)
     rigid = np.abs(lam) <= 1e-10 * max(np.abs(lam).max(), np.finfo(float).tiny)
     if not rigid.any():
@@ -58,24 +58,16 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
     return s.reduced(T, names)[0]
 
 
-def _law_means(s: NonlinearSystem) -> NDArray[np.float64]:
-    out = np.empty(len(s.k_kind))
-    for m, (kind, p) in enumerate(zip(s.k_kind, s.k_params, strict=True)):
-        if kind == LAW_PIECEWISE:
-            n, deg = int(p[2]), int(p[3])
-            breaks = np.append(p[4 : 4 + n], 1.0)
-            c = p[4 + n : 4 + n + n * deg].reshape(n, deg)
-            q = np.arange(1, deg + 1)
-            out[m] = float(np.sum(c * (breaks[1:, None] ** q - breaks[:-1, None] ** q) / q))
-        else:
-            out[m] = p[0]
-    return out
+def _mean_stiffness(s: NonlinearSystem) -> NDArray[np.float64]:
+    """Linear stiffness plus every mesh at its mean stiffness."""
+    k = np.array([flat_mean(int(kd), p) for kd, p in zip(s.k_kind, s.k_params, strict=True)])
+    return s.K + s.G.T @ (s.G * k[:, None])
 
 
 def static_state(s: NonlinearSystem) -> NDArray[np.float64]:
     """State ``[q, 0]`` of static equilibrium under the loads at t = 0 with the mean mesh
     stiffness (backlash offsets ignored): a start that shortens the transient."""
-    k_mean = s.K + s.G.T @ (s.G * _law_means(s)[:, None])
+    k_mean = _mean_stiffness(s)
     try:
         q = np.linalg.solve(k_mean, s.external_forces(0.0))
     except np.linalg.LinAlgError:
@@ -88,10 +80,9 @@ def forcing_period(s: NonlinearSystem) -> float:
     first periodic load; the stroboscopic sampling period of Poincaré sections."""
     for kinds, params in ((s.k_kind, s.k_params), (s.e_kind, s.e_params), (s.f_kind, s.f_params)):
         for kind, p in zip(kinds, params, strict=True):
-            if kind == LAW_FOURIER and p[1] > 0:
-                return 2 * math.pi / p[1]
-            if kind == LAW_PIECEWISE:
-                return float(p[0])
+            period = flat_period(int(kind), p)
+            if math.isfinite(period):
+                return period
     raise ReducerlabError("the system has no periodic law: give the forcing period explicitly")
 
 
@@ -113,7 +104,7 @@ def steps_for(s: NonlinearSystem, T: float, accuracy: float = 0.25) -> int:
     """Steps per forcing period: ``omega_max h <= accuracy`` for the highest natural
     frequency of the mean system (RK4 is stable to 2.8; 0.25 keeps its per-step
     relative phase error near 1e-6), at least 32."""
-    k_mean = s.K + s.G.T @ (s.G * _law_means(s)[:, None])
+    k_mean = _mean_stiffness(s)
     lam = scipy.linalg.eigh(k_mean, s.M, eigvals_only=True)
     w = math.sqrt(max(lam.max(), 0.0))
     return max(32, math.ceil(T * w / accuracy))
@@ -248,12 +239,8 @@ def ensemble(
         else np.broadcast_to(np.asarray(y0, float), (E, 2 * n)).copy()
     )
     poincare, hist, status = rk4_ensemble(
-        Minv, pad([s.C for s in systems]), pad([s.K for s in systems]), pad([s.G for s in systems]),
-        s0.k_kind, params("k_params"), pad([s.line_damping for s in systems]),
-        pad([s.half_backlash for s in systems]), s0.e_kind, params("e_params"),
-        pad([s.load_matrix for s in systems]), s0.f_kind, params("f_params"),
-        Y0, np.zeros(E), T, seg_start, seg_steps, periods, keep, history, limit,
-    )  # fmt: skip
+        *stacked, Y0, np.zeros(E), T, seg_start, seg_steps, periods, keep, history, limit
+    )
     bad = np.nonzero(status[:, 0])[0]
     if bad.size:
         e = int(bad[0])
@@ -265,7 +252,7 @@ def ensemble(
             f"{limit:g} (or became NaN); reduce the step (steps_per_period > {N}) or check "
             "the parameters"
         )
-    G = pad([s.G for s in systems])
+    G = stacked[3]
     L = G.shape[1]
     # mesh deflections G q - e(t) at the Poincare times and along the history
     tP = (periods - keep + np.arange(keep + 1))[None, :] * T[:, None]
@@ -302,7 +289,7 @@ def _check_commensurate(s: NonlinearSystem, T: float) -> None:
         for kind, p in zip(kinds, params, strict=True):
             if kind != LAW_PIECEWISE:
                 continue
-            P = float(p[0])
+            P = flat_period(int(kind), p)
             ratio = T / P
             if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio) or round(ratio) < 1:
                 raise ReducerlabError(
@@ -312,8 +299,6 @@ def _check_commensurate(s: NonlinearSystem, T: float) -> None:
 
 
 def _law_value(kind: int, params: NDArray, t: float) -> float:
-    from ..model.laws import evaluate_flat
-
     return evaluate_flat(int(kind), params, t)[0]
 
 

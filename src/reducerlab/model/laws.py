@@ -27,6 +27,8 @@ __all__ = [
     "TimeLaw",
     "dead_zone",
     "evaluate_flat",
+    "flat_mean",
+    "flat_period",
 ]
 
 LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE = 0, 1, 2
@@ -325,6 +327,26 @@ def evaluate_flat(kind: int, params: NDArray[np.float64], t: float) -> tuple[flo
             val = val * s + params[base + p]
         return float(val), float(der / period)
     raise ModelError(f"unknown law kind {kind}")
+
+
+def flat_period(kind: int, params: NDArray[np.float64]) -> float:
+    """Period (s) of a flat law; ``inf`` for a constant (or a zero-frequency series)."""
+    if kind == LAW_FOURIER and params[1] > 0:
+        return 2 * math.pi / float(params[1])
+    if kind == LAW_PIECEWISE:
+        return float(params[0])
+    return math.inf
+
+
+def flat_mean(kind: int, params: NDArray[np.float64]) -> float:
+    """Time average of a flat law over one period (exact integral for piecewise laws)."""
+    if kind == LAW_PIECEWISE:
+        n, deg = int(params[2]), int(params[3])
+        edges = np.append(params[4 : 4 + n], 1.0)
+        c = params[4 + n : 4 + n + n * deg].reshape(n, deg)
+        q = np.arange(1, deg + 1)
+        return float(np.sum(c * (edges[1:, None] ** q - edges[:-1, None] ** q) / q))
+    return float(params[0])
 
 
 def dead_zone(delta: ArrayLike, half_width: float) -> NDArray[np.float64]:
