@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from ..design import Design
 from ..errors import ReducerlabError
-from ..model import Model
+from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
 from .response import ensemble, forcing_period, lyapunov, static_state, to_system
 from .sweep import Axis, _Evaluator, _resolve
@@ -80,7 +80,8 @@ def bifurcation(
         raise ReducerlabError("bifurcation: give SI numbers for the values")
     ev = _Evaluator(design.model_dump(mode="python") if design else None, model, (t,))
     values = np.asarray(vals, float)
-    n_lines = model.nonlinear().G.shape[0]
+    base = model.nonlinear()
+    n_lines = base.G.shape[0]
     if not 0 <= line < n_lines:
         raise ReducerlabError(f"bifurcation: line must be in 0..{n_lines - 1}, got {line}")
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
@@ -93,7 +94,7 @@ def bifurcation(
             {"path": axis.path, "values": values.tolist(), "periods": periods, "keep": keep,
              "steps": steps_per_period, "line": line, "chunk": chunk_size,
              "exponents": bool(exponents), "scale": scale,
-             "model": _fingerprint(model),
+             "model": _fingerprint(base),
              "design": design.hash if design else None},
             sort_keys=True,
         )  # fmt: skip
@@ -160,7 +161,7 @@ def bifurcation(
             "periods": periods,
             "keep": keep,
             "line": line,
-            "forcing_hz": 1.0 / forcing_period(to_system(model)),
+            "forcing_hz": 1.0 / forcing_period(base),
             **provenance(model.metadata),
         },
     )
@@ -173,11 +174,10 @@ def bifurcation(
     return BifurcationResult(data)
 
 
-def _fingerprint(model: Model) -> str:
-    """Hash of the model's flat arrays (identifies the run in a resume folder)."""
+def _fingerprint(s: NonlinearSystem) -> str:
+    """Hash of a system's flat arrays (identifies the run in a resume folder)."""
     import hashlib
 
-    s = model.nonlinear()
     h = hashlib.sha256()
     for a in (s.M, s.C, s.K, s.G, s.k_params, s.e_params, s.f_params, s.load_matrix,
               s.line_damping, s.half_backlash):  # fmt: skip
