@@ -1,12 +1,20 @@
 """Compiled (numba) fixed-step RK4 integration of an ensemble of nonlinear systems.
 
 The kernel works on the flat arrays of :class:`~reducerlab.model.NonlinearSystem`,
-stacked over an ensemble (one member per parameter value): mass inverse, damping and
-stiffness matrices, mesh projection rows, stiffness/error/load laws as
-``(kind, params)`` rows (:func:`reducerlab.model.laws.evaluate_flat` is the reference
-for the law evaluation here). Members run in parallel threads; each period of the
-forcing is split into segments at the stiffness law's discontinuities so that no RK4
-step straddles a jump.
+stacked over an ensemble (one member per parameter value). Its layout is *structure of
+arrays*: every quantity carries the member index last, members are integrated in
+lock-step in blocks of :data:`BLOCK` and every inner loop runs over the members of a
+block, contiguous in memory, so that the compiler emits SIMD instructions; blocks run in
+parallel threads.
+
+All members take the same number of steps per forcing period, aligned with their own
+stiffness-law discontinuities (so no step straddles a jump; the step lengths differ
+between members). The time laws (stiffness, error and its rate, loads) are tabulated at
+the three RK4 sample times of every step of one period; when every law repeats within
+the period (the usual case) the table is built once and reused for all periods, so the
+inner loop does no trigonometry and no segment search. Otherwise it is rebuilt each
+period. :func:`reducerlab.model.laws.evaluate_flat` is the reference for the law
+evaluation here.
 """
 
 from __future__ import annotations
@@ -16,9 +24,29 @@ import math
 import numba as nb
 import numpy as np
 
-__all__ = ["LAW_CONSTANT", "LAW_FOURIER", "LAW_PIECEWISE", "eval_law", "rk4_ensemble"]
+__all__ = [
+    "LAW_CONSTANT",
+    "LAW_FOURIER",
+    "LAW_PIECEWISE",
+    "block_width",
+    "eval_law",
+    "rk4_ensemble",
+]
 
 from ..model.laws import LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE
+
+#: Most members integrated in lock-step by one thread (a multiple of the SIMD width);
+#: smaller ensembles use smaller blocks so that every thread gets work.
+BLOCK = 64
+_FM = {"contract", "reassoc", "nsz", "arcp"}
+
+
+def block_width(members: int) -> int:
+    """Members per lock-step block: a multiple of 8 (the SIMD width of AVX-512), at most
+    :data:`BLOCK`, small enough that every thread gets a block."""
+    threads = nb.get_num_threads()
+    per_thread = -(-members // threads)
+    return BLOCK if per_thread >= BLOCK else 8
 
 
 @nb.njit(cache=True, fastmath=False)
@@ -49,221 +77,242 @@ def eval_law(kind: int, p: np.ndarray, t: float) -> tuple[float, float]:
     return val, der / period
 
 
-@nb.njit(cache=True, inline="always")
-def _rhs(t, y, out, Minv, C, K, G, k_kind, k_par, cm, hb, e_kind, e_par, B, f_kind, f_par, F, Fm):
-    n = Minv.shape[0]
+@nb.njit(cache=True)
+def _tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par):
+    """Fill ``tab[3 N, W, B]`` for members ``lo:hi``: rows ``3q, 3q+1, 3q+2`` are the
+    RK4 sample times of step ``q`` (just inside its start, its middle, just inside its
+    end, so that a jump at a step boundary is seen from the correct side); columns are
+    ``k`` (L), ``e`` (L), ``de/dt`` (L), then the load acceleration ``M^-1 B f`` (n)."""
+    L = k_kind.shape[0]
+    n = MB.shape[1]
+    nf = f_kind.shape[0]
+    N = offs.shape[1]
+    fv = np.empty(nf)
+    for e in range(lo, hi):
+        b = e - lo
+        for q in range(N):
+            dt = dts[e, q]
+            inside = 1e-9 * dt
+            t = t_base[e] + offs[e, q]
+            for s in range(3):
+                ts = t + inside if s == 0 else (t + 0.5 * dt if s == 1 else t + dt - inside)
+                row = 3 * q + s
+                for m in range(L):
+                    k, _ = eval_law(k_kind[m], k_par[e, m], ts)
+                    v, dv = eval_law(e_kind[m], e_par[e, m], ts)
+                    tab[row, m, b] = k
+                    tab[row, L + m, b] = v
+                    tab[row, 2 * L + m, b] = dv
+                for j in range(nf):
+                    fv[j], _ = eval_law(f_kind[j], f_par[e, j], ts)
+                for i in range(n):
+                    acc = 0.0
+                    for j in range(nf):
+                        acc += MB[b, i, j] * fv[j]
+                    tab[row, 3 * L + i, b] = acc
+
+
+@nb.njit(cache=True, inline="always", fastmath=_FM)
+def _rhs(tab, row, y, out, MK, MC, MG, G, hb, cm, k3, d, dv, fm):
+    """State derivative of every member of a block: ``out[2n, B]`` from ``y[2n, B]``."""
+    n = MK.shape[0]
     L = G.shape[0]
+    B = y.shape[1]
     for i in range(n):
-        F[i] = 0.0
-    for j in range(f_kind.shape[0]):
-        v, _ = eval_law(f_kind[j], f_par[j], t)
-        for i in range(n):
-            F[i] += B[i, j] * v
+        for b in range(B):
+            out[i, b] = y[n + i, b]
+            out[n + i, b] = tab[row, 3 * L + i, b]
     for i in range(n):
-        acc = 0.0
         for j in range(n):
-            acc += C[i, j] * y[n + j] + K[i, j] * y[j]
-        F[i] -= acc
+            for b in range(B):
+                out[n + i, b] -= MK[i, j, b] * y[j, b] + MC[i, j, b] * y[n + j, b]
     for m in range(L):
-        k, _ = eval_law(k_kind[m], k_par[m], t)
-        e, de = eval_law(e_kind[m], e_par[m], t)
-        d, dv = -e, -de
+        for b in range(B):
+            d[b] = -tab[row, L + m, b]
+            dv[b] = -tab[row, 2 * L + m, b]
         for i in range(n):
-            d += G[m, i] * y[i]
-            dv += G[m, i] * y[n + i]
-        h = hb[m]
-        if d > h:
-            f = d - h
-        elif d < -h:
-            f = d + h
-        else:
-            f = 0.0
-        Fm[m] = k * f + cm[m] * dv
+            for b in range(B):
+                d[b] += G[m, i, b] * y[i, b]
+                dv[b] += G[m, i, b] * y[n + i, b]
+        for b in range(B):
+            x = d[b]
+            h = hb[m, b]
+            f = x - min(max(x, -h), h)
+            fm[b] = tab[row, m, b] * f + k3[m, b] * (f * f * f) + cm[m, b] * dv[b]
         for i in range(n):
-            F[i] -= G[m, i] * Fm[m]
-    for i in range(n):
-        out[i] = y[n + i]
-        acc = 0.0
-        for j in range(n):
-            acc += Minv[i, j] * F[j]
-        out[n + i] = acc
+            for b in range(B):
+                out[n + i, b] -= MG[i, m, b] * fm[b]
+
+
+@nb.njit(cache=True, fastmath=_FM)
+def _block(
+    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B_, f_kind, f_par,
+    y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit,
+    poincare, hist, status, nb_,
+):  # fmt: skip
+    """Integrate members ``lo:hi`` (at most ``nb_``) in lock-step."""
+    E = y0.shape[0]
+    n = Minv.shape[1]
+    L = G.shape[1]
+    n2 = 2 * n
+    N = offs.shape[1]
+    # members of the block in structure-of-arrays layout; slots past hi repeat the last
+    # member so that every slot runs the same vectorised code
+    MK = np.empty((n, n, nb_))
+    MC = np.empty((n, n, nb_))
+    MG = np.empty((n, L, nb_))
+    Gb = np.empty((L, n, nb_))
+    hbb = np.empty((L, nb_))
+    cmb = np.empty((L, nb_))
+    k3b = np.empty((L, nb_))
+    y = np.empty((n2, nb_))
+    dtb = np.empty((N, nb_))
+    for b in range(nb_):
+        e = min(lo + b, hi - 1)
+        for i in range(n):
+            for j in range(n):
+                ak = 0.0
+                ac = 0.0
+                for r in range(n):
+                    ak += Minv[e, i, r] * K[e, r, j]
+                    ac += Minv[e, i, r] * C[e, r, j]
+                MK[i, j, b] = ak
+                MC[i, j, b] = ac
+            for m in range(L):
+                ag = 0.0
+                for r in range(n):
+                    ag += Minv[e, i, r] * G[e, m, r]
+                MG[i, m, b] = ag
+        for m in range(L):
+            for i in range(n):
+                Gb[m, i, b] = G[e, m, i]
+            hbb[m, b] = hb[e, m]
+            cmb[m, b] = cm[e, m]
+            k3b[m, b] = k3[e, m]
+        for i in range(n2):
+            y[i, b] = y0[e, i]
+        for q in range(N):
+            dtb[q, b] = dts[e, q]
+    MB = np.empty((hi - lo, n, f_kind.shape[0]))
+    for e in range(lo, hi):
+        for i in range(n):
+            for j in range(f_kind.shape[0]):
+                acc = 0.0
+                for r in range(n):
+                    acc += Minv[e, i, r] * B_[e, r, j]
+                MB[e - lo, i, j] = acc
+    tab = np.zeros((3 * N, 3 * L + n, nb_))
+    k1 = np.empty((n2, nb_))
+    k2 = np.empty((n2, nb_))
+    k3s = np.empty((n2, nb_))
+    k4 = np.empty((n2, nb_))
+    tmp = np.empty((n2, nb_))
+    d = np.empty(nb_)
+    dv = np.empty(nb_)
+    fm = np.empty(nb_)
+    tot = np.empty(nb_)
+    failed = np.zeros(nb_, np.bool_)
+    t_base = np.empty(E)
+    width = hi - lo
+    h_index = 0
+    for p in range(n_periods):
+        if p == 0 or not periodic:
+            for e in range(lo, hi):
+                t_base[e] = t_start[e] + p * period[e]
+            _tabulate(
+                tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par
+            )
+            for b in range(width, nb_):
+                tab[:, :, b] = tab[:, :, width - 1]
+        if p >= n_periods - n_keep:
+            for b in range(width):
+                if not failed[b]:
+                    for i in range(n2):
+                        poincare[lo + b, p - (n_periods - n_keep), i] = y[i, b]
+        for q in range(N):
+            r0 = 3 * q
+            _rhs(tab, r0, y, k1, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            for i in range(n2):
+                for b in range(nb_):
+                    tmp[i, b] = y[i, b] + 0.5 * dtb[q, b] * k1[i, b]
+            _rhs(tab, r0 + 1, tmp, k2, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            for i in range(n2):
+                for b in range(nb_):
+                    tmp[i, b] = y[i, b] + 0.5 * dtb[q, b] * k2[i, b]
+            _rhs(tab, r0 + 1, tmp, k3s, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            for i in range(n2):
+                for b in range(nb_):
+                    tmp[i, b] = y[i, b] + dtb[q, b] * k3s[i, b]
+            _rhs(tab, r0 + 2, tmp, k4, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            for b in range(nb_):
+                tot[b] = 0.0
+            for i in range(n2):
+                for b in range(nb_):
+                    y[i, b] += (dtb[q, b] / 6.0) * (
+                        k1[i, b] + 2.0 * k2[i, b] + 2.0 * k3s[i, b] + k4[i, b]
+                    )
+                    tot[b] += abs(y[i, b])
+            # cheap test first: the sum bounds every component; NaN fails it too
+            for b in range(width):
+                if not (tot[b] <= limit) and not failed[b]:
+                    for i in range(n2):
+                        if not (abs(y[i, b]) <= limit):
+                            failed[b] = True
+                            status[lo + b, 0] = 1.0
+                            status[lo + b, 1] = (
+                                t_start[lo + b]
+                                + p * period[lo + b]
+                                + (offs[lo + b, q] + dts[lo + b, q])
+                            )
+                            status[lo + b, 2] = i
+                            for qq in range(N):
+                                dtb[qq, b] = 0.0
+                            break
+            if p >= n_periods - n_hist:
+                for b in range(width):
+                    if not failed[b]:
+                        for i in range(n2):
+                            hist[lo + b, h_index, i] = y[i, b]
+                h_index += 1
+    for b in range(width):
+        if not failed[b]:
+            for i in range(n2):
+                poincare[lo + b, n_keep, i] = y[i, b]
 
 
 @nb.njit(parallel=True, cache=True)
 def rk4_ensemble(
-    Minv,
-    C,
-    K,
-    G,
-    k_kind,
-    k_par,
-    cm,
-    hb,
-    e_kind,
-    e_par,
-    B,
-    f_kind,
-    f_par,
-    y0,
-    t_start,
-    period,
-    seg_start,
-    seg_steps,
-    n_periods,
-    n_keep,
-    n_hist,
-    limit,
-):
+    Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par,
+    y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, width,
+):  # fmt: skip
     """Integrate every member for ``n_periods`` forcing periods.
 
-    Member ``e`` starts at time ``t_start[e]``. Returns ``poincare`` (E, n_keep, 2n):
-    the state at the start of each of the last
-    ``n_keep`` periods and at the end; ``hist`` (E, n_hist * steps, 2n): every step of
-    the last ``n_hist`` periods; ``status`` (E, 3): (failed flag, time, state index)
-    when a state became non-finite or exceeded ``limit``.
+    Per-member arrays carry the member first: ``Minv, C, K`` (E, n, n), ``G`` (E, L, n),
+    law parameters (E, rows, width), ``cm, hb, k3`` (E, L) line damping, half backlash
+    and cubic stiffness, ``B`` (E, n, loads), ``y0`` (E, 2n). Member ``e`` starts at
+    ``t_start[e]`` with period ``period[e]``; step ``q`` of every period starts at
+    ``offs[e, q]`` (s, from the period's start) and lasts ``dts[e, q]``. ``periodic``
+    says every law repeats within the period (the law table is then built once).
+
+    Returns ``poincare`` (E, n_keep + 1, 2n): the state at the start of each of the last
+    ``n_keep`` periods and at the end; ``hist`` (E, n_hist * N, 2n): every step of the
+    last ``n_hist`` periods; ``status`` (E, 3): (failed flag, time, state index) when a
+    state became non-finite or exceeded ``limit``. Rows after a failure stay NaN.
+    Members run in blocks of ``width`` (see :func:`block_width`).
     """
+    width = nb.literally(width)
     E, n2 = y0.shape
-    S = seg_steps.shape[1]
-    steps_per_period = np.zeros(E, np.int64)
-    for e in range(E):
-        steps_per_period[e] = seg_steps[e].sum()
-    max_steps = steps_per_period.max()
+    N = offs.shape[1]
     poincare = np.full((E, n_keep + 1, n2), np.nan)
-    hist = np.full((E, max(n_hist, 0) * max_steps + 1, n2), np.nan)
+    hist = np.full((E, max(n_hist, 0) * N, n2), np.nan)
     status = np.zeros((E, 3))
-    for e in nb.prange(E):
-        y = y0[e].copy()
-        k1 = np.empty(n2)
-        k2 = np.empty(n2)
-        k3 = np.empty(n2)
-        k4 = np.empty(n2)
-        tmp = np.empty(n2)
-        F = np.empty(n2 // 2)
-        Fm = np.empty(G.shape[1])
-        T = period[e]
-        Me, Ce, Ke, Ge = Minv[e], C[e], K[e], G[e]
-        kpe, cme, hbe, epe, Be, fpe = k_par[e], cm[e], hb[e], e_par[e], B[e], f_par[e]
-        h_index = 0
-        failed = False
-        for p in range(n_periods):
-            if p >= n_periods - n_keep:
-                poincare[e, p - (n_periods - n_keep)] = y
-            t_base = t_start[e] + p * T
-            for s in range(S):
-                ns = seg_steps[e, s]
-                if ns == 0:
-                    continue
-                ta = t_base + seg_start[e, s] * T
-                tb = t_base + seg_start[e, s + 1] * T
-                dt = (tb - ta) / ns
-                # stages at the segment ends are evaluated just inside it, so that a law
-                # with a jump at a segment boundary is seen from the correct side
-                inside = 1e-9 * dt
-                for q in range(ns):
-                    t = ta + q * dt
-                    _rhs(
-                        t + inside,
-                        y,
-                        k1,
-                        Me,
-                        Ce,
-                        Ke,
-                        Ge,
-                        k_kind,
-                        kpe,
-                        cme,
-                        hbe,
-                        e_kind,
-                        epe,
-                        Be,
-                        f_kind,
-                        fpe,
-                        F,
-                        Fm,
-                    )
-                    for i in range(n2):
-                        tmp[i] = y[i] + 0.5 * dt * k1[i]
-                    _rhs(
-                        t + 0.5 * dt,
-                        tmp,
-                        k2,
-                        Me,
-                        Ce,
-                        Ke,
-                        Ge,
-                        k_kind,
-                        kpe,
-                        cme,
-                        hbe,
-                        e_kind,
-                        epe,
-                        Be,
-                        f_kind,
-                        fpe,
-                        F,
-                        Fm,
-                    )
-                    for i in range(n2):
-                        tmp[i] = y[i] + 0.5 * dt * k2[i]
-                    _rhs(
-                        t + 0.5 * dt,
-                        tmp,
-                        k3,
-                        Me,
-                        Ce,
-                        Ke,
-                        Ge,
-                        k_kind,
-                        kpe,
-                        cme,
-                        hbe,
-                        e_kind,
-                        epe,
-                        Be,
-                        f_kind,
-                        fpe,
-                        F,
-                        Fm,
-                    )
-                    for i in range(n2):
-                        tmp[i] = y[i] + dt * k3[i]
-                    _rhs(
-                        t + dt - inside,
-                        tmp,
-                        k4,
-                        Me,
-                        Ce,
-                        Ke,
-                        Ge,
-                        k_kind,
-                        kpe,
-                        cme,
-                        hbe,
-                        e_kind,
-                        epe,
-                        Be,
-                        f_kind,
-                        fpe,
-                        F,
-                        Fm,
-                    )
-                    for i in range(n2):
-                        y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-                        if not (abs(y[i]) <= limit):
-                            if not failed:
-                                status[e, 0] = 1.0
-                                status[e, 1] = t + dt
-                                status[e, 2] = i
-                            failed = True
-                    if failed:
-                        break
-                    if p >= n_periods - n_hist:
-                        hist[e, h_index] = y
-                        h_index += 1
-                if failed:
-                    break
-            if failed:
-                break
-        if not failed:
-            poincare[e, n_keep] = y
+    n_blocks = (E + width - 1) // width
+    for blk in nb.prange(n_blocks):
+        lo = blk * width
+        hi = min(E, lo + width)
+        _block(
+            lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
+            f_par, y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist,
+            limit, poincare, hist, status, width,
+        )  # fmt: skip
     return poincare, hist, status

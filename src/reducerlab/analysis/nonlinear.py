@@ -180,7 +180,7 @@ def _fingerprint(s: NonlinearSystem) -> str:
 
     h = hashlib.sha256()
     for a in (s.M, s.C, s.K, s.G, s.k_params, s.e_params, s.f_params, s.load_matrix,
-              s.line_damping, s.half_backlash):  # fmt: skip
+              s.line_damping, s.half_backlash, s.line_cubic):  # fmt: skip
         h.update(np.ascontiguousarray(a, dtype=float).tobytes())
     return h.hexdigest()[:16]
 

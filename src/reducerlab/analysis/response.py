@@ -100,6 +100,116 @@ def _breaks(s: NonlinearSystem, T: float) -> NDArray[np.float64]:
     return ph[(ph >= 0) & (ph < 1)]
 
 
+def _check_structure(systems: Sequence[NonlinearSystem]) -> None:
+    if not systems:
+        raise ReducerlabError("ensemble: no systems")
+    s0 = systems[0]
+    for s in systems[1:]:
+        if (
+            s.n != s0.n
+            or s.G.shape != s0.G.shape
+            or not np.array_equal(s.k_kind, s0.k_kind)
+            or not np.array_equal(s.e_kind, s0.e_kind)
+            or not np.array_equal(s.f_kind, s0.f_kind)
+        ):
+            raise ReducerlabError("ensemble: all members must have the same structure")
+
+
+@dataclass(frozen=True)
+class _Prepared:
+    """Stacked kernel inputs of an ensemble (see :func:`kernel.rk4_ensemble`)."""
+
+    arrays: tuple[NDArray, ...]
+    period: NDArray[np.float64]  # (E,) s
+    offs: NDArray[np.float64]  # (E, N) s, step starts from the period start
+    dts: NDArray[np.float64]  # (E, N) s, step lengths
+    periodic: bool  # every law repeats within the period
+    steps: int
+
+
+def _step_grid(breaks: NDArray[np.float64], N: int) -> tuple[NDArray, NDArray]:
+    """Split one period (phase 0 to 1, cut at ``breaks``) into exactly ``N`` steps: each
+    segment gets its share of ``N`` by largest remainder, at least one step. Returns the
+    step starts and lengths as phases."""
+    edges = np.append(breaks, 1.0)
+    lengths = np.diff(edges)
+    raw = N * lengths
+    steps = np.maximum(1, np.floor(raw).astype(np.int64))
+    while steps.sum() < N:
+        steps[np.argmax(raw - steps)] += 1
+    while steps.sum() > N:
+        can = np.nonzero(steps > 1)[0]
+        steps[can[np.argmin((raw - steps)[can])]] -= 1
+    starts = np.concatenate(
+        [
+            a + (b - a) * np.arange(k) / k
+            for a, b, k in zip(edges[:-1], edges[1:], steps, strict=True)
+        ]
+    )
+    size = np.repeat(lengths / steps, steps)
+    return starts, size
+
+
+def _repeats_within(s: NonlinearSystem, T: float) -> bool:
+    """Every law of ``s`` has a period that divides ``T`` (or is constant)."""
+    for kinds, params in ((s.k_kind, s.k_params), (s.e_kind, s.e_params), (s.f_kind, s.f_params)):
+        for kind, p in zip(kinds, params, strict=True):
+            P = flat_period(int(kind), p)
+            if not math.isfinite(P):
+                continue
+            ratio = T / P
+            if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio) or round(ratio) < 1:
+                return False
+    return True
+
+
+def _prepare(
+    systems: Sequence[NonlinearSystem], steps_per_period: int | None, period: float | None
+) -> _Prepared:
+    """Check an ensemble and stack its arrays for the kernel (member axis first)."""
+    _check_structure(systems)
+    if period is not None and not (isinstance(period, int | float) and period > 0):
+        raise ReducerlabError(f"period must be > 0 s, got {period!r}")
+    T = np.array([period if period is not None else forcing_period(s) for s in systems])
+    N = steps_per_period or max(steps_for(s, t) for s, t in zip(systems, T, strict=True))
+    if not (isinstance(N, int) and N >= 4):
+        raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
+    for s, t in zip(systems, T, strict=True):
+        _check_commensurate(s, t)
+    brk = [_breaks(s, t) for s, t in zip(systems, T, strict=True)]
+    N = max(N, max(len(b) for b in brk))
+    E = len(systems)
+    offs = np.empty((E, N))
+    dts = np.empty((E, N))
+    for e, b in enumerate(brk):
+        a, h = _step_grid(b, N)
+        offs[e], dts[e] = a * T[e], h * T[e]
+    widths = {
+        name: max(getattr(s, name).shape[1] if getattr(s, name).ndim == 2 else 1 for s in systems)
+        for name in ("k_params", "e_params", "f_params")
+    }
+
+    def params(name: str) -> NDArray:
+        out = np.zeros((E, getattr(systems[0], name).shape[0], widths[name]))
+        for e, s in enumerate(systems):
+            a = getattr(s, name)
+            out[e, :, : a.shape[1]] = a
+        return out
+
+    s0 = systems[0]
+    pad = np.stack
+    arrays = (
+        pad([np.linalg.inv(s.M) for s in systems]), pad([s.C for s in systems]),
+        pad([s.K for s in systems]), pad([s.G for s in systems]), s0.k_kind,
+        params("k_params"), pad([s.line_damping for s in systems]),
+        pad([s.half_backlash for s in systems]), pad([s.line_cubic for s in systems]),
+        s0.e_kind, params("e_params"), pad([s.load_matrix for s in systems]), s0.f_kind,
+        params("f_params"),
+    )  # fmt: skip
+    periodic = all(_repeats_within(s, t) for s, t in zip(systems, T, strict=True))
+    return _Prepared(arrays, T, offs, dts, periodic, N)
+
+
 def steps_for(s: NonlinearSystem, T: float, accuracy: float = 0.25) -> int:
     """Steps per forcing period: ``omega_max h <= accuracy`` for the highest natural
     frequency of the mean system (RK4 is stable to 2.8; 0.25 keeps its per-step
@@ -136,7 +246,6 @@ def ensemble(
     limit: float = math.inf,
     labels: Sequence[str] | None = None,
     period: float | None = None,
-    _return_stacked: bool = False,
 ) -> Ensemble:
     """Integrate systems of identical structure with the compiled RK4 kernel.
 
@@ -163,20 +272,10 @@ def ensemble(
     period : float, optional
         Sampling period (s) when the systems have no periodic law.
     """
-    from .kernel import rk4_ensemble
+    from .kernel import block_width, rk4_ensemble
 
-    if not systems:
-        raise ReducerlabError("ensemble: no systems")
+    _check_structure(systems)
     s0 = systems[0]
-    for s in systems[1:]:
-        if (
-            s.n != s0.n
-            or s.G.shape != s0.G.shape
-            or not np.array_equal(s.k_kind, s0.k_kind)
-            or not np.array_equal(s.e_kind, s0.e_kind)
-            or not np.array_equal(s.f_kind, s0.f_kind)
-        ):
-            raise ReducerlabError("ensemble: all members must have the same structure")
     if not (isinstance(periods, int) and isinstance(keep, int) and 1 <= keep <= periods):
         raise ReducerlabError(f"need 1 <= keep <= periods, got keep={keep}, periods={periods}")
     if not (isinstance(history, int) and 0 <= history <= periods):
@@ -190,57 +289,17 @@ def ensemble(
             raise ReducerlabError(
                 f"y0 must have shape ({2 * n},) or ({E}, {2 * n}), got {y0.shape}"
             )
-    if period is not None and not (isinstance(period, int | float) and period > 0):
-        raise ReducerlabError(f"period must be > 0 s, got {period!r}")
-    T = np.array([period if period is not None else forcing_period(s) for s in systems])
-    N = steps_per_period or max(steps_for(s, t) for s, t in zip(systems, T, strict=True))
-    if not (isinstance(N, int) and N >= 4):
-        raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
-    for s, t in zip(systems, T, strict=True):
-        _check_commensurate(s, t)
-    brk = [_breaks(s, t) for s, t in zip(systems, T, strict=True)]
-    S = max(len(b) for b in brk)
-    seg_start = np.ones((E, S + 1))
-    seg_steps = np.zeros((E, S), np.int64)
-    for e, b in enumerate(brk):
-        edges = np.append(b, 1.0)
-        lengths = np.diff(edges)
-        steps = np.maximum(1, np.round(N * lengths).astype(np.int64))
-        seg_start[e, : len(edges)] = edges
-        seg_steps[e, : len(b)] = steps
-    pad = np.stack
-    widths = {
-        name: max(getattr(s, name).shape[1] if getattr(s, name).ndim == 2 else 1 for s in systems)
-        for name in ("k_params", "e_params", "f_params")
-    }
-
-    def params(name: str) -> NDArray:
-        rows = []
-        for s in systems:
-            a = getattr(s, name)
-            out = np.zeros((a.shape[0], widths[name]))
-            out[:, : a.shape[1]] = a
-            rows.append(out)
-        return np.stack(rows)
-
-    Minv = pad([np.linalg.inv(s.M) for s in systems])
-    stacked = (
-        Minv, pad([s.C for s in systems]), pad([s.K for s in systems]),
-        pad([s.G for s in systems]), s0.k_kind, params("k_params"),
-        pad([s.line_damping for s in systems]), pad([s.half_backlash for s in systems]),
-        s0.e_kind, params("e_params"), pad([s.load_matrix for s in systems]), s0.f_kind,
-        params("f_params"),
-    )  # fmt: skip
-    if _return_stacked:
-        return stacked, T, seg_start, seg_steps  # type: ignore[return-value]
+    prep = _prepare(systems, steps_per_period, period)
+    T, N = prep.period, prep.steps
     Y0 = (
         np.zeros((E, 2 * n))
         if y0 is None
         else np.broadcast_to(np.asarray(y0, float), (E, 2 * n)).copy()
     )
     poincare, hist, status = rk4_ensemble(
-        *stacked, Y0, np.zeros(E), T, seg_start, seg_steps, periods, keep, history, limit
-    )
+        *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
+        periods, keep, history, limit, block_width(E),
+    )  # fmt: skip
     bad = np.nonzero(status[:, 0])[0]
     if bad.size:
         e = int(bad[0])
@@ -252,18 +311,17 @@ def ensemble(
             f"{limit:g} (or became NaN); reduce the step (steps_per_period > {N}) or check "
             "the parameters"
         )
-    G = stacked[3]
+    G = prep.arrays[3]
     L = G.shape[1]
     # mesh deflections G q - e(t) at the Poincare times and along the history
     tP = (periods - keep + np.arange(keep + 1))[None, :] * T[:, None]
-    times = np.array(
-        [_history_times(seg_start[e], seg_steps[e], T[e], periods, history) for e in range(E)],
-        dtype=object,
-    )
-    width = max((len(t) for t in times), default=0)
-    tH = np.full((E, width), np.nan)
-    for e, t in enumerate(times):
-        tH[e, : len(t)] = t
+    start = periods - history
+    ends = prep.offs + prep.dts  # (E, N): end of each step from the period start
+    tH = (
+        ((start + np.arange(history))[None, :, None] * T[:, None, None] + ends[:, None, :])
+        .reshape(E, history * N)
+    )  # fmt: skip
+    width = tH.shape[1]
     eP = np.array(
         [[[_law_value(s.e_kind[m], s.e_params[m], t) for m in range(L)] for t in tP[i]]
          for i, s in enumerate(systems)]
@@ -300,22 +358,6 @@ def _check_commensurate(s: NonlinearSystem, T: float) -> None:
 
 def _law_value(kind: int, params: NDArray, t: float) -> float:
     return evaluate_flat(int(kind), params, t)[0]
-
-
-def _history_times(
-    edges: NDArray, steps: NDArray, T: float, periods: int, history: int
-) -> NDArray[np.float64]:
-    """Times of the recorded history steps (end of each step) of one member."""
-    if history == 0:
-        return np.empty(0)
-    one = []
-    for a, b, ns in zip(edges[:-1], edges[1:], steps, strict=False):
-        if ns == 0:
-            continue
-        one += list(a + (b - a) * np.arange(1, ns + 1) / ns)
-    one = np.array(one) * T
-    start = periods - history
-    return np.concatenate([(start + p) * T + one for p in range(history)])
 
 
 def simulate_reference(
@@ -415,14 +457,14 @@ def lyapunov(
     linearisation, so it works with the non-smooth backlash). The first ``transient``
     periods are discarded.
     """
-    from .kernel import rk4_ensemble
+    from .kernel import block_width, rk4_ensemble
 
     if not (isinstance(periods, int) and isinstance(transient, int) and 0 <= transient < periods):
         raise ReducerlabError("lyapunov: need 0 <= transient < periods")
     pairs = [s for s in systems for _ in range(2)]
-    stacked, T, seg_start, seg_steps = ensemble(
-        pairs, periods=1, keep=1, steps_per_period=steps_per_period, _return_stacked=True
-    )
+    prep = _prepare(pairs, steps_per_period, None)
+    T = prep.period
+    bw = block_width(len(pairs))
     E2, n = len(pairs), systems[0].n
     if y0 is None:
         Y = np.zeros((E2, 2 * n))
@@ -440,7 +482,9 @@ def lyapunov(
     elapsed = 0
     # warm up the reference without perturbation to estimate the state scales
     for _ in range(transient):
-        P, _, status = rk4_ensemble(*stacked, Y, elapsed * T, T, seg_start, seg_steps, 1, 1, 0, inf)
+        P, _, status = rk4_ensemble(
+            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0, inf, bw
+        )
         if status[:, 0].any():
             raise ReducerlabError("lyapunov: integration diverged during the transient")
         Y = P[:, 1].copy()
@@ -453,7 +497,9 @@ def lyapunov(
     Y[1::2, 0] += d0 * scale[:, 0]
     total = np.zeros(len(systems))
     for _ in range(periods - transient):
-        P, _, status = rk4_ensemble(*stacked, Y, elapsed * T, T, seg_start, seg_steps, 1, 1, 0, inf)
+        P, _, status = rk4_ensemble(
+            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0, inf, bw
+        )
         if status[:, 0].any():
             raise ReducerlabError("lyapunov: integration diverged")
         Y = P[:, 1].copy()
@@ -493,7 +539,8 @@ def dimensionless(
     004: ``M_VH``, with ``omega_n = sqrt(k_mean / M_VH)``): ``M/mass``,
     ``C/(mass omega_n)``, ``K/(mass omega_n^2)``, mesh stiffness ``k/(mass omega_n^2)``,
     mesh damping ``c/(mass omega_n)``, backlash and error ``/b_c``, loads
-    ``F/(mass b_c omega_n^2)``; law frequencies become ``omega/omega_n``. The solution is
+    ``F/(mass b_c omega_n^2)``, cubic line stiffness ``k3 b_c^2/(mass omega_n^2)``; law
+    frequencies become ``omega/omega_n``. The solution is
     the dimensional one at ``t = tau / omega_n`` divided by ``b_c``.
     """
     for name, v in (("omega_n", omega_n), ("length", length), ("mass", mass)):
@@ -513,6 +560,7 @@ def dimensionless(
         ).reshape(s.k_params.shape),
         line_damping=s.line_damping / (mass * omega_n),
         half_backlash=s.half_backlash / length,
+        line_cubic=s.line_cubic * length**2 / w2,
         e_kind=s.e_kind,
         e_params=np.array(
             [

@@ -40,6 +40,18 @@ def inv_inverse(value: float) -> float:
         raise ReducerlabError(f"involute function value must be >= 0, got {value!r}")
     if value == 0:
         return 0.0
+    # Newton on inv(a) = value (inv' = tan^2 a, inv convex on [0, pi/2)) from the
+    # small-angle estimate inv(a) ~ a^3/3, which lies at or above the root: the
+    # iterates decrease monotonically to it
+    a = min((3.0 * value) ** (1.0 / 3.0), 1.5)
+    for it in range(60):
+        f = inv(a) - value
+        if it == 0 and f < 0:  # the cap 1.5 fell below the root: bracket instead
+            break
+        step = f / math.tan(a) ** 2
+        a -= step
+        if abs(step) <= 1e-15 * a:
+            return a
     hi = 1.5
     while inv(hi) < value:
         hi = 0.5 * (hi + math.pi / 2)

@@ -183,7 +183,7 @@ class Model:
         """
         n = self.n
         M, C, K = (np.zeros((n, n)) for _ in range(3))
-        G, k_laws, e_laws, c_line, b_line, line_names = [], [], [], [], [], []
+        G, k_laws, e_laws, c_line, b_line, k3_line, line_names = [], [], [], [], [], [], []
         load_dofs, load_laws = [], []
         for e in self.elements:
             idx = [self.index[d] for d in e.dofs]
@@ -200,6 +200,7 @@ class Model:
                 e_laws.append(line.error)
                 c_line.append(line.damping)
                 b_line.append(line.backlash.half_width)
+                k3_line.append(line.cubic)
                 line_names.append(e.name if len(c.lines) == 1 else f"{e.name}[{j}]")
             for local, law in c.loads:
                 load_dofs.append(idx[local])
@@ -214,6 +215,7 @@ class Model:
             stiffness_laws=k_laws,
             line_damping=np.array(c_line, dtype=float),
             half_backlash=np.array(b_line, dtype=float),
+            line_cubic=np.array(k3_line, dtype=float),
             error_laws=e_laws,
             load_matrix=np.eye(n)[:, load_dofs].reshape(n, len(load_dofs)),
             load_laws=load_laws,

@@ -28,6 +28,7 @@ __all__ = [
     "Centripetal",
     "Contribution",
     "Coupling",
+    "CubicSpring",
     "Element",
     "Inertia",
     "Line",
@@ -53,6 +54,8 @@ class Line:
         Dead zone of ``f(delta)``; half width 0 means permanent contact.
     error : TimeLaw
         Transmission error ``e(t)`` (m).
+    cubic : float
+        Cubic stiffness ``k3`` (N/m^3): the force gains ``k3 f(delta)^3``.
     """
 
     g: NDArray[np.float64]
@@ -60,6 +63,7 @@ class Line:
     damping: float
     backlash: Backlash
     error: TimeLaw
+    cubic: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -309,6 +313,59 @@ class Mesh(Element):
             damping=self.damping,
             backlash=self.backlash,  # type: ignore[arg-type]
             error=self.error.at_speed(speed),  # type: ignore[union-attr]
+        )
+        return Contribution(lines=(line,))
+
+
+@dataclass(frozen=True)
+class CubicSpring(Element):
+    """A spring with a cubic term along a projection: ``F = k1 delta + k3 delta^3 +
+    c d(delta)/dt``, ``delta = sum_i g_i q_i`` (a Duffing-type restoring force; a
+    negative ``k1`` with a positive ``k3`` gives the double well).
+
+    It is a nonlinear line like a mesh (no backlash, no error): time integration uses
+    the cubic term, linear analyses (modal, sweeps) only ``k1``.
+
+    Parameters
+    ----------
+    coefficients : mapping of str to float
+        DOF name -> projection coefficient ``g_i`` (m/m or m/rad).
+    stiffness : float
+        Linear stiffness ``k1`` (N/m), any sign.
+    cubic : float
+        Cubic stiffness ``k3`` (N/m^3), any sign.
+    damping : float
+        ``c`` (N s/m), >= 0.
+    """
+
+    coefficients: Mapping[str, float]
+    stiffness: float
+    cubic: float
+    damping: float = 0.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", "spring:" + "-".join(dict(self.coefficients)))
+        object.__setattr__(self, "coefficients", _coefficients(self.name, self.coefficients))
+        for fld in ("stiffness", "cubic"):
+            v = getattr(self, fld)
+            if not (isinstance(v, int | float) and np.isfinite(v)):
+                raise ModelError(f"{self.name}: {fld} must be a finite number, got {v!r}")
+        _nonneg(self.name, "damping", self.damping)
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return tuple(self.coefficients)
+
+    def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
+        line = Line(
+            g=np.array(list(self.coefficients.values())),
+            stiffness=Constant(float(self.stiffness)),
+            damping=self.damping,
+            backlash=Backlash(0.0),
+            error=Constant(0.0),
+            cubic=float(self.cubic),
         )
         return Contribution(lines=(line,))
 

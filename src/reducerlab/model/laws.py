@@ -72,6 +72,10 @@ class TimeLaw(ABC):
 
 def _check_finite(name: str, *values: float) -> None:
     for v in values:
+        if isinstance(v, float | int) and not isinstance(v, bool):
+            if math.isfinite(v):
+                continue
+            raise ModelError(f"{name}: parameters must be finite numbers, got {v!r}")
         try:
             ok = np.all(np.isfinite(np.real(np.asarray(v, dtype=complex))))
         except (TypeError, ValueError):

@@ -8,7 +8,7 @@ reference evaluation of the state derivative.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,7 +32,8 @@ def pack_laws(laws: Sequence[TimeLaw]) -> tuple[NDArray[np.int64], NDArray[np.fl
 
 @dataclass(frozen=True)
 class NonlinearSystem:
-    """``M q'' + C q' + K q + G^T [k(t) f(G q - e(t)) + c (G q' - e'(t))] = F(t)``.
+    """``M q'' + C q' + K q + G^T [k(t) f + k3 f^3 + c (G q' - e'(t))] = F(t)``, with
+    ``f = f(G q - e(t))`` the dead-zone (backlash) function of the line deflections.
 
     Attributes
     ----------
@@ -57,6 +58,9 @@ class NonlinearSystem:
         one DOF; a distribution after a change of coordinates).
     f_kind, f_params : ndarray
         Load laws (N or N m).
+    line_cubic : ndarray, shape (n_lines,)
+        Cubic stiffness ``k3`` of each line (N/m^3): the line force gains
+        ``k3 f(delta)^3`` (a Duffing-type spring); zeros by default.
     """
 
     dof_names: list[str]
@@ -74,6 +78,14 @@ class NonlinearSystem:
     load_matrix: NDArray[np.float64]
     f_kind: NDArray[np.int64]
     f_params: NDArray[np.float64]
+    line_cubic: NDArray[np.float64] = field(default=None)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        n_lines = self.G.shape[0]
+        cubic = np.zeros(n_lines) if self.line_cubic is None else np.asarray(self.line_cubic, float)
+        if cubic.shape != (n_lines,):
+            raise ReducerlabError(f"line_cubic must have shape ({n_lines},), got {cubic.shape}")
+        object.__setattr__(self, "line_cubic", cubic)
 
     @classmethod
     def from_laws(
@@ -115,7 +127,7 @@ class NonlinearSystem:
             delta = self.G[m] @ q - e
             h = self.half_backlash[m]
             f = delta - min(max(delta, -h), h)
-            out[m] = k * f + self.line_damping[m] * (self.G[m] @ v - de)
+            out[m] = k * f + self.line_cubic[m] * f**3 + self.line_damping[m] * (self.G[m] @ v - de)
         return out
 
     def external_forces(self, t: float) -> NDArray[np.float64]:
@@ -171,6 +183,7 @@ class NonlinearSystem:
             k_params=self.k_params,
             line_damping=self.line_damping,
             half_backlash=self.half_backlash,
+            line_cubic=self.line_cubic,
             e_kind=self.e_kind,
             e_params=self.e_params,
             load_matrix=S.T @ self.load_matrix,
