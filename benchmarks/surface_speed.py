@@ -1,0 +1,61 @@
+"""Benchmark: points per second of the enveloped tooth surface (paper 001), one core.
+
+Generates one flank of the external and of the internal gear of paper 000's nutation
+pair (26/28 teeth, nutation angle 5 deg, m_n = 2 mm, beta = 25 deg) from the involute
+and the double circular-arc (GB/T 12759) profiles on a 1000 x 1000 grid: crown surface
+(paper 001 Eq. 4), vectorised Newton solution of the meshing equation for every point,
+residual from ``kinematics.mesh.relative_velocity``, rigid map to the gear frame. The
+checks of ``generate_tooth`` are not included (they are per tooth, not per point).
+
+Run: ``OMP_NUM_THREADS=1 .venv/bin/python benchmarks/surface_speed.py``.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import math
+import os
+import platform
+import time
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("MKL_NUM_THREADS", "1")
+
+import numpy as np
+
+from reducerlab.geometry.bevel_surface import generate_flank, nutation_bevel_pair
+from reducerlab.geometry.profiles import DoubleCircularArcProfile, InvoluteProfile
+from reducerlab.geometry.spiral import CrownGear
+
+N_U = N_RHO = 1000
+
+
+def main() -> None:
+    ext, inn = nutation_bevel_pair(26, 28, math.radians(5))
+    print(f"date: {dt.date.today()}")
+    print(
+        f"machine: {platform.machine()}, {os.cpu_count()} cores (1 thread used), "
+        f"Python {platform.python_version()}, numpy {np.__version__}"
+    )
+    print(f"grid: {N_U} x {N_RHO} = {N_U * N_RHO} points per flank")
+    for prof in (InvoluteProfile(2e-3, math.radians(20)), DoubleCircularArcProfile(2e-3)):
+        crown = CrownGear.for_gear(prof, ext.teeth, ext.cone_angle, math.radians(25), 10e-3)
+        u = np.linspace(0, 1, N_U)
+        rho = np.linspace(*crown.rho_range, N_RHO)
+        for gear in (ext, inn):
+            times = []
+            for _ in range(3):
+                t = time.perf_counter()
+                f = generate_flank(crown, gear, u, rho, 1)
+                times.append(time.perf_counter() - t)
+            best = min(times)
+            print(
+                f"{prof.name:10s} {gear.kind:8s}: {best:.3f} s, "
+                f"{N_U * N_RHO / best / 1e6:.2f} M points/s, Newton iterations {f.iterations}, "
+                f"max residual {f.max_residual:.1e}"
+            )
+
+
+if __name__ == "__main__":
+    main()
