@@ -112,7 +112,7 @@ def _tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, 
                     tab[row, 3 * L + i, b] = acc
 
 
-@nb.njit(cache=True, inline="always", fastmath=_FM)
+@nb.njit(cache=True, fastmath=_FM)
 def _rhs(tab, row, y, out, MK, MC, MG, G, hb, cm, k3, d, dv, fm):
     """State derivative of every member of a block: ``out[2n, B]`` from ``y[2n, B]``."""
     n = MK.shape[0]
@@ -144,7 +144,7 @@ def _rhs(tab, row, y, out, MK, MC, MG, G, hb, cm, k3, d, dv, fm):
                 out[n + i, b] -= MG[i, m, b] * fm[b]
 
 
-@nb.njit(cache=True, fastmath=_FM)
+@nb.njit(cache=True, fastmath=_FM, inline="always")
 def _block(
     lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B_, f_kind, f_par,
     y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit,
@@ -280,6 +280,34 @@ def _block(
                 poincare[lo + b, n_keep, i] = y[i, b]
 
 
+# the block width is a compile-time constant in each of these (numba inlines _block),
+# so the compiler knows the trip count of the member loops
+@nb.njit(cache=True, fastmath=_FM)
+def _block_narrow(
+    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
+    status,
+):  # fmt: skip
+    _block(
+        lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
+    status, 8,
+    )  # fmt: skip
+
+
+@nb.njit(cache=True, fastmath=_FM)
+def _block_wide(
+    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
+    status,
+):  # fmt: skip
+    _block(
+        lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
+    status, BLOCK,
+    )  # fmt: skip
+
+
 @nb.njit(parallel=True, cache=True)
 def rk4_ensemble(
     Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par,
@@ -298,9 +326,8 @@ def rk4_ensemble(
     ``n_keep`` periods and at the end; ``hist`` (E, n_hist * N, 2n): every step of the
     last ``n_hist`` periods; ``status`` (E, 3): (failed flag, time, state index) when a
     state became non-finite or exceeded ``limit``. Rows after a failure stay NaN.
-    Members run in blocks of ``width`` (see :func:`block_width`).
+    Members run in blocks of ``width``: 8 or :data:`BLOCK` (see :func:`block_width`).
     """
-    width = nb.literally(width)
     E, n2 = y0.shape
     N = offs.shape[1]
     poincare = np.full((E, n_keep + 1, n2), np.nan)
@@ -310,9 +337,16 @@ def rk4_ensemble(
     for blk in nb.prange(n_blocks):
         lo = blk * width
         hi = min(E, lo + width)
-        _block(
-            lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
-            f_par, y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist,
-            limit, poincare, hist, status, width,
-        )  # fmt: skip
+        if width == BLOCK:
+            _block_wide(
+                lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
+                f_par, y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist,
+                limit, poincare, hist, status,
+            )  # fmt: skip
+        else:
+            _block_narrow(
+                lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
+                f_par, y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist,
+                limit, poincare, hist, status,
+            )  # fmt: skip
     return poincare, hist, status
