@@ -1,5 +1,5 @@
 """Command line: ``reducerlab modal``, ``sensitivity``, ``kinematics``, ``sweep``,
-``campbell``, ``check``, ``demo``.
+``campbell``, ``check``, ``surface``, ``demo``.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
 never as a traceback.
@@ -464,6 +464,131 @@ def response(
         "frequency"
     )
     err.print(f"wrote {output / 'response.nc'}, {output / 'response.png'}", highlight=False)
+
+
+class ProfileChoice(StrEnum):
+    involute = "involute"
+    double_arc = "double-arc"
+
+
+@app.command()
+def surface(
+    design: Annotated[Path, typer.Argument(help="Nutation design file (TOML) with [surface].")],
+    gear: Annotated[
+        int,
+        typer.Option("--gear", "-g", help="Gear number: 1, 3 nutating (internal); 2, 4 external."),
+    ] = 1,
+    profile: Annotated[
+        ProfileChoice | None,
+        typer.Option("--profile", help="Basic profile (default: the design's surface.profile)."),
+    ] = None,
+    export: Annotated[
+        Path | None,
+        typer.Option("--export", "-e", help="Write the solid: .stl, .ply or .step/.stp (mm)."),
+    ] = None,
+    points: Annotated[
+        int,
+        typer.Option("--points", "-n", help="Grid points along each flank and across the face."),
+    ] = 15,
+    tooth: Annotated[
+        bool, typer.Option("--tooth", help="Export one tooth sector instead of the whole gear.")
+    ] = False,
+    cloud: Annotated[
+        Path | None, typer.Option("--cloud", help="Write the flank point clouds (PLY, mm).")
+    ] = None,
+    png: Annotated[Path | None, typer.Option("--png", help="Render the tooth (PNG).")] = None,
+) -> None:
+    """Generate a gear's tooth surfaces (paper 001), check them, export a closed solid."""
+    import numpy as np
+    from rich.progress import Progress
+
+    from .drives import load_design
+    from .geometry import generate_tooth
+    from .geometry.export import MESH_FORMATS, export_mesh, export_point_cloud
+    from .geometry.solid import build_gear_solid
+
+    try:
+        if not 3 <= points <= 401:
+            raise ReducerlabError(f"--points: must be an integer in [3, 401]; got {points}")
+        if export is not None and export.suffix.lower() not in MESH_FORMATS:
+            raise ReducerlabError(
+                f"--export: unknown file type {export.suffix or '(none)'!r} in {export}; "
+                f"use one of {', '.join(MESH_FORMATS)}"
+            )
+        if png is not None and png.suffix.lower() != ".png":
+            raise ReducerlabError(f"--png: must name a .png file; got {png}")
+        if cloud is not None and cloud.suffix.lower() != ".ply":
+            raise ReducerlabError(f"--cloud: must name a .ply file; got {cloud}")
+        d = load_design(design)
+        if not hasattr(d, "tooth_generation"):
+            raise ReducerlabError(
+                f"{design}: type = {d.type!r}: tooth surfaces need a nutation design"
+            )
+        try:
+            crown, bevel = d.tooth_generation(gear, None if profile is None else profile.value)
+        except ValueError as exc:
+            if isinstance(exc, ReducerlabError):
+                raise
+            name = "--gear" if str(exc).startswith("gear must") else str(design)
+            raise ReducerlabError(f"{name}: {exc}") from None
+        with Progress(console=err, transient=True) as progress:
+            task = progress.add_task("tooth surfaces", total=None)
+            tooth_surface = generate_tooth(crown, bevel, points, points)
+            progress.update(task, description="sections and blank")
+            solid = build_gear_solid(
+                crown,
+                bevel,
+                n_profile=points,
+                n_face=points,
+                n_land=max(1, points // 5),
+                n_space=max(3, points // 2) | 1,
+                rim=d.surface.rim,
+                progress=lambda done, total: progress.update(task, completed=done, total=total),
+            )
+            if tooth:
+                mesh = solid.tooth_mesh()
+            else:
+                progress.update(task, description="patterning teeth", completed=0)
+                mesh = solid.gear_mesh(
+                    progress=lambda k, z: progress.update(task, completed=k, total=z)
+                )
+            written = []
+            if export is not None:
+                progress.update(task, description=f"writing {export.name}", total=None)
+                written.append(export_mesh(mesh, export))
+            if cloud is not None:
+                fl = solid.flank_points()
+                pts = [fl["A"][0], fl["B"][0]]
+                nrm = [fl["A"][1], fl["B"][1]]
+                written.append(export_point_cloud(
+                    np.concatenate(pts), np.concatenate(nrm), cloud
+                ))  # fmt: skip
+            if png is not None:
+                from .plot.surface import plot_tooth
+
+                png.parent.mkdir(parents=True, exist_ok=True)
+                plot_tooth(solid).savefig(png, dpi=130)
+                written.append(png)
+        closed = mesh.open_edges() == 0
+    except (ReducerlabError, OSError) as exc:
+        _fail(exc)
+        return
+    typer.echo(
+        f"gear {gear}: {bevel.kind}, z = {bevel.teeth}, pitch cone "
+        f"{math.degrees(bevel.cone_angle):.4f} deg, {crown.profile.name} profile, normal "
+        f"module {crown.profile.module * 1e3:.5g} mm, spiral angle "
+        f"{math.degrees(crown.spiral_angle):.4g} deg, face width {crown.face_width * 1e3:.5g} mm"
+    )
+    typer.echo(tooth_surface.report.summary())
+    typer.echo(
+        f"{'tooth sector' if tooth else 'gear'} solid: {len(mesh.faces)} triangles, "
+        f"{len(mesh.vertices)} vertices, volume {mesh.volume * 1e9:.6g} mm^3, "
+        f"{'closed (watertight)' if closed else 'NOT closed'}"
+    )
+    for note in solid.notes:
+        typer.echo(f"note: {note}")
+    for p in written:
+        err.print(f"wrote {p}", highlight=False)
 
 
 khv_app = typer.Typer(help="KHV planetary drive tools (paper 004).", no_args_is_help=True)

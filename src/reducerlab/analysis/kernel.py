@@ -30,7 +30,9 @@ __all__ = [
     "LAW_PIECEWISE",
     "block_width",
     "eval_law",
+    "law_values",
     "rk4_ensemble",
+    "step_grid",
 ]
 
 from ..model.laws import LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE
@@ -75,6 +77,65 @@ def eval_law(kind: int, p: np.ndarray, t: float) -> tuple[float, float]:
             der = der * s + val
         val = val * s + p[base + q]
     return val, der / period
+
+
+@nb.njit(cache=True)
+def step_grid(edges, counts, N):
+    """Step starts and lengths (phases) of ``N`` steps per period for each member, whose
+    period is cut at ``edges[e, :counts[e]]`` (increasing, starting at 0, ending at 1):
+    each segment gets its share of ``N`` by largest remainder and at least one step."""
+    E = edges.shape[0]
+    offs = np.empty((E, N))
+    dts = np.empty((E, N))
+    for e in range(E):
+        S = counts[e] - 1
+        raw = np.empty(S)
+        steps = np.empty(S, np.int64)
+        total = 0
+        for j in range(S):
+            raw[j] = N * (edges[e, j + 1] - edges[e, j])
+            steps[j] = max(1, math.floor(raw[j]))
+            total += steps[j]
+        while total < N:
+            best, jb = -np.inf, 0
+            for j in range(S):
+                if raw[j] - steps[j] > best:
+                    best, jb = raw[j] - steps[j], j
+            steps[jb] += 1
+            total += 1
+        while total > N:
+            best, jb = np.inf, -1
+            for j in range(S):
+                if steps[j] > 1 and raw[j] - steps[j] < best:
+                    best, jb = raw[j] - steps[j], j
+            steps[jb] -= 1
+            total -= 1
+        q = 0
+        for j in range(S):
+            a, b = edges[e, j], edges[e, j + 1]
+            for i in range(steps[j]):
+                offs[e, q] = a + (b - a) * i / steps[j]
+                dts[e, q] = (b - a) / steps[j]
+                q += 1
+    return offs, dts
+
+
+@nb.njit(cache=True, parallel=True)
+def law_values(kinds, params, times):
+    """Values ``(E, P, L)`` of the laws ``kinds`` (L,) with per-member ``params``
+    (E, L, width) at per-member ``times`` (E, P); NaN where the time is NaN."""
+    E, P = times.shape
+    L = kinds.shape[0]
+    out = np.empty((E, P, L))
+    for e in nb.prange(E):
+        for p in range(P):
+            t = times[e, p]
+            for m in range(L):
+                if math.isnan(t):
+                    out[e, p, m] = np.nan
+                else:
+                    out[e, p, m] = eval_law(kinds[m], params[e, m], t)[0]
+    return out
 
 
 @nb.njit(cache=True)

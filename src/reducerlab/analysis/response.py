@@ -127,29 +127,6 @@ class _Prepared:
     steps: int
 
 
-def _step_grid(breaks: NDArray[np.float64], N: int) -> tuple[NDArray, NDArray]:
-    """Split one period (phase 0 to 1, cut at ``breaks``) into exactly ``N`` steps: each
-    segment gets its share of ``N`` by largest remainder, at least one step. Returns the
-    step starts and lengths as phases."""
-    edges = np.append(breaks, 1.0)
-    lengths = np.diff(edges)
-    raw = N * lengths
-    steps = np.maximum(1, np.floor(raw).astype(np.int64))
-    while steps.sum() < N:
-        steps[np.argmax(raw - steps)] += 1
-    while steps.sum() > N:
-        can = np.nonzero(steps > 1)[0]
-        steps[can[np.argmin((raw - steps)[can])]] -= 1
-    starts = np.concatenate(
-        [
-            a + (b - a) * np.arange(k) / k
-            for a, b, k in zip(edges[:-1], edges[1:], steps, strict=True)
-        ]
-    )
-    size = np.repeat(lengths / steps, steps)
-    return starts, size
-
-
 def _repeats_within(s: NonlinearSystem, T: float) -> bool:
     """Every law of ``s`` has a period that divides ``T`` (or is constant)."""
     for kinds, params in ((s.k_kind, s.k_params), (s.e_kind, s.e_params), (s.f_kind, s.f_params)):
@@ -164,26 +141,36 @@ def _repeats_within(s: NonlinearSystem, T: float) -> bool:
 
 
 def _prepare(
-    systems: Sequence[NonlinearSystem], steps_per_period: int | None, period: float | None
+    systems: Sequence[NonlinearSystem],
+    steps_per_period: int | None,
+    period: float | None,
+    check: bool = True,
 ) -> _Prepared:
     """Check an ensemble and stack its arrays for the kernel (member axis first)."""
-    _check_structure(systems)
+    if check:
+        _check_structure(systems)
     if period is not None and not (isinstance(period, int | float) and period > 0):
         raise ReducerlabError(f"period must be > 0 s, got {period!r}")
+    from .kernel import step_grid
+
+    E = len(systems)
     T = np.array([period if period is not None else forcing_period(s) for s in systems])
-    N = steps_per_period or max(steps_for(s, t) for s, t in zip(systems, T, strict=True))
+    Minv = np.linalg.inv(np.stack([s.M for s in systems]))
+    N = steps_per_period or _steps_batch(systems, T, Minv)
     if not (isinstance(N, int) and N >= 4):
         raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
     for s, t in zip(systems, T, strict=True):
         _check_commensurate(s, t)
     brk = [_breaks(s, t) for s, t in zip(systems, T, strict=True)]
     N = max(N, max(len(b) for b in brk))
-    E = len(systems)
-    offs = np.empty((E, N))
-    dts = np.empty((E, N))
+    edges = np.ones((E, max(len(b) for b in brk) + 1))
+    counts = np.empty(E, np.int64)
     for e, b in enumerate(brk):
-        a, h = _step_grid(b, N)
-        offs[e], dts[e] = a * T[e], h * T[e]
+        edges[e, : len(b)] = b
+        counts[e] = len(b) + 1
+    offs, dts = step_grid(edges, counts, N)
+    offs *= T[:, None]
+    dts *= T[:, None]
     widths = {
         name: max(getattr(s, name).shape[1] if getattr(s, name).ndim == 2 else 1 for s in systems)
         for name in ("k_params", "e_params", "f_params")
@@ -199,7 +186,7 @@ def _prepare(
     s0 = systems[0]
     pad = np.stack
     arrays = (
-        pad([np.linalg.inv(s.M) for s in systems]), pad([s.C for s in systems]),
+        Minv, pad([s.C for s in systems]),
         pad([s.K for s in systems]), pad([s.G for s in systems]), s0.k_kind,
         params("k_params"), pad([s.line_damping for s in systems]),
         pad([s.half_backlash for s in systems]), pad([s.line_cubic for s in systems]),
@@ -208,6 +195,18 @@ def _prepare(
     )  # fmt: skip
     periodic = all(_repeats_within(s, t) for s, t in zip(systems, T, strict=True))
     return _Prepared(arrays, T, offs, dts, periodic, N)
+
+
+def _steps_batch(
+    systems: Sequence[NonlinearSystem], T: NDArray, Minv: NDArray, accuracy: float = 0.25
+) -> int:
+    """:func:`steps_for` of every member at once (batched eigenvalues), the largest."""
+    K = np.stack([_mean_stiffness(s) for s in systems])
+    Lc = np.linalg.cholesky(np.stack([s.M for s in systems]))
+    A = np.linalg.solve(Lc, np.swapaxes(np.linalg.solve(Lc, K), 1, 2))
+    lam = np.linalg.eigvalsh(0.5 * (A + np.swapaxes(A, 1, 2))).max(axis=1)
+    w = np.sqrt(np.maximum(lam, 0.0))
+    return max(32, int(np.ceil(np.max(T * w) / accuracy)))
 
 
 def steps_for(s: NonlinearSystem, T: float, accuracy: float = 0.25) -> int:
@@ -272,7 +271,7 @@ def ensemble(
     period : float, optional
         Sampling period (s) when the systems have no periodic law.
     """
-    from .kernel import block_width, rk4_ensemble
+    from .kernel import block_width, law_values, rk4_ensemble
 
     _check_structure(systems)
     s0 = systems[0]
@@ -289,7 +288,7 @@ def ensemble(
             raise ReducerlabError(
                 f"y0 must have shape ({2 * n},) or ({E}, {2 * n}), got {y0.shape}"
             )
-    prep = _prepare(systems, steps_per_period, period)
+    prep = _prepare(systems, steps_per_period, period, check=False)
     T, N = prep.period, prep.steps
     Y0 = (
         np.zeros((E, 2 * n))
@@ -322,16 +321,12 @@ def ensemble(
         .reshape(E, history * N)
     )  # fmt: skip
     width = tH.shape[1]
-    eP = np.array(
-        [[[_law_value(s.e_kind[m], s.e_params[m], t) for m in range(L)] for t in tP[i]]
-         for i, s in enumerate(systems)]
-    ).reshape(E, keep + 1, L)  # fmt: skip
+    e_kind, e_par = prep.arrays[9], prep.arrays[10]
+    eP = law_values(e_kind, e_par, np.ascontiguousarray(tP * np.ones((E, 1))))
     dP = np.einsum("eln,epn->epl", G, poincare[:, :, :n]) - eP
     if history:
         hist = hist[:, :width]
-        eH = np.array([[[_law_value(s.e_kind[m], s.e_params[m], t) if np.isfinite(t) else np.nan
-                         for m in range(L)] for t in tH[i]]
-                       for i, s in enumerate(systems)]).reshape(E, width, L)  # fmt: skip
+        eH = law_values(e_kind, e_par, np.ascontiguousarray(tH))
         dH = np.einsum("eln,epn->epl", G, hist[:, :, :n]) - eH
     else:
         dH = np.empty((E, 0, L))

@@ -43,3 +43,27 @@ __all__ += [
     "generate_tooth",
     "nutation_bevel_pair",
 ]
+
+# paper 001, issue 9 item 4: closed gear solids and their export (trimesh imported lazily)
+from .export import export_mesh, export_point_cloud, export_step, load_mesh  # noqa: E402
+from .solid import (  # noqa: E402
+    Blank,
+    GearSolid,
+    SolidError,
+    TriangleMesh,
+    build_gear_solid,
+    independent_volume_estimate,
+)
+
+__all__ += [
+    "Blank",
+    "GearSolid",
+    "SolidError",
+    "TriangleMesh",
+    "build_gear_solid",
+    "export_mesh",
+    "export_point_cloud",
+    "export_step",
+    "independent_volume_estimate",
+    "load_mesh",
+]

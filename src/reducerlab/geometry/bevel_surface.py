@@ -153,7 +153,7 @@ def paper001_family_point(
     ``x_i, y_i, z_i`` as printed, with ``[y_n -+ s/2] = y`` (profile ``y`` including the
     half thickness) and ``e^{theta cot(beta)} = rho`` (``theta = tan(beta) ln(rho/R_m)``).
     This is the *family* of crown surfaces in ``S_i``, not the envelope; for ``i = 2``
-    it is not a rigid motion of the crown surface (see ``docs/paper001_notes.md``).
+    it is not a rigid motion of the crown surface (see ``docs/tooth_surfaces.md``).
     """
     x_n, Y, E = (np.asarray(v, float) for v in (x_n, y, rho))
     phi_i, phi_c = np.asarray(phi_i, float), np.asarray(phi_c, float)
