@@ -67,3 +67,13 @@ def test_custom_drive_python_example(capsys):
     )
     res = modal(model)
     assert res.frequencies[0] == 0.0 and np.all(res.frequencies[1:] > 0)
+
+
+def test_paper_001_figures_example(tmp_path):
+    path = example_dir() / "paper_001_figures.py"
+    spec = importlib.util.spec_from_file_location("paper_001_figures", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    mod.main(tmp_path)
+    for name in ("tooth_involute.png", "tooth_double_arc.png", "pair_in_mesh.png"):
+        assert (tmp_path / name).stat().st_size > 10_000

@@ -473,7 +473,7 @@ class ProfileChoice(StrEnum):
 
 @app.command()
 def surface(
-    design: Annotated[Path, typer.Argument(help="Nutation design file (TOML) with [surface].")],
+    design: Annotated[Path, typer.Argument(help="Nutation design file (TOML), surface table")],
     gear: Annotated[
         int,
         typer.Option("--gear", "-g", help="Gear number: 1, 3 nutating (internal); 2, 4 external."),
