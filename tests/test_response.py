@@ -222,6 +222,26 @@ def test_bifurcation_resumes_and_runs_on_dask(tmp_path):
     np.testing.assert_array_equal(dask.data["poincare"].values, first.data["poincare"].values)
 
 
+def test_bifurcation_worker_processes_and_interpolated_members_change_nothing():
+    design = load_design(example_dir() / "khv.toml")
+    kw = dict(periods=30, keep=4)
+    # per-value builds in two forked processes, overlapped with the integration
+    axis = Axis.linspace("gears.x1", 0.45, 0.8, 6)
+    alone = bifurcation(design, axis, chunk_size=2, workers=1, **kw)
+    forked = bifurcation(design, axis, chunk_size=2, workers=2, **kw)
+    np.testing.assert_array_equal(forked.data["poincare"].values, alone.data["poincare"].values)
+    with pytest.raises(ReducerlabError, match="workers must be a positive integer"):
+        bifurcation(design, axis, workers=0, **kw)
+    # the half backlash enters the flat arrays affinely: with more than 8 values the
+    # members are interpolated from the ends (after a 4-point affinity check); with 3
+    # values they are rebuilt one by one. The same values give the same points.
+    many = bifurcation(design, Axis.linspace("mesh.half_backlash", 1e-6, 3e-6, 9), **kw)
+    few = bifurcation(design, Axis("mesh.half_backlash", [1e-6, 2e-6, 3e-6]), **kw)
+    np.testing.assert_allclose(
+        many.data["poincare"].values[[0, 4, 8]], few.data["poincare"].values, rtol=1e-9
+    )
+
+
 def test_dimensionless_form_is_the_same_motion():
     # paper 004 Eq. 13-16: tau = omega_n t, X/b_c; with the same steps per period the
     # RK4 grids map onto each other, so the states agree to round-off
@@ -293,3 +313,23 @@ def test_review_regressions(tmp_path):
     law = PiecewisePolynomial(0.0037, (0.0, 0.5), ((1e6,), (2e6,)))
     with pytest.raises(ReducerlabError, match="does not repeat within the sampling period"):
         ensemble([rattle(k_law=law)], periods=2, keep=1, period=0.01)
+
+
+def test_affinity_probe_is_element_by_element():
+    # the stiffness law's row mixes its period (ms, ~ 1/speed) with coefficients of
+    # 1e8 N/m: the probe must see the 1/speed dependence, not hide it under the scale
+    from reducerlab.analysis.nonlinear import _Members
+    from reducerlab.analysis.response import rigid_reduction
+    from reducerlab.analysis.sweep import _Evaluator, _resolve
+    from reducerlab.drives import build_model
+
+    design = load_design(example_dir() / "khv.toml")
+    model = build_model(design)
+    found = {}
+    for path, lo, hi in (("mesh.half_backlash", 1e-6, 3e-6), ("input_speed", 100.0, 200.0),
+                         ("gears.x1", 0.45, 0.8)):  # fmt: skip
+        ev = _Evaluator(design.model_dump(mode="python"), model, (_resolve(design, model, path),))
+        members = _Members(ev, rigid_reduction(model.nonlinear()))
+        members.probe(lo, hi)
+        found[path] = members.affine is not None
+    assert found == {"mesh.half_backlash": True, "input_speed": False, "gears.x1": False}

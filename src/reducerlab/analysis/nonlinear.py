@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -19,7 +19,16 @@ from ..design import Design
 from ..errors import ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
-from .response import ensemble, forcing_period, lyapunov, static_state, to_system
+from .response import (
+    elastic_names,
+    ensemble,
+    forcing_period,
+    lyapunov,
+    rigid_reduction,
+    static_state,
+    static_states,
+    to_system,
+)
 from .sweep import Axis, _Evaluator, _resolve
 
 if TYPE_CHECKING:
@@ -49,6 +58,7 @@ def bifurcation(
     scheduler: Any = None,
     exponents: bool = False,
     progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
 ) -> BifurcationResult:
     """Bifurcation diagram: Poincaré points of a mesh deflection against a parameter.
 
@@ -65,6 +75,12 @@ def bifurcation(
     cluster. With ``exponents``, the largest Lyapunov exponent of every value is
     computed over the kept periods and :meth:`BifurcationResult.labels` / the figure's
     band give period-n, quasi-periodic or chaotic.
+
+    Flat systems are built once per value, unless every flat array is affine in the
+    value (checked at four values: then they are interpolated, exactly). Per-value
+    builds (Python) run in ``workers`` forked processes (default: one per core when
+    there are at least 200 values; 1 = in this process), overlapped with the compiled
+    integration of the previous chunk.
     """
     from ..drives import build_model
 
@@ -106,8 +122,15 @@ def bifurcation(
     def chunk_file(i: int) -> Path | None:
         return None if folder is None else folder / "chunks" / f"chunk_{i:05d}.npy"
 
+    members = _Members(ev, rigid_reduction(base))
+    if values.size > 8:
+        members.probe(float(values.min()), float(values.max()))
+    if workers is None:
+        workers = (os.cpu_count() or 1) if values.size >= 200 else 1
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ReducerlabError(f"workers must be a positive integer, got {workers!r}")
     job = _BifurcationChunk(
-        ev, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents)
+        members, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents)
     )
     results: dict[int, NDArray] = {}
     todo = []
@@ -137,12 +160,36 @@ def bifurcation(
             if client is not scheduler:
                 client.close()
     else:
-        for i in todo:
-            results[i] = job(chunks[i])
-            _save(chunk_file(i), results[i])
-            done += len(chunks[i])
-            if progress:
-                progress(done, values.size)
+        pool = None
+        if workers > 1 and members.affine is None and todo:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            # fork: the children only build models (no compiled parallel code runs
+            # in them), and start without re-importing
+            pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"))
+
+        def submit(i: int) -> list:
+            parts = np.array_split(chunks[i], workers)
+            return [pool.submit(members, part) for part in parts if part.size]
+
+        try:
+            pending = submit(todo[0]) if pool else None
+            for k, i in enumerate(todo):
+                if pool is None:
+                    systems = members(chunks[i])
+                else:
+                    systems = [s for fut in pending for s in fut.result()]
+                    if k + 1 < len(todo):
+                        pending = submit(todo[k + 1])  # built while this chunk integrates
+                results[i] = job.integrate(chunks[i], systems)
+                _save(chunk_file(i), results[i])
+                done += len(chunks[i])
+                if progress:
+                    progress(done, values.size)
+        finally:
+            if pool is not None:
+                pool.shutdown(cancel_futures=True)
     points = np.concatenate([results[i] for i in range(len(chunks))])
     exponent = points[:, keep] if exponents else None
     points = points[:, :keep]
@@ -193,11 +240,77 @@ def _save(path: Path | None, arr: NDArray) -> None:
     os.replace(tmp, path)
 
 
+#: Float arrays of a NonlinearSystem that may change with a parameter.
+_FLAT = ("M", "C", "K", "G", "k_params", "line_damping", "half_backlash", "line_cubic",
+         "e_params", "load_matrix", "f_params")  # fmt: skip
+
+
+@dataclass
+class _Members:
+    """Flat systems (rigid motion removed) of parameter values: the model rebuilt per
+    value, or, when every flat array is affine in the value (checked at both ends and
+    two interior points), interpolated from the two ends: exact, and no rebuilds."""
+
+    ev: _Evaluator
+    T: NDArray | None  # rigid-motion reduction of the base model, shared by the members
+    affine: tuple[float, NonlinearSystem, dict[str, NDArray]] | None = None
+
+    def one(self, v: float) -> NonlinearSystem:
+        s = self.ev.model_at([v]).nonlinear()
+        if self.T is not None:
+            try:
+                return s.reduced(self.T, elastic_names(self.T))[0]
+            except ReducerlabError:  # the value changed the rigid motion itself
+                pass
+        return to_system(s)
+
+    def probe(self, lo: float, hi: float) -> None:
+        """Detect affine dependence on the value over [lo, hi]."""
+        if not hi > lo:
+            return
+        pts = [lo, hi, lo + 0.37 * (hi - lo), lo + 0.61 * (hi - lo)]
+        try:
+            ss = [self.one(p) for p in pts]
+        except ReducerlabError:
+            return  # let the per-value path report the failing value
+        base, top = ss[0], ss[1]
+        for o in ss[1:]:
+            if o.dof_names != base.dof_names or any(
+                not np.array_equal(getattr(o, k), getattr(base, k))
+                for k in ("k_kind", "e_kind", "f_kind")
+            ):
+                return
+            if any(getattr(o, f).shape != getattr(base, f).shape for f in _FLAT):
+                return
+        d = {f: (getattr(top, f) - getattr(base, f)) / (hi - lo) for f in _FLAT}
+        for p, o in zip(pts[2:], ss[2:], strict=True):
+            for f in _FLAT:
+                # element by element (an array may mix periods in ms with stiffness
+                # coefficients in 1e8 N/m): relative to the element's own size
+                got = getattr(o, f)
+                want = getattr(base, f) + (p - lo) * d[f]
+                size = np.maximum.reduce(
+                    [np.abs(got), np.abs(want), np.abs(getattr(base, f)), np.abs(getattr(top, f))]
+                )
+                if np.any(np.abs(got - want) > 1e-11 * size):
+                    return
+        self.affine = (lo, base, d)
+
+    def __call__(self, chunk: NDArray) -> list[NonlinearSystem]:
+        if self.affine is None:
+            return [self.one(float(v)) for v in chunk]
+        lo, base, d = self.affine
+        return [
+            replace(base, **{f: getattr(base, f) + (float(v) - lo) * d[f] for f in _FLAT})
+            for v in chunk
+        ]
+
+
 @dataclass
 class _BifurcationChunk:
     """Poincare points of one chunk of parameter values (picklable for Dask)."""
 
-    ev: _Evaluator
+    members: _Members
     path: str
     periods: int
     keep: int
@@ -207,8 +320,10 @@ class _BifurcationChunk:
     exponents: bool = False
 
     def __call__(self, chunk: NDArray) -> NDArray:
-        systems = [to_system(self.ev.model_at([v])) for v in chunk]
-        y0 = np.array([static_state(s) for s in systems])
+        return self.integrate(chunk, self.members(chunk))
+
+    def integrate(self, chunk: NDArray, systems: list[NonlinearSystem]) -> NDArray:
+        y0 = static_states(systems)
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
             labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0,

@@ -38,6 +38,7 @@ __all__ = [
     "lyapunov",
     "simulate_reference",
     "static_state",
+    "static_states",
     "steps_for",
     "to_system",
 ]
@@ -48,14 +49,28 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
     s = model.nonlinear() if isinstance(model, Model) else model
     if not reduce_rigid:
         return s
+    T = rigid_reduction(s)
+    if T is None:
+        return s
+    return s.reduced(T, elastic_names(T))[0]
+
+
+def rigid_reduction(s: NonlinearSystem) -> NDArray[np.float64] | None:
+    """Rows ``T`` (n - r, n) of the relative coordinates ``u = T q`` that remove the rigid
+    motion of ``s`` (the mass-weighted elastic modes of the mean stiffness), or None
+    when ``s`` has no rigid motion. Any ``T`` with the same null space serves another
+    system of the same topology (see :meth:`NonlinearSystem.reduced`)."""
     k_mean = _mean_stiffness(s)
     lam, V = scipy.linalg.eigh(k_mean, s.M)
     rigid = np.abs(lam) <= 1e-10 * max(np.abs(lam).max(), np.finfo(float).tiny)
     if not rigid.any():
-        return s
-    T = V[:, ~rigid].T @ s.M
-    names = [f"elastic_{i + 1}" for i in range(T.shape[0])]
-    return s.reduced(T, names)[0]
+        return None
+    return V[:, ~rigid].T @ s.M
+
+
+def elastic_names(T: NDArray[np.float64]) -> list[str]:
+    """Coordinate names of a reduction ``T``."""
+    return [f"elastic_{i + 1}" for i in range(T.shape[0])]
 
 
 def _mean_stiffness(s: NonlinearSystem) -> NDArray[np.float64]:
@@ -217,6 +232,19 @@ def steps_for(s: NonlinearSystem, T: float, accuracy: float = 0.25) -> int:
     lam = scipy.linalg.eigh(k_mean, s.M, eigvals_only=True)
     w = math.sqrt(max(lam.max(), 0.0))
     return max(32, math.ceil(T * w / accuracy))
+
+
+def static_states(systems: Sequence[NonlinearSystem]) -> NDArray[np.float64]:
+    """:func:`static_state` of every member (one batched solve), shape (E, 2n)."""
+    if not systems:
+        return np.empty((0, 0))
+    K = np.stack([_mean_stiffness(s) for s in systems])
+    F = np.stack([s.external_forces(0.0) for s in systems])
+    try:
+        q = np.linalg.solve(K, F[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        return np.array([static_state(s) for s in systems])
+    return np.concatenate([q, np.zeros_like(q)], axis=1)
 
 
 @dataclass(frozen=True)

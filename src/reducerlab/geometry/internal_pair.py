@@ -20,7 +20,8 @@ assembly), and tips that are not pointed.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from functools import cached_property
 
 from scipy.optimize import brentq
 
@@ -104,7 +105,6 @@ class InternalGearPair:
     pressure_angle: float = math.radians(20.0)
     face_width: float = 0.0
     min_tip_thickness: float = 0.25
-    _cache: dict = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         for name in ("z1", "z2"):
@@ -131,13 +131,13 @@ class InternalGearPair:
             )
 
     # ------------------------------------------------------------- basic geometry
-    @property
+    @cached_property
     def working_pressure_angle(self) -> float:
         """alpha' (rad) from the zero-backlash condition."""
         a = self.pressure_angle
         return inv_inverse(inv(a) + 2 * (self.x2 - self.x1) * math.tan(a) / (self.z2 - self.z1))
 
-    @property
+    @cached_property
     def centre_distance(self) -> float:
         """Working centre distance a' (m)."""
         a, aw = self.pressure_angle, self.working_pressure_angle
@@ -165,14 +165,14 @@ class InternalGearPair:
             return 0.0  # ring tip inside its base circle: no involute there
         return math.acos(ratio)
 
-    @property
+    @cached_property
     def contact_ratio(self) -> float:
         """Transverse contact ratio of the internal pair."""
         aw = math.tan(self.working_pressure_angle)
         t1, t2 = math.tan(self.tip_pressure_angle(1)), math.tan(self.tip_pressure_angle(2))
         return (self.z1 * (t1 - aw) - self.z2 * (t2 - aw)) / (2 * math.pi)
 
-    @property
+    @cached_property
     def base_pitch(self) -> float:
         """p_b = pi m cos(alpha) (m)."""
         return math.pi * self.module * math.cos(self.pressure_angle)

@@ -40,6 +40,15 @@ class Matrices:
     K: NDArray[np.float64]
 
 
+def _scatter(target: NDArray, idx: list[int], block: Any) -> None:
+    """``target[ix_(idx, idx)] += block`` for the small blocks of elements (no index
+    arrays built: elements couple one to a few DOFs)."""
+    if len(idx) == 1:
+        target[idx[0], idx[0]] += block[0][0] if np.ndim(block) == 2 else block
+        return
+    target[np.ix_(idx, idx)] += block
+
+
 class Model:
     """A lumped-parameter model: named DOFs and elements.
 
@@ -188,10 +197,9 @@ class Model:
         for e in self.elements:
             idx = [self.index[d] for d in e.dofs]
             c = self._local(e)
-            ix = np.ix_(idx, idx)
             for target, block in ((M, c.mass), (C, c.damping), (K, c.stiffness)):
                 if block is not None:
-                    target[ix] += block
+                    _scatter(target, idx, block)
             for j, line in enumerate(c.lines):
                 g = np.zeros(n)
                 g[idx] = line.g

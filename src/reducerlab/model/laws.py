@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -278,7 +279,7 @@ class PiecewisePolynomial(TimeLaw):
         powers = s[..., None] ** (p - 1)
         return np.sum(c[..., 1:] * p * powers, axis=-1) / self.period
 
-    @property
+    @cached_property
     def mean(self) -> float:  # type: ignore[override]
         c = np.asarray(self.coefficients)
         edges = np.append(np.asarray(self.breaks), 1.0)
