@@ -181,6 +181,11 @@ def test_response_outputs_and_cli(tmp_path):
     assert res.peaks(1)[0][0] == pytest.approx(1.0, abs=0.01)
     assert res.data.attrs["dynamic_load_factor"] > 1.0
     assert res.data.attrs["mean_mesh_force"] == pytest.approx(10.0, rel=1e-3)
+    ds = res.data
+    # DTE = deflection + static error; the dynamic load averages 1 over whole periods
+    np.testing.assert_allclose(ds["dte"], ds["delta"] + ds["static_error"], atol=1e-18)
+    assert float(ds["dynamic_load"].mean()) == pytest.approx(1.0, rel=1e-3)
+    assert float(ds["dynamic_load"].max()) == pytest.approx(ds.attrs["dynamic_load_factor"])
     assert res.plot().axes
     p = res.save(tmp_path / "r.nc")
     assert ResponseResult.load(p).data["delta"].size == res.data["delta"].size

@@ -400,6 +400,10 @@ def bifurcation(
     classify: Annotated[
         bool, typer.Option(help="Lyapunov exponents and motion classes (slower).")
     ] = False,
+    workers: Annotated[
+        int | None,
+        typer.Option(help="Processes building the models (default: one per core).", min=1),
+    ] = None,
 ) -> None:
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter."""
     from rich.progress import Progress
@@ -415,7 +419,7 @@ def bifurcation(
             task = progress.add_task("bifurcation", total=None)
             res = run_bifurcation(
                 d, axis, periods=periods, keep=keep, steps_per_period=steps,
-                output=output, scheduler=scheduler, exponents=classify,
+                output=output, scheduler=scheduler, exponents=classify, workers=workers,
                 progress=lambda done, total: progress.update(task, completed=done, total=total),
             )  # fmt: skip
         output.mkdir(parents=True, exist_ok=True)

@@ -174,8 +174,10 @@ def _tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, 
 
 
 @nb.njit(cache=True, fastmath=_FM)
-def _rhs(tab, row, y, out, MK, MC, MG, G, hb, cm, k3, d, dv, fm):
-    """State derivative of every member of a block: ``out[2n, B]`` from ``y[2n, B]``."""
+def _rhs(tab, row, y, out, MK, MC, pi, pj, MG, G, hb, cm, k3, d, dv, fm):
+    """State derivative of every member of a block: ``out[2n, B]`` from ``y[2n, B]``;
+    ``(pi, pj)`` are the entries of ``M^-1 K`` and ``M^-1 C`` that are nonzero for some
+    member (in modal coordinates after rigid-motion removal ``M^-1 K`` is diagonal)."""
     n = MK.shape[0]
     L = G.shape[0]
     B = y.shape[1]
@@ -183,10 +185,11 @@ def _rhs(tab, row, y, out, MK, MC, MG, G, hb, cm, k3, d, dv, fm):
         for b in range(B):
             out[i, b] = y[n + i, b]
             out[n + i, b] = tab[row, 3 * L + i, b]
-    for i in range(n):
-        for j in range(n):
-            for b in range(B):
-                out[n + i, b] -= MK[i, j, b] * y[j, b] + MC[i, j, b] * y[n + j, b]
+    for p in range(pi.shape[0]):
+        i = pi[p]
+        j = pj[p]
+        for b in range(B):
+            out[n + i, b] -= MK[i, j, b] * y[j, b] + MC[i, j, b] * y[n + j, b]
     for m in range(L):
         for b in range(B):
             d[b] = -tab[row, L + m, b]
@@ -262,6 +265,20 @@ def _block(
                 for r in range(n):
                     acc += Minv[e, i, r] * B_[e, r, j]
                 MB[e - lo, i, j] = acc
+    # entries of M^-1 K, M^-1 C nonzero for some member of the block
+    pi = np.empty(n * n, np.int64)
+    pj = np.empty(n * n, np.int64)
+    npairs = 0
+    for i in range(n):
+        for j in range(n):
+            for b in range(nb_):
+                if MK[i, j, b] != 0.0 or MC[i, j, b] != 0.0:
+                    pi[npairs] = i
+                    pj[npairs] = j
+                    npairs += 1
+                    break
+    pi = pi[:npairs]
+    pj = pj[:npairs]
     tab = np.zeros((3 * N, 3 * L + n, nb_))
     k1 = np.empty((n2, nb_))
     k2 = np.empty((n2, nb_))
@@ -292,19 +309,19 @@ def _block(
                         poincare[lo + b, p - (n_periods - n_keep), i] = y[i, b]
         for q in range(N):
             r0 = 3 * q
-            _rhs(tab, r0, y, k1, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            _rhs(tab, r0, y, k1, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
             for i in range(n2):
                 for b in range(nb_):
                     tmp[i, b] = y[i, b] + 0.5 * dtb[q, b] * k1[i, b]
-            _rhs(tab, r0 + 1, tmp, k2, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            _rhs(tab, r0 + 1, tmp, k2, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
             for i in range(n2):
                 for b in range(nb_):
                     tmp[i, b] = y[i, b] + 0.5 * dtb[q, b] * k2[i, b]
-            _rhs(tab, r0 + 1, tmp, k3s, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            _rhs(tab, r0 + 1, tmp, k3s, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
             for i in range(n2):
                 for b in range(nb_):
                     tmp[i, b] = y[i, b] + dtb[q, b] * k3s[i, b]
-            _rhs(tab, r0 + 2, tmp, k4, MK, MC, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+            _rhs(tab, r0 + 2, tmp, k4, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
             for b in range(nb_):
                 tot[b] = 0.0
             for i in range(n2):

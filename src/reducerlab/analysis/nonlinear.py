@@ -543,9 +543,28 @@ def response(
     eP = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in tP])
     data = xr.Dataset(
         {
-            "delta": ("time", delta, {"units": "m", "long_name": "mesh deflection (DTE)"}),
+            "delta": (
+                "time",
+                delta,
+                {"units": "m", "long_name": "mesh deflection delta = G q - e (tooth compliance)"},
+            ),
+            "dte": (
+                "time",
+                H[:, :n] @ g,
+                {
+                    "units": "m",
+                    "long_name": "dynamic transmission error G q along the line "
+                    "of action (delta + e)",
+                },
+            ),
+            "static_error": ("time", e[:, 0], {"units": "m", "long_name": "e(t)"}),
             "delta_velocity": ("time", dvel, {"units": "m/s"}),
-            "mesh_force": ("time", force, {"units": "N"}),
+            "mesh_force": ("time", force, {"units": "N", "long_name": "dynamic mesh force"}),
+            "dynamic_load": (
+                "time",
+                force / mean_force if mean_force else np.full_like(force, np.nan),
+                {"units": "1", "long_name": "mesh force / mean mesh force"},
+            ),
             "poincare_delta": ("point", P[:, :n] @ g - eP[:, 0], {"units": "m"}),
             "poincare_velocity": ("point", P[:, n:] @ g - eP[:, 1], {"units": "m/s"}),
         },
