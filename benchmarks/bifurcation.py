@@ -110,11 +110,12 @@ def main() -> None:
         f"machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
     )
     print(f"KHV (3 elastic DOF) {n_values} values x {PERIODS} mesh periods:")
-    print(f"  model building: {t_build:.2f} s; kernel (best of 3): {t_kernel:.2f} s")
+    print(f"  serial per-value model building (one process): {t_build:.2f} s")
+    print(f"  kernel (ensemble() on the built systems, best of 3): {t_kernel:.2f} s")
     print(f"  bifurcation() end to end over gears.x1 (design rebuilt per value): {t_design:.2f} s")
     print(f"  bifurcation() end to end over mesh.backlash.half_width (model parameter): "
           f"{t_model:.2f} s")  # fmt: skip
-    print(f"  {per * 1e3:.2f} ms per trajectory")
+    print(f"  {per * 1e3:.2f} ms per trajectory (kernel, 2 threads)")
     print(f"  solve_ivp RK45 rtol 1e-8: {t_ivp:.2f} s/trajectory -> speed-up x{t_ivp / per:.0f}")
     print(f"  {steps} steps per period; kernel {gflops:.2f} GFLOP/s against a measured DGEMM")
     print(f"  peak of {peak:.1f} GFLOP/s ({100 * gflops / peak:.1f} %)")

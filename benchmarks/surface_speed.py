@@ -26,6 +26,7 @@ import numpy as np
 
 from reducerlab.geometry.bevel_surface import generate_flank, nutation_bevel_pair
 from reducerlab.geometry.profiles import DoubleCircularArcProfile, InvoluteProfile
+from reducerlab.geometry.solid import build_gear_solid
 from reducerlab.geometry.spiral import CrownGear
 
 N_U = N_RHO = 1000
@@ -64,6 +65,20 @@ def main() -> None:
                 f"max residual {f.max_residual:.1e}; point by point {loop * 1e6:.0f} us/point "
                 f"-> x{loop * N_U * N_RHO / best:.0f}"
             )
+
+    # closed full-gear solids (every tooth, blank, watertight triangle mesh)
+    crown = CrownGear.for_gear(
+        InvoluteProfile(2e-3, math.radians(20)), ext.teeth, ext.cone_angle, math.radians(25),
+        10e-3,
+    )  # fmt: skip
+    for n_profile, n_face in ((15, 11), (41, 31)):
+        t = time.perf_counter()
+        mesh = build_gear_solid(crown, ext, n_profile, n_face).gear_mesh()
+        dt_ = time.perf_counter() - t
+        print(
+            f"full gear solid, involute external, {n_profile} x {n_face} grid: "
+            f"{len(mesh.faces)} triangles in {dt_:.2f} s"
+        )
 
 
 if __name__ == "__main__":
