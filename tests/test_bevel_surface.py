@@ -196,3 +196,23 @@ def test_bad_gear_inputs():
         nutation_bevel_pair(28, 26, math.radians(5))
     with pytest.raises(ProfileError, match="face_width"):
         CrownGear(PROFILES["involute"], BETA, 0.04, 0.05, 35.0)
+
+
+def test_bad_generation_inputs_name_the_field():
+    """Regression: a crown gear of another gear, non-1-D or out-of-range grids and grid
+    sizes < 2 used to run (wrong teeth, NaN surfaces) or fail with numpy errors."""
+    crown = crown_for(PROFILES["involute"])
+    with pytest.raises(ProfileError, match=r"crown\.teeth: z_C sin\(delta\) must equal"):
+        generate_tooth(crown, BevelGear(10, 0.3), n_profile=3, n_face=3)
+    with pytest.raises(ProfileError, match=r"n_face: must be an integer >= 2"):
+        generate_tooth(crown, EXT, n_face=1)
+    with pytest.raises(ProfileError, match=r"n_profile: must be an integer >= 2"):
+        generate_tooth(crown, EXT, n_profile=0)
+    with pytest.raises(ProfileError, match=r"u: must be a 1-D array"):
+        generate_flank(crown, EXT, 0.5, [0.04])
+    with pytest.raises(ProfileError, match=r"u: must be a 1-D array"):
+        generate_tooth(crown, EXT, u=[[0.1, 0.2]])
+    with pytest.raises(ProfileError, match=r"rho: values must be > 0"):
+        generate_flank(crown, EXT, [0.5], [-1.0, 0.04])
+    with pytest.raises(ProfileError, match=r"^teeth: must be >= 1"):
+        CrownGear.for_gear(PROFILES["involute"], 0, 0.8, BETA, 0.01)

@@ -203,3 +203,15 @@ def test_rendered_tooth_and_pair(tmp_path):
     a1 = gear_to_mesh_frame(ext) @ [0, 0, 1]
     a2 = gear_to_mesh_frame(int_) @ [0, 0, 1]
     assert math.degrees(math.acos(a1 @ a2)) == pytest.approx(5.0, abs=1e-12)
+
+
+def test_solid_rejects_a_foreign_crown_and_non_integer_grids():
+    """Regression: a crown gear of another gear built a solid whose patterned teeth do
+    not fit the circle; a float grid size was accepted."""
+    from reducerlab.geometry import BevelGear, ProfileError
+
+    crown = crown_for(PROFILES["involute"])
+    with pytest.raises(ProfileError, match=r"crown\.teeth"):
+        build_gear_solid(crown, BevelGear(10, 0.3), **COARSE)
+    with pytest.raises(SolidError, match="integers"):
+        build_gear_solid(crown, EXT, n_profile=5.5)

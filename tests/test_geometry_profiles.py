@@ -199,3 +199,18 @@ def test_log_spiral_has_a_constant_spiral_angle(beta_deg):
     if beta_deg:
         th = sp.theta(rho)
         np.testing.assert_allclose(rho, 40e-3 * np.exp(th / math.tan(beta)), rtol=1e-13)
+
+
+def test_bad_profile_arguments_name_the_field():
+    """Regression: non-numeric arguments and user callables of the wrong shape used to
+    raise bare TypeError/ValueError from numpy."""
+    with pytest.raises(ProfileError, match=r"involute\.module: must be a real number"):
+        InvoluteProfile("2 mm")
+    with pytest.raises(ProfileError, match=r"involute\.thickness: must be a real number"):
+        InvoluteProfile(M, thickness="wide")
+    with pytest.raises(ProfileError, match=r"double_arc\.module: must be a real number"):
+        DoubleCircularArcProfile(None)
+    with pytest.raises(ProfileError, match=r"user\.func: must map an array u"):
+        CallableProfile(lambda u: (u,), M, name="user")
+    with pytest.raises(ProfileError, match=r"user\.derivative: must map an array u"):
+        CallableProfile(lambda u: (u, u), M, derivative=lambda u: None, name="user")

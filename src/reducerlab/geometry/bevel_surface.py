@@ -45,6 +45,7 @@ __all__ = [
     "FlankSurface",
     "SurfaceReport",
     "ToothSurface",
+    "check_generation",
     "crown_to_gear",
     "gear_axis",
     "generate_flank",
@@ -275,6 +276,37 @@ def _envelope(
     return pts, nrm, phi, res, it
 
 
+def check_generation(crown: CrownGear, gear: BevelGear) -> None:
+    """Reject a crown gear that cannot generate ``gear``: rolling needs
+    ``z_C sin(delta) = z`` (``CrownGear.for_gear``), else the teeth do not close."""
+    z = crown.teeth * math.sin(gear.cone_angle)
+    if not math.isclose(z, gear.teeth, rel_tol=1e-9):
+        raise ProfileError(
+            f"crown.teeth: z_C sin(delta) must equal gear.teeth = {gear.teeth} for the crown "
+            f"gear to generate the gear (build it with CrownGear.for_gear); got "
+            f"z_C = {crown.teeth:.9g}, z_C sin(delta) = {z:.9g}"
+        )
+
+
+def _grid_axis(field: str, values: ArrayLike, lo: float, hi: float, rule: str) -> Array:
+    """A 1-D grid of finite values in ``[lo, hi]``, or a :class:`ProfileError`."""
+    a = np.asarray(values, dtype=float)
+    if a.ndim != 1 or a.size < 1 or not np.all(np.isfinite(a)):
+        raise ProfileError(
+            f"{field}: must be a 1-D array of finite values; got shape {a.shape}"
+            + ("" if np.all(np.isfinite(a)) else " with NaN or inf")
+        )
+    if np.any((a < lo) | (a > hi)):
+        raise ProfileError(f"{field}: values must {rule}; got [{a.min():.6g}, {a.max():.6g}]")
+    return a
+
+
+def _grid_size(field: str, n: object, least: int) -> int:
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < least:
+        raise ProfileError(f"{field}: must be an integer >= {least}; got {n!r}")
+    return int(n)
+
+
 def generate_flank(
     crown: CrownGear,
     gear: BevelGear,
@@ -306,9 +338,13 @@ def generate_flank(
     Raises
     ------
     ProfileError
-        If the Newton iteration does not converge for some point (no envelope there).
+        If ``crown`` does not generate ``gear`` (:func:`check_generation`), ``u`` or
+        ``rho`` is not a 1-D grid of finite values (``u`` in ``[0, 1]``, ``rho > 0``), or
+        the Newton iteration does not converge for some point (no envelope there).
     """
-    uu, rr = np.asarray(u, float), np.asarray(rho, float)
+    check_generation(crown, gear)
+    uu = _grid_axis("u", u, 0.0, 1.0, "lie in [0, 1] (profile parameter)")
+    rr = _grid_axis("rho", rho, 1e-9 * crown.mean_cone_distance, math.inf, "be > 0 (m)")
     rC, nC = crown.points(uu[:, None], rr[None, :], flank, crown_tooth)
     shape = rC.shape[:-1]
     pts, nrm, phi, res, it = _envelope(rC.reshape(-1, 3), nC.reshape(-1, 3), gear, tol, max_iter)
@@ -490,10 +526,14 @@ def generate_tooth(
     check : bool
         Run :func:`check_tooth` (otherwise the report holds only the residual).
     """
+    check_generation(crown, gear)
     if u is None:
-        u = default_u_grid(crown, n_profile)
+        u = default_u_grid(crown, _grid_size("n_profile", n_profile, 2))
     if rho is None:
-        rho = np.linspace(*crown.rho_range, n_face)
+        rho = np.linspace(*crown.rho_range, _grid_size("n_face", n_face, 2))
+    for name, grid in (("u", u), ("rho", rho)):
+        if check and np.size(grid) < 2:
+            raise ProfileError(f"{name}: the checks need at least 2 grid values; got {grid!r}")
     (fa, ta), (fb, tb) = _tooth_flanks(gear)
     A = generate_flank(crown, gear, u, rho, fa, ta)
     B = generate_flank(crown, gear, u, rho, fb, tb)

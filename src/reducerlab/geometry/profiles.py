@@ -61,6 +61,16 @@ def _fail(field: str, rule: str, value: object) -> ProfileError:
     return ProfileError(f"{field}: {rule}; got {value}")
 
 
+def _real(field: str, value: object) -> float:
+    """``value`` as a float, or a :class:`ProfileError` naming ``field`` (SI units)."""
+    if isinstance(value, bool):
+        raise _fail(field, "must be a real number (SI units)", repr(value))
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise _fail(field, "must be a real number (SI units)", repr(value)) from None
+
+
 @dataclass(frozen=True)
 class ProfilePoints:
     """Points of one flank in the normal section ``S_n``.
@@ -403,7 +413,20 @@ class InvoluteProfile(_PiecewiseProfile):
         thickness: float | None = None,
     ) -> None:
         self.name = "involute"
-        self.module = float(module)
+        module, pressure_angle, pitch_radius, addendum, dedendum, root_fillet = (
+            _real(f"involute.{k}", v)
+            for k, v in (
+                ("module", module),
+                ("pressure_angle", pressure_angle),
+                ("pitch_radius", pitch_radius),
+                ("addendum", addendum),
+                ("dedendum", dedendum),
+                ("root_fillet", root_fillet),
+            )
+        )
+        if thickness is not None:
+            thickness = _real("involute.thickness", thickness)
+        self.module = module
         if not (self.module > 0 and math.isfinite(self.module)):
             raise _fail("involute.module", "normal module must be > 0 (m)", module)
         if not 0 < pressure_angle < math.radians(60):
@@ -598,7 +621,7 @@ class DoubleCircularArcProfile(_PiecewiseProfile):
 
     def __init__(self, module: float, rack: _DoubleArcRack = GBT12759_1991) -> None:
         self.name = "double_arc"
-        self.module = float(module)
+        self.module = _real("double_arc.module", module)
         if not (self.module > 0 and math.isfinite(self.module)):
             raise _fail("double_arc.module", "normal module must be > 0 (m)", module)
         self.rack = rack
@@ -702,28 +725,39 @@ class CallableProfile(BasicProfile):
         name: str = "profile",
     ) -> None:
         self.name = name
-        self.module = float(module)
+        self.module = _real(f"{name}.module", module)
         self._func = func
         self._deriv = derivative
         self.validate()
 
+    def _call(self, f: Callable[[Array], tuple[ArrayLike, ArrayLike]], what: str, u: Array):
+        """``f(u)`` as two float arrays of ``u``'s shape, or a :class:`ProfileError`."""
+        try:
+            a, b = f(u)
+            return (
+                np.broadcast_to(np.asarray(a, dtype=float), u.shape).copy(),
+                np.broadcast_to(np.asarray(b, dtype=float), u.shape).copy(),
+            )
+        except (TypeError, ValueError) as exc:
+            raise _fail(
+                f"{self.name}.{what}",
+                "must map an array u of shape (n,) to a pair (x, y) of arrays of shape (n,)"
+                " (or scalars)",
+                f"{type(exc).__name__}: {exc}",
+            ) from None
+
     def _flank(self, u: Array) -> tuple[Array, Array, Array, Array]:
         u = np.asarray(u, dtype=float)
-        x, y = (np.asarray(v, dtype=float) for v in self._func(u))
+        x, y = self._call(self._func, "func", u)
         if self._deriv is not None:
-            dx, dy = (np.asarray(v, dtype=float) for v in self._deriv(u))
+            dx, dy = self._call(self._deriv, "derivative", u)
         else:
             h = 1e-6
             lo, hi = np.clip(u - h, 0.0, 1.0), np.clip(u + h, 0.0, 1.0)
-            xl, yl = (np.asarray(v, dtype=float) for v in self._func(lo))
-            xh, yh = (np.asarray(v, dtype=float) for v in self._func(hi))
+            xl, yl = self._call(self._func, "func", lo)
+            xh, yh = self._call(self._func, "func", hi)
             dx, dy = (xh - xl) / (hi - lo), (yh - yl) / (hi - lo)
-        return (
-            np.broadcast_to(x, u.shape).copy(),
-            np.broadcast_to(y, u.shape).copy(),
-            np.broadcast_to(dx, u.shape).copy(),
-            np.broadcast_to(dy, u.shape).copy(),
-        )
+        return x, y, dx, dy
 
 
 class SplineProfile(BasicProfile):
@@ -746,7 +780,7 @@ class SplineProfile(BasicProfile):
 
     def __init__(self, points: ArrayLike, module: float, name: str = "profile") -> None:
         self.name = name
-        self.module = float(module)
+        self.module = _real(f"{name}.module", module)
         p = np.asarray(points, dtype=float)
         if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 4:
             raise _fail(f"{name}.points", "must be an (n, 2) array of (x, y) with n >= 4", p.shape)

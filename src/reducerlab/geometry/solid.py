@@ -57,7 +57,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .bevel_surface import BevelGear, _envelope, _tooth_flanks
+from .bevel_surface import BevelGear, _envelope, _tooth_flanks, check_generation
 from .profiles import BasicProfile, ProfileError
 from .spiral import CrownGear
 
@@ -551,11 +551,20 @@ def build_gear_solid(
         Pointed teeth, flanks of neighbouring teeth crossing above the root, a rim that
         does not clear the tooth spaces, or section points without an envelope.
     """
-    if n_profile < 3 or n_face < 2 or n_land < 1 or n_space < 1:
+    grid = (n_profile, n_face, n_land, n_space)
+    if (
+        any(isinstance(n, bool) or not isinstance(n, (int, np.integer)) for n in grid)
+        or n_profile < 3
+        or n_face < 2
+        or n_land < 1
+        or n_space < 1
+    ):
         raise SolidError(
-            "solid grid: needs n_profile >= 3, n_face >= 2, n_land >= 1, n_space >= 1; got "
+            "solid grid: needs integers n_profile >= 3, n_face >= 2, n_land >= 1, "
+            "n_space >= 1; got "
             f"{n_profile}, {n_face}, {n_land}, {n_space}"
         )
+    check_generation(crown, gear)
     bl = default_blank(crown, gear, rim) if blank is None else blank
     prof = crown.profile
     delta = gear.cone_angle

@@ -166,6 +166,13 @@ class CrownGear:
         pitch at the mean point is ``pi m_n`` of the profile.
         """
         _check("cone_angle", 0 < cone_angle < math.pi / 2, "must lie in (0, 90) deg", cone_angle)
+        _check("teeth", teeth >= 1, "must be >= 1", teeth)
+        _check(
+            "spiral_angle",
+            abs(spiral_angle) < math.radians(80),
+            "|beta| must be < 80 deg",
+            spiral_angle,
+        )
         zc = teeth / math.sin(cone_angle)
         R = zc * profile.module / (2 * math.cos(spiral_angle))
         return cls(profile, spiral_angle, R, face_width, zc, delta_theta)
