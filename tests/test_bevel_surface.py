@@ -67,9 +67,10 @@ def test_generated_surfaces_satisfy_meshing_and_design(name, gear):
         assert r.thickness_measured == pytest.approx(PROFILES[name].thickness, rel=1e-9)
         assert r.spiral_angle_measured == pytest.approx(BETA, abs=1e-9)
     else:
-        # the space of the basic tooth: about a normal pitch minus the thickness
+        # the space of the basic tooth: a normal pitch minus the thickness, up to the
+        # curvature of the pitch cone against the crown's pitch plane (measured 1.1e-4)
         s = PROFILES[name].thickness
-        assert r.thickness_measured == pytest.approx(math.pi * M - s, rel=0.01)
+        assert r.thickness_measured == pytest.approx(math.pi * M - s, rel=1e-3)
     assert T.points.shape == (2, len(T.flanks[0].u), 31, 3)
     n = np.linalg.norm(T.normals, axis=-1)
     np.testing.assert_allclose(n, 1.0, atol=1e-14)

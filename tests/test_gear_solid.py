@@ -203,6 +203,10 @@ def test_rendered_tooth_and_pair(tmp_path):
     a1 = gear_to_mesh_frame(ext) @ [0, 0, 1]
     a2 = gear_to_mesh_frame(int_) @ [0, 0, 1]
     assert math.degrees(math.acos(a1 @ a2)) == pytest.approx(5.0, abs=1e-12)
+    from reducerlab.errors import ReducerlabError
+
+    with pytest.raises(ReducerlabError, match="external gear's solid first"):
+        plot_gear_pair(int_, ext)
 
 
 def test_solid_rejects_a_foreign_crown_and_non_integer_grids():
