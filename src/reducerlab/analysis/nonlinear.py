@@ -143,6 +143,15 @@ def bifurcation(
     done = sum(len(chunks[i]) for i in results)
     if progress:
         progress(done, values.size)
+
+    def finish(i: int, points: NDArray) -> None:
+        nonlocal done
+        results[i] = points
+        _save(chunk_file(i), points)
+        done += len(chunks[i])
+        if progress:
+            progress(done, values.size)
+
     if scheduler is not None and todo:
         from dask.distributed import Client, as_completed
 
@@ -150,12 +159,7 @@ def bifurcation(
         try:
             futures = {client.submit(job, chunks[i], pure=False): i for i in todo}
             for fut in as_completed(futures):
-                i = futures[fut]
-                results[i] = fut.result()
-                _save(chunk_file(i), results[i])
-                done += len(chunks[i])
-                if progress:
-                    progress(done, values.size)
+                finish(futures[fut], fut.result())
         finally:
             if client is not scheduler:
                 client.close()
@@ -182,11 +186,7 @@ def bifurcation(
                     systems = [s for fut in pending for s in fut.result()]
                     if k + 1 < len(todo):
                         pending = submit(todo[k + 1])  # built while this chunk integrates
-                results[i] = job.integrate(chunks[i], systems)
-                _save(chunk_file(i), results[i])
-                done += len(chunks[i])
-                if progress:
-                    progress(done, values.size)
+                finish(i, job.integrate(chunks[i], systems))
         finally:
             if pool is not None:
                 pool.shutdown(cancel_futures=True)
