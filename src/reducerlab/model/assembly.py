@@ -43,8 +43,11 @@ class Matrices:
 def _scatter(target: NDArray, idx: list[int], block: Any) -> None:
     """``target[ix_(idx, idx)] += block`` for the small blocks of elements (no index
     arrays built: elements couple one to a few DOFs)."""
-    if len(idx) == 1:
-        target[idx[0], idx[0]] += block[0][0] if np.ndim(block) == 2 else block
+    if len(idx) <= 4 and np.ndim(block) == 2:
+        rows = block.tolist() if isinstance(block, np.ndarray) else block
+        for a, ia in enumerate(idx):
+            for b, ib in enumerate(idx):
+                target[ia, ib] += rows[a][b]
         return
     target[np.ix_(idx, idx)] += block
 

@@ -7,6 +7,7 @@ integrators built on it — evaluate without Python objects.
 
 from __future__ import annotations
 
+import copy
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
@@ -257,9 +258,13 @@ class PiecewisePolynomial(TimeLaw):
         if speed == 0:
             return Constant(self.mean)
         f = speed / self.ref_speed
-        return PiecewisePolynomial(
-            self.period / abs(f), self.breaks, self.coefficients, self.t0 / abs(f)
-        )
+        # the same validated law on a scaled time axis (no re-validation: period and t0
+        # stay positive and finite; the mean does not change)
+        out = copy.copy(self)
+        object.__setattr__(out, "period", self.period / abs(f))
+        object.__setattr__(out, "t0", self.t0 / abs(f))
+        object.__setattr__(out, "ref_speed", None)
+        return out
 
     def _piece(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
         s = np.mod((np.asarray(t, dtype=float) - self.t0) / self.period, 1.0)
