@@ -80,3 +80,16 @@ def test_surface_module_must_agree_with_the_mean_radii(tmp_path):
     r = runner.invoke(app, ["surface", str(bad)])
     assert r.exit_code == 2
     assert "surface.normal_module 2.5 mm disagrees with the mean radius of gear1" in r.output
+
+
+def test_both_gears_of_a_pair_come_from_one_crown_gear(tmp_path):
+    # without normal_module, the module is taken from the pair's nutating gear for both
+    # gears (their mean radii agree only to the design's rounding): one crown gear
+    text = EXAMPLE.read_text().replace('normal_module = "2 mm"', "")
+    path = tmp_path / "no_module.toml"
+    path.write_text(text)
+    design = load_design(path)
+    (c1, _), (c2, _) = design.tooth_generation(1), design.tooth_generation(2)
+    assert c1.profile.module == c2.profile.module
+    assert c1.mean_cone_distance == pytest.approx(c2.mean_cone_distance, rel=1e-12)
+    assert c1.teeth == pytest.approx(c2.teeth, rel=1e-12)
