@@ -226,8 +226,7 @@ def _fingerprint(s: NonlinearSystem) -> str:
     import hashlib
 
     h = hashlib.sha256()
-    for a in (s.M, s.C, s.K, s.G, s.k_params, s.e_params, s.f_params, s.load_matrix,
-              s.line_damping, s.half_backlash, s.line_cubic):  # fmt: skip
+    for a in (getattr(s, f) for f in NonlinearSystem.ARRAYS):
         h.update(np.ascontiguousarray(a, dtype=float).tobytes())
     return h.hexdigest()[:16]
 
@@ -240,9 +239,7 @@ def _save(path: Path | None, arr: NDArray) -> None:
     os.replace(tmp, path)
 
 
-#: Float arrays of a NonlinearSystem that may change with a parameter.
-_FLAT = ("M", "C", "K", "G", "k_params", "line_damping", "half_backlash", "line_cubic",
-         "e_params", "load_matrix", "f_params")  # fmt: skip
+_FLAT = NonlinearSystem.ARRAYS
 
 
 @dataclass
@@ -528,9 +525,7 @@ def response(
     res = ensemble([s], periods=periods, keep=keep, history=history,
                    steps_per_period=steps_per_period, y0=static_state(s))  # fmt: skip
     n = s.n
-    t = res.history_time[0]
-    ok = np.isfinite(t)
-    t, H = t[ok], res.history[0][ok]
+    t, H = res.history_time[0], res.history[0]
     g = s.G[line]
     e = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in t])
     delta = H[:, :n] @ g - e[:, 0]

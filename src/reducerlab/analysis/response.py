@@ -17,9 +17,10 @@ mean stiffness (the rigid motion, driven only by the net load, is removed, as pa
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.integrate
@@ -28,7 +29,7 @@ from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 from ..model import Model, NonlinearSystem
-from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_mean, flat_period
+from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_period
 
 __all__ = [
     "Ensemble",
@@ -60,7 +61,7 @@ def rigid_reduction(s: NonlinearSystem) -> NDArray[np.float64] | None:
     motion of ``s`` (the mass-weighted elastic modes of the mean stiffness), or None
     when ``s`` has no rigid motion. Any ``T`` with the same null space serves another
     system of the same topology (see :meth:`NonlinearSystem.reduced`)."""
-    k_mean = _mean_stiffness(s)
+    k_mean = s.mean_stiffness
     lam, V = scipy.linalg.eigh(k_mean, s.M)
     rigid = np.abs(lam) <= 1e-10 * max(np.abs(lam).max(), np.finfo(float).tiny)
     if not rigid.any():
@@ -73,21 +74,10 @@ def elastic_names(T: NDArray[np.float64]) -> list[str]:
     return [f"elastic_{i + 1}" for i in range(T.shape[0])]
 
 
-def _mean_stiffness(s: NonlinearSystem) -> NDArray[np.float64]:
-    """Linear stiffness plus every mesh at its mean stiffness."""
-    k = np.array([flat_mean(int(kd), p) for kd, p in zip(s.k_kind, s.k_params, strict=True)])
-    return s.K + s.G.T @ (s.G * k[:, None])
-
-
 def static_state(s: NonlinearSystem) -> NDArray[np.float64]:
     """State ``[q, 0]`` of static equilibrium under the loads at t = 0 with the mean mesh
     stiffness (backlash offsets ignored): a start that shortens the transient."""
-    k_mean = _mean_stiffness(s)
-    try:
-        q = np.linalg.solve(k_mean, s.external_forces(0.0))
-    except np.linalg.LinAlgError:
-        q = np.zeros(s.n)
-    return np.concatenate([q, np.zeros(s.n)])
+    return static_states([s])[0]
 
 
 def forcing_period(s: NonlinearSystem) -> float:
@@ -142,15 +132,18 @@ class _Prepared:
     steps: int
 
 
+def _divides(P: float, T: float) -> bool:
+    """A law of period ``P`` repeats within ``T`` (a whole number >= 1 of periods)."""
+    ratio = T / P
+    return abs(ratio - round(ratio)) <= 1e-9 * max(1.0, ratio) and round(ratio) >= 1
+
+
 def _repeats_within(s: NonlinearSystem, T: float) -> bool:
     """Every law of ``s`` has a period that divides ``T`` (or is constant)."""
     for kinds, params in ((s.k_kind, s.k_params), (s.e_kind, s.e_params), (s.f_kind, s.f_params)):
         for kind, p in zip(kinds, params, strict=True):
             P = flat_period(int(kind), p)
-            if not math.isfinite(P):
-                continue
-            ratio = T / P
-            if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio) or round(ratio) < 1:
+            if math.isfinite(P) and not _divides(P, T):
                 return False
     return True
 
@@ -159,11 +152,9 @@ def _prepare(
     systems: Sequence[NonlinearSystem],
     steps_per_period: int | None,
     period: float | None,
-    check: bool = True,
 ) -> _Prepared:
     """Check an ensemble and stack its arrays for the kernel (member axis first)."""
-    if check:
-        _check_structure(systems)
+    _check_structure(systems)
     if period is not None and not (isinstance(period, int | float) and period > 0):
         raise ReducerlabError(f"period must be > 0 s, got {period!r}")
     from .kernel import step_grid
@@ -171,7 +162,7 @@ def _prepare(
     E = len(systems)
     T = np.array([period if period is not None else forcing_period(s) for s in systems])
     Minv = np.linalg.inv(np.stack([s.M for s in systems]))
-    N = steps_per_period or _steps_batch(systems, T, Minv)
+    N = steps_per_period or _steps_batch(systems, T)
     if not (isinstance(N, int) and N >= 4):
         raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
     for s, t in zip(systems, T, strict=True):
@@ -212,38 +203,37 @@ def _prepare(
     return _Prepared(arrays, T, offs, dts, periodic, N)
 
 
-def _steps_batch(
-    systems: Sequence[NonlinearSystem], T: NDArray, Minv: NDArray, accuracy: float = 0.25
-) -> int:
+def _steps_batch(systems: Sequence[NonlinearSystem], T: NDArray, accuracy: float = 0.25) -> int:
     """:func:`steps_for` of every member at once (batched eigenvalues), the largest."""
-    K = np.stack([_mean_stiffness(s) for s in systems])
+    K = np.stack([s.mean_stiffness for s in systems])
     Lc = np.linalg.cholesky(np.stack([s.M for s in systems]))
     A = np.linalg.solve(Lc, np.swapaxes(np.linalg.solve(Lc, K), 1, 2))
     lam = np.linalg.eigvalsh(0.5 * (A + np.swapaxes(A, 1, 2))).max(axis=1)
     w = np.sqrt(np.maximum(lam, 0.0))
-    return max(32, int(np.ceil(np.max(T * w) / accuracy)))
+    return max(32, int(np.ceil(np.max(np.asarray(T) * w) / accuracy)))
 
 
 def steps_for(s: NonlinearSystem, T: float, accuracy: float = 0.25) -> int:
     """Steps per forcing period: ``omega_max h <= accuracy`` for the highest natural
     frequency of the mean system (RK4 is stable to 2.8; 0.25 keeps its per-step
     relative phase error near 1e-6), at least 32."""
-    k_mean = _mean_stiffness(s)
-    lam = scipy.linalg.eigh(k_mean, s.M, eigvals_only=True)
-    w = math.sqrt(max(lam.max(), 0.0))
-    return max(32, math.ceil(T * w / accuracy))
+    return _steps_batch([s], np.array([T]), accuracy)
 
 
 def static_states(systems: Sequence[NonlinearSystem]) -> NDArray[np.float64]:
-    """:func:`static_state` of every member (one batched solve), shape (E, 2n)."""
+    """:func:`static_state` of every member (one batched solve), shape (E, 2n); a member
+    whose mean stiffness is singular starts at rest."""
     if not systems:
         return np.empty((0, 0))
-    K = np.stack([_mean_stiffness(s) for s in systems])
+    K = np.stack([s.mean_stiffness for s in systems])
     F = np.stack([s.external_forces(0.0) for s in systems])
     try:
         q = np.linalg.solve(K, F[..., None])[..., 0]
     except np.linalg.LinAlgError:
-        return np.array([static_state(s) for s in systems])
+        q = np.zeros_like(F)
+        for e in range(len(systems)):
+            with contextlib.suppress(np.linalg.LinAlgError):
+                q[e] = np.linalg.solve(K[e], F[e])
     return np.concatenate([q, np.zeros_like(q)], axis=1)
 
 
@@ -258,7 +248,7 @@ class Ensemble:
     delta_poincare: NDArray[np.float64]
     delta_history: NDArray[np.float64]
     period: NDArray[np.float64]
-    history_time: NDArray[np.float64]  # (member, step), NaN-padded
+    history_time: NDArray[np.float64]  # (member, step), s
     systems: list[NonlinearSystem]
 
 
@@ -301,7 +291,8 @@ def ensemble(
     """
     from .kernel import block_width, law_values, rk4_ensemble
 
-    _check_structure(systems)
+    if not systems:
+        raise ReducerlabError("ensemble: no systems")
     s0 = systems[0]
     if not (isinstance(periods, int) and isinstance(keep, int) and 1 <= keep <= periods):
         raise ReducerlabError(f"need 1 <= keep <= periods, got keep={keep}, periods={periods}")
@@ -316,7 +307,7 @@ def ensemble(
             raise ReducerlabError(
                 f"y0 must have shape ({2 * n},) or ({E}, {2 * n}), got {y0.shape}"
             )
-    prep = _prepare(systems, steps_per_period, period, check=False)
+    prep = _prepare(systems, steps_per_period, period)
     T, N = prep.period, prep.steps
     Y0 = (
         np.zeros((E, 2 * n))
@@ -371,8 +362,7 @@ def _check_commensurate(s: NonlinearSystem, T: float) -> None:
             if kind != LAW_PIECEWISE:
                 continue
             P = flat_period(int(kind), p)
-            ratio = T / P
-            if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio) or round(ratio) < 1:
+            if not _divides(P, T):
                 raise ReducerlabError(
                     f"a law of period {P:.6g} s does not repeat within the sampling period "
                     f"{T:.6g} s; give period= as a common multiple of all law periods"
@@ -570,33 +560,20 @@ def dimensionless(
         if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
             raise ReducerlabError(f"dimensionless: {name} must be > 0, got {v!r}")
     w2 = mass * omega_n**2
-    return NonlinearSystem(
-        dof_names=list(s.dof_names),
+
+    def laws(kinds: NDArray, params: NDArray, value: float) -> NDArray:
+        rows = [_scale_law(k, p, value, omega_n) for k, p in zip(kinds, params, strict=True)]
+        return np.array(rows).reshape(params.shape)
+
+    return replace(
+        s,
         M=s.M / mass,
         C=s.C / (mass * omega_n),
         K=s.K / w2,
-        G=s.G.copy(),
-        line_names=list(s.line_names),
-        k_kind=s.k_kind,
-        k_params=np.array(
-            [_scale_law(k, p, 1 / w2, omega_n) for k, p in zip(s.k_kind, s.k_params, strict=True)]
-        ).reshape(s.k_params.shape),
+        k_params=laws(s.k_kind, s.k_params, 1 / w2),
         line_damping=s.line_damping / (mass * omega_n),
         half_backlash=s.half_backlash / length,
         line_cubic=s.line_cubic * length**2 / w2,
-        e_kind=s.e_kind,
-        e_params=np.array(
-            [
-                _scale_law(k, p, 1 / length, omega_n)
-                for k, p in zip(s.e_kind, s.e_params, strict=True)
-            ]
-        ).reshape(s.e_params.shape),
-        load_matrix=s.load_matrix,
-        f_kind=s.f_kind,
-        f_params=np.array(
-            [
-                _scale_law(k, p, 1 / (w2 * length), omega_n)
-                for k, p in zip(s.f_kind, s.f_params, strict=True)
-            ]
-        ).reshape(s.f_params.shape),
+        e_params=laws(s.e_kind, s.e_params, 1 / length),
+        f_params=laws(s.f_kind, s.f_params, 1 / (w2 * length)),
     )

@@ -8,13 +8,15 @@ reference evaluation of the state derivative.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
-from .laws import TimeLaw, evaluate_flat
+from .laws import TimeLaw, evaluate_flat, flat_mean
 
 __all__ = ["NonlinearSystem", "pack_laws"]
 
@@ -80,6 +82,12 @@ class NonlinearSystem:
     f_params: NDArray[np.float64]
     line_cubic: NDArray[np.float64] = field(default=None)  # type: ignore[assignment]
 
+    #: The float arrays that parameter values change (not the law kinds or names).
+    ARRAYS: ClassVar[tuple[str, ...]] = (
+        "M", "C", "K", "G", "k_params", "e_params", "f_params", "load_matrix",
+        "line_damping", "half_backlash", "line_cubic",
+    )  # fmt: skip
+
     def __post_init__(self) -> None:
         n_lines = self.G.shape[0]
         cubic = np.zeros(n_lines) if self.line_cubic is None else np.asarray(self.line_cubic, float)
@@ -114,6 +122,14 @@ class NonlinearSystem:
     def n(self) -> int:
         """Number of DOFs."""
         return len(self.dof_names)
+
+    @cached_property
+    def mean_stiffness(self) -> NDArray[np.float64]:
+        """``K + G^T diag(k_mean) G`` (N/m): every line at the time average of its
+        stiffness law (the system's arrays are not changed after construction)."""
+        k = np.array([flat_mean(int(kd), p) for kd, p in zip(self.k_kind, self.k_params,
+                                                            strict=True)])  # fmt: skip
+        return self.K + self.G.T @ (self.G * k[:, None])
 
     def mesh_forces(
         self, t: float, q: NDArray[np.float64], v: NDArray[np.float64]
@@ -172,23 +188,14 @@ class NonlinearSystem:
                     f"reduced: the rows of T leave a motion that {name} resists; T must "
                     "describe every relative (elastic) motion"
                 )
-        red = NonlinearSystem(
+        red = replace(
+            self,
             dof_names=list(names),
             M=S.T @ self.M @ S,
             C=S.T @ self.C @ S,
             K=S.T @ self.K @ S,
             G=self.G @ S,
-            line_names=self.line_names,
-            k_kind=self.k_kind,
-            k_params=self.k_params,
-            line_damping=self.line_damping,
-            half_backlash=self.half_backlash,
-            line_cubic=self.line_cubic,
-            e_kind=self.e_kind,
-            e_params=self.e_params,
             load_matrix=S.T @ self.load_matrix,
-            f_kind=self.f_kind,
-            f_params=self.f_params,
         )
         return red, S
 
