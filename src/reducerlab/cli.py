@@ -10,9 +10,11 @@ from __future__ import annotations
 import json
 import math
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, NoReturn
 
 import typer
 from rich.console import Console
@@ -52,9 +54,28 @@ def _main(
     """reducerlab: from a design file to frequencies, modes, responses and reports."""
 
 
-def _fail(exc: Exception) -> None:
+def _fail(exc: Exception) -> NoReturn:
     err.print(f"[bold red]error:[/] {exc}", highlight=False, markup=True, soft_wrap=True)
     raise typer.Exit(code=2)
+
+
+@contextmanager
+def _user_errors() -> Iterator[None]:
+    """Print an error caused by the user's input (or an unwritable output) as one line
+    and exit with code 2, without a traceback."""
+    try:
+        yield
+    except (ReducerlabError, OSError) as exc:
+        _fail(exc)
+
+
+def _save_with_figure(result, outdir: Path, stem: str) -> tuple[Path, Path]:
+    """Save ``STEM.nc`` and the result's figure ``STEM.png`` into ``outdir``."""
+    outdir.mkdir(parents=True, exist_ok=True)
+    nc, png = outdir / f"{stem}.nc", outdir / f"{stem}.png"
+    result.save(nc)
+    result.plot().savefig(png, dpi=120)
+    return nc, png
 
 
 def _model_from(design_path: Path):
@@ -105,13 +126,10 @@ def modal(
     """Natural frequencies, mode shapes and energy classification of a design."""
     from .analysis.modal import modal as run_modal
 
-    try:
+    with _user_errors():
         _, model = _model_from(design)
         result = run_modal(model, rigid_tol=rigid_tol)
         written = _write_modal(result, output) if output is not None else []
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
     if fmt is Format.json:
         typer.echo(result.to_json())
     else:
@@ -139,7 +157,7 @@ def sensitivity(
     from .analysis.modal import frequency_sensitivity
     from .model.inspect import parameter_paths
 
-    try:
+    with _user_errors():
         _, model = _model_from(design)
         if list_params:
             for path, value in parameter_paths(model):
@@ -148,13 +166,8 @@ def sensitivity(
         params = param or [p for p, _ in parameter_paths(model)]
         res = frequency_sensitivity(model, params)
         if output is not None:
-            output.mkdir(parents=True, exist_ok=True)
-            res.save(output / "sensitivity.nc")
-            res.plot().savefig(output / "sensitivity.png", dpi=120)
-            err.print(f"wrote {output / 'sensitivity.nc'}, {output / 'sensitivity.png'}")
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
+            nc, png = _save_with_figure(res, output, "sensitivity")
+            err.print(f"wrote {nc}, {png}")
     if fmt is Format.json:
         ds = res.data
         typer.echo(
@@ -196,7 +209,7 @@ def _run_kinematics(design):
         drive,
         speed,
         title=design.name,
-        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+        metadata=design.provenance,
     )
 
 
@@ -211,12 +224,9 @@ def kinematics(
     """Transmission ratio, member speeds, mesh frequencies and cone angles of a drive."""
     from .drives import load_design
 
-    try:
+    with _user_errors():
         result = _run_kinematics(load_design(design))
         written = _write_kinematics(result, output) if output is not None else []
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
     typer.echo(result.to_json() if fmt is Format.json else result.table())
     for p in written:
         err.print(f"wrote {p}", highlight=False)
@@ -272,7 +282,7 @@ def sweep(
     from .analysis.sweep import sweep as run_sweep
     from .drives import load_design
 
-    try:
+    with _user_errors():
         d = load_design(design)
         axes = [parse_values(param, values)]
         if grid is not None:
@@ -299,9 +309,6 @@ def sweep(
             )
         fig = result.plot()
         fig.savefig(output / "sweep.png", dpi=120)
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
     if fmt is Format.json:
         ds = result.data
         typer.echo(
@@ -335,16 +342,11 @@ def campbell(
     from .analysis.campbell import campbell as run_campbell
     from .drives import load_design
 
-    try:
+    with _user_errors():
         res = run_campbell(load_design(design), _parse_speeds(speeds))
         if output is not None:
-            output.mkdir(parents=True, exist_ok=True)
-            res.save(output / "campbell.nc")
-            res.plot().savefig(output / "campbell.png", dpi=120)
-            err.print(f"wrote {output / 'campbell.nc'}, {output / 'campbell.png'}")
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
+            nc, png = _save_with_figure(res, output, "campbell")
+            err.print(f"wrote {nc}, {png}")
     typer.echo(json.dumps({"crossings": res.crossings()}) if fmt is Format.json else res.table())
 
 
@@ -363,7 +365,7 @@ def check(
     from .analysis.campbell import format_check, resonance_check
     from .drives import load_design
 
-    try:
+    with _user_errors():
         rng = None
         if speed_range is not None:
             parts = _parse_speeds(speed_range)
@@ -371,9 +373,6 @@ def check(
                 raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
             rng = (parts[0], parts[1])
         report = resonance_check(load_design(design), margin=margin, speed_range=rng)
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
     typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
     if not report["ok"]:
         raise typer.Exit(code=1)
@@ -412,7 +411,7 @@ def bifurcation(
     from .analysis.sweep import parse_values
     from .drives import load_design
 
-    try:
+    with _user_errors():
         d = load_design(design)
         axis = parse_values(param, values)
         with Progress(console=err, transient=True) as progress:
@@ -422,17 +421,12 @@ def bifurcation(
                 output=output, scheduler=scheduler, exponents=classify, workers=workers,
                 progress=lambda done, total: progress.update(task, completed=done, total=total),
             )  # fmt: skip
-        output.mkdir(parents=True, exist_ok=True)
-        res.save(output / "bifurcation.nc")
-        res.plot().savefig(output / "bifurcation.png", dpi=120)
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
+        nc, png = _save_with_figure(res, output, "bifurcation")
     summary = res.to_dict()
     if classify:
         summary["motion"] = res.labels()
     typer.echo(json.dumps(summary))
-    err.print(f"wrote {output / 'bifurcation.nc'}, {output / 'bifurcation.png'}", highlight=False)
+    err.print(f"wrote {nc}, {png}", highlight=False)
 
 
 @app.command()
@@ -450,24 +444,19 @@ def response(
     from .analysis.nonlinear import response as run_response
     from .drives import load_design
 
-    try:
+    with _user_errors():
         res = run_response(
             load_design(design), periods=periods, keep=keep, history=history,
             steps_per_period=steps,
         )  # fmt: skip
-        output.mkdir(parents=True, exist_ok=True)
-        res.save(output / "response.nc")
-        res.plot().savefig(output / "response.png", dpi=120)
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
+        nc, png = _save_with_figure(res, output, "response")
     peaks = ", ".join(f"{m:.3g}x" for m, _ in res.peaks(5))
     typer.echo(
         f"dynamic load factor {res.data.attrs['dynamic_load_factor']:.4f}, mean mesh force "
         f"{res.data.attrs['mean_mesh_force']:.5g} N; spectral peaks at {peaks} the forcing "
         "frequency"
     )
-    err.print(f"wrote {output / 'response.nc'}, {output / 'response.png'}", highlight=False)
+    err.print(f"wrote {nc}, {png}", highlight=False)
 
 
 class ProfileChoice(StrEnum):
@@ -511,7 +500,7 @@ def surface(
     from .geometry.export import MESH_FORMATS, export_mesh, export_point_cloud
     from .geometry.solid import build_gear_solid
 
-    try:
+    with _user_errors():
         if not 3 <= points <= 401:
             raise ReducerlabError(f"--points: must be an integer in [3, 401]; got {points}")
         if export is not None and export.suffix.lower() not in MESH_FORMATS:
@@ -574,9 +563,6 @@ def surface(
                 plot_tooth(solid).savefig(png, dpi=130)
                 written.append(png)
         closed = mesh.open_edges() == 0
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
     typer.echo(
         f"gear {gear}: {bevel.kind}, z = {bevel.teeth}, pitch cone "
         f"{math.degrees(bevel.cone_angle):.4f} deg, {crown.profile.name} profile, normal "
@@ -611,7 +597,7 @@ def khv_closed_graph(
     from .drives.khv import Gears
     from .plot.khv import plot_closed_graph
 
-    try:
+    with _user_errors():
         data = read_toml(design)
         if data.get("type") != "khv":
             raise ReducerlabError(f"{design}: type = {data.get('type')!r}: not a KHV design")
@@ -620,9 +606,6 @@ def khv_closed_graph(
         fig = plot_closed_graph(pair, gears.shift_line if gears.x2 is None else None)
         output.parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(output, dpi=120)
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
     for c in pair.conditions():
         flag = "ok  " if c.ok else "FAIL"
         typer.echo(f"{flag} {c.name:<28} margin {c.margin:+.4g}   ({c.rule})")
@@ -645,7 +628,7 @@ def khv_stiffness(
     from .drives import design_from_dict, load_design
     from .plot.khv import plot_mesh_stiffness
 
-    try:
+    with _user_errors():
         d = load_design(design)
         if d.type != "khv":
             raise ReducerlabError(f"{design}: type = {d.type!r}: not a KHV design")
@@ -667,9 +650,6 @@ def khv_stiffness(
             typer.echo(f"x1 = {v:g}: k_C = {dv.pitch_stiffness():.4g} N/m, mean {law.mean:.4g} N/m")
         output.parent.mkdir(parents=True, exist_ok=True)
         plot_mesh_stiffness(laws).savefig(output, dpi=120)
-    except (ReducerlabError, OSError) as exc:
-        _fail(exc)
-        return
     err.print(f"wrote {output}", highlight=False)
 
 
@@ -695,21 +675,17 @@ def demo(
         task = progress.add_task("examples", total=len(files))
         for path in files:
             progress.update(task, description=f"{path.name}")
-            try:
+            with _user_errors():
                 design = load_design(path)
                 outdir = output / path.stem
                 res_m = res_k = None
                 if has_model(design):
                     res_m = run_modal(build_model(design))
                     _write_modal(res_m, outdir)
-                    camp = run_campbell(design)
-                    camp.save(outdir / "campbell.nc")
-                    camp.plot().savefig(outdir / "campbell.png", dpi=120)
+                    _save_with_figure(run_campbell(design), outdir, "campbell")
                 if hasattr(design, "kinematics"):
                     res_k = _run_kinematics(design)
                     _write_kinematics(res_k, outdir)
-            except (ReducerlabError, OSError) as exc:
-                _fail(exc)
             summary.append((path, res_m, res_k))
             progress.advance(task)
     for path, res_m, res_k in summary:

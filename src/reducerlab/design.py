@@ -159,7 +159,18 @@ class Design(Spec):
     @property
     def hash(self) -> str:
         """SHA-256 of the design's SI content (hex, 16 characters)."""
-        return hashlib.sha256(self.model_dump_json().encode()).hexdigest()[:16]
+        return _digest(self.model_dump_json())
+
+    @property
+    def provenance(self) -> dict[str, str]:
+        """``{"design": SI JSON, "design_hash": hash}``: the metadata that models and
+        results built from this design carry (one JSON dump serves both)."""
+        text = self.model_dump_json()
+        return {"design": text, "design_hash": _digest(text)}
+
+
+def _digest(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 D = TypeVar("D", bound=BaseModel)

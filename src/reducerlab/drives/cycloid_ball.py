@@ -189,14 +189,14 @@ class CycloidBallDesign(Design):
                 f"planetary_disc.lobes must be centre_disc.lobes + 2 (hypotrochoid over "
                 f"epitrochoid), got {zp} and {zc}"
             )
-        elif self.cycloid_pair.balls is not None and self.cycloid_pair.balls != (zc + zp) // 2:
+        elif self.cycloid_pair.balls is not None and self.cycloid_pair.balls != self.balls:
             problems.append(
                 f"cycloid_pair.balls must be (centre lobes + planetary lobes) / 2 = "
-                f"{(zc + zp) // 2}, got {self.cycloid_pair.balls}"
+                f"{self.balls}, got {self.cycloid_pair.balls}"
             )
         for name, z in (("centre_disc", zc), ("planetary_disc", zp), ("end_cover_disc", zp)):
             r = getattr(self, name).pitch_radius
-            want = z * self.eccentricity / 2
+            want = self.pitch_radius(z)
             if r is not None and abs(r - want) > 1e-6 * want:
                 problems.append(
                     f"{name}.pitch_radius = {r * 1e3:.6g} mm disagrees with lobes x "
@@ -307,5 +307,5 @@ def build_model(design: CycloidBallDesign) -> Model:
         elements,
         speed=design.input_speed,
         name=design.name or "cycloid ball transmission",
-        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+        metadata=design.provenance,
     )

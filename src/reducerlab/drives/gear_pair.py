@@ -205,5 +205,5 @@ def build_model(design: GearPairDesign) -> Model:
         elements,
         speed=design.operating.speed,
         name=design.name or "spur gear pair",
-        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+        metadata=design.provenance,
     )

@@ -41,7 +41,7 @@ from ..design import (
 from ..errors import ReducerlabError
 from ..geometry import InternalGearPair
 from ..kinematics import KHVDrive
-from ..model import Backlash, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
+from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 
 __all__ = ["PAPER_LINE", "KHVDesign", "build_model", "relative_coordinates"]
 
@@ -174,10 +174,9 @@ class KHVDesign(Design):
     def stiffness_law(self):
         """Mesh stiffness over a mesh period (Eq. 9, intervals derived)."""
         period = 2 * math.pi / self.mesh_frequency
-        law = single_double_law(
+        return single_double_law(
             self.pitch_stiffness(), self.gears.pair().contact_ratio, period, self.input_speed
         )
-        return law
 
 
 def _reduced_mass(a: float, b: float) -> float:
@@ -199,8 +198,6 @@ def build_model(design: KHVDesign) -> Model:
     kVL = shafts.output_stiffness / rbV**2
     law = design.stiffness_law()
     if not mesh.time_varying:
-        from ..model import Constant
-
         law = Constant(law.mean)
     cDH = 2 * shafts.damping_ratio * math.sqrt(kDH * _reduced_mass(MD, MH))
     cVL = 2 * shafts.damping_ratio * math.sqrt(kVL * _reduced_mass(MV, ML))
@@ -241,7 +238,7 @@ def build_model(design: KHVDesign) -> Model:
         elements,
         speed=design.input_speed,
         name=design.name or "KHV drive",
-        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+        metadata=design.provenance,
     )
 
 

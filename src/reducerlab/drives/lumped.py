@@ -51,7 +51,7 @@ from ..design import (
     angle_between,
     quantity,
 )
-from ..errors import ModelError
+from ..errors import DesignError, ModelError
 from ..model import (
     Backlash,
     Centripetal,
@@ -299,11 +299,9 @@ def build_model(design: LumpedDesign) -> Model:
             elements,
             speed=design.speed,
             name=design.name or "lumped model",
-            metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+            metadata=design.provenance,
         )
     except ModelError as exc:
-        from ..errors import DesignError
-
         raise DesignError(f"design {design.name!r}: {exc}") from None
 
 

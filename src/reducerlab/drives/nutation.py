@@ -350,7 +350,8 @@ def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
 
 def build_model(design: NutationDesign) -> Model:
     """The 12-DOF (double) or 8-DOF (single) model of paper 000 on the generic core."""
-    th = design.theta
+    kin = design.kinematics()
+    th = kin.nutation_angle  # design.theta, without solving for it a second time
     b, an = design.helix_angle, design.normal_pressure_angle
     double = design.sides == "double"
     bodies = ["g2", "g13"] + (["g4"] if double else [])
@@ -378,7 +379,6 @@ def build_model(design: NutationDesign) -> Model:
         elements.append(
             Support("g2.rz", design.fixed_gear_torsional_stiffness, name="support_g2_rz")
         )
-    kin = design.kinematics()
     mesh_hz = list(kin.mesh_frequencies(design.input_speed).values())
     pairs = [(design.gear1, design.gear2, "g2", design.mesh1)]
     if double:
@@ -423,5 +423,5 @@ def build_model(design: NutationDesign) -> Model:
         elements,
         speed=design.input_speed,
         name=design.name or f"{design.sides}-sided nutation drive",
-        metadata={"design": design.model_dump_json(), "design_hash": design.hash},
+        metadata=design.provenance,
     )
