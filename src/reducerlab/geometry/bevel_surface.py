@@ -257,23 +257,28 @@ def _envelope(
         phi = phi - step
         if np.all(np.abs(f) <= tol * scale):
             break
-    # independent residual: relative velocity from the kinematics module
-    c, s = np.cos(phi), np.sin(phi)
-    r0 = np.stack([c * r[:, 0] + s * r[:, 1], -s * r[:, 0] + c * r[:, 1], r[:, 2]], axis=1)
-    n0 = np.stack([c * n[:, 0] + s * n[:, 1], -s * n[:, 0] + c * n[:, 1], n[:, 2]], axis=1)
+    # r_0 = Rz(-phi_C) r_C; independent residual: relative velocity from kinematics
+    r0, n0 = _turn_z(phi, r, n)
     v = relative_velocity(w_c, w_i, r0)
     res = np.einsum("ij,ij->i", n0, v) / scale
     res = np.where(r0[:, 1] > 0, res, np.nan)
     # r_i = Rz(-phi_i) B r_0
     B = _B(delta)
-    p = r0 @ B.T
-    q = n0 @ B.T
-    phi_i = phi / sd
-    ci, si = np.cos(phi_i), np.sin(phi_i)
-    pts = np.stack([ci * p[:, 0] + si * p[:, 1], -si * p[:, 0] + ci * p[:, 1], p[:, 2]], axis=1)
-    sgn = gear.material_sign
-    nrm = sgn * np.stack([ci * q[:, 0] + si * q[:, 1], -si * q[:, 0] + ci * q[:, 1], q[:, 2]], 1)
-    return pts, nrm, phi, res, it
+    pts, nrm = _turn_z(phi / sd, r0 @ B.T, n0 @ B.T)
+    return pts, nrm * gear.material_sign, phi, res, it
+
+
+def _turn_z(phi: Array, *vectors: Array) -> tuple[Array, ...]:
+    """``Rz(-phi[k]) v[k]`` for each array ``v`` (N, 3) of ``vectors``.
+
+    The same as ``kinematics.rotations.rot_z(-phi) @ v`` without building N 3x3
+    matrices (this is the per-point hot path of the enveloping).
+    """
+    c, s = np.cos(phi), np.sin(phi)
+    return tuple(
+        np.stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1], v[:, 2]], axis=1)
+        for v in vectors
+    )
 
 
 def check_generation(crown: CrownGear, gear: BevelGear) -> None:
@@ -414,19 +419,20 @@ class SurfaceReport:
     """
 
     max_residual: float
-    normal_min_cos: float
-    outward_fraction: float
-    pitch_cone_error: float
-    thickness_design: float
-    thickness_measured: float
-    spiral_angle_design: float
-    spiral_angle_measured: float
-    undercut: bool
-    undercut_fraction: float
-    undercut_u: tuple[float, float]
-    top_land: float
-    pointed: bool
-    self_intersecting: bool
+    # defaults: not checked (``generate_tooth(check=False)`` reports the residual only)
+    normal_min_cos: float = math.nan
+    outward_fraction: float = math.nan
+    pitch_cone_error: float = math.nan
+    thickness_design: float = math.nan
+    thickness_measured: float = math.nan
+    spiral_angle_design: float = math.nan
+    spiral_angle_measured: float = math.nan
+    undercut: bool = False
+    undercut_fraction: float = math.nan
+    undercut_u: tuple[float, float] = (math.nan, math.nan)
+    top_land: float = math.nan
+    pointed: bool = False
+    self_intersecting: bool = False
     problems: tuple[str, ...] = field(default=())
 
     @property
@@ -540,23 +546,7 @@ def generate_tooth(
     if check:
         report = check_tooth(crown, gear, A, B)
     else:
-        nan = float("nan")
-        report = SurfaceReport(
-            max(A.max_residual, B.max_residual),
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            False,
-            nan,
-            (nan, nan),
-            nan,
-            False,
-            False,
-        )
+        report = SurfaceReport(max(A.max_residual, B.max_residual))
     return ToothSurface(crown, gear, (A, B), report)
 
 

@@ -179,14 +179,14 @@ class InternalGearPair:
 
     def tip_thickness(self, gear: int) -> float:
         """Tooth thickness on the tip circle (m)."""
-        m, a, z = self.module, self.pressure_angle, (self.z1 if gear == 1 else self.z2)
+        a, z = self.pressure_angle, (self.z1 if gear == 1 else self.z2)
         aa = self.tip_pressure_angle(gear)
         ra = self.tip_radius(gear)
         if gear == 1:
             half = math.pi / (2 * z) + 2 * self.x1 * math.tan(a) / z + inv(a) - inv(aa)
         else:  # internal gear: space width of an external gear with shift -x2
             half = math.pi / (2 * z) + 2 * self.x2 * math.tan(a) / z - inv(a) + inv(aa)
-        return 2 * ra * half * (1.0 if m > 0 else 0.0)
+        return 2 * ra * half
 
     # ------------------------------------------------------------- conditions
     def overlap_interference(self) -> float:

@@ -667,35 +667,18 @@ class DoubleCircularArcProfile(_PiecewiseProfile):
         def ang(px: float, py: float, cx: float, cy: float) -> float:
             return math.atan2(px - cx, py - cy)  # angle from +y toward +x (height = sin)
 
+        def arc(cx: float, cy: float, r: float, b0: float, b1: float) -> _Arc:
+            """Arc ``(cx, cy) + r (sin b, cos b)``, ``b`` from b0 to b1, scaled by m_n."""
+            return _Arc(cx * m, cy * m, r * m, 0.5 * math.pi - b0, 0.5 * math.pi - b1)
+
         segs = [
-            _ArcXY(xg * m, yg * m, rg * m, ang(-k.dedendum, half_p, xg, yg), ang(tx, ty, xg, yg)),
-            _ArcXY(xf * m, yf * m, rf * m, math.pi + c_g, math.pi + c_j),
-            _ArcXY(ct[0] * m, ct[1] * m, rt * m, ang(*p2, *ct), ang(*p1, *ct)),
-            _ArcXY(xa * m, ya * m, ra * m, b_j, b_tip),
+            arc(xg, yg, rg, ang(-k.dedendum, half_p, xg, yg), ang(tx, ty, xg, yg)),
+            arc(xf, yf, rf, math.pi + c_g, math.pi + c_j),
+            arc(ct[0], ct[1], rt, ang(*p2, *ct), ang(*p1, *ct)),
+            arc(xa, ya, ra, b_j, b_tip),
         ]
         self._names = ("fillet", "concave", "transition", "convex")
         self._set_segments(segs)
-
-
-@dataclass(frozen=True)
-class _ArcXY(_Segment):
-    """Arc ``(x, y) = (cx, cy) + r (sin b, cos b)`` (height = sin), ``b`` from b0 to b1."""
-
-    cx: float
-    cy: float
-    r: float
-    b0: float
-    b1: float
-
-    @property
-    def length(self) -> float:  # type: ignore[override]
-        return self.r * abs(self.b1 - self.b0)
-
-    def eval(self, s: Array) -> tuple[Array, Array, Array, Array]:
-        db = self.b1 - self.b0
-        b = self.b0 + db * s
-        c, sn = np.cos(b), np.sin(b)
-        return self.cx + self.r * sn, self.cy + self.r * c, self.r * c * db, -self.r * sn * db
 
 
 # --------------------------------------------------------------------------- user defined

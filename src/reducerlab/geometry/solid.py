@@ -57,6 +57,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..kinematics.rotations import rot_z
 from .bevel_surface import BevelGear, _envelope, _tooth_flanks, check_generation
 from .profiles import BasicProfile, ProfileError
 from .spiral import CrownGear
@@ -120,12 +121,21 @@ def from_cone_coordinates(L: Array, h: Array, psi: Array, delta: float) -> Array
 
 
 def _rot_z(p: Array, angle: float) -> Array:
-    c, s = math.cos(angle), math.sin(angle)
-    out = np.empty_like(p)
-    out[..., 0] = c * p[..., 0] - s * p[..., 1]
-    out[..., 1] = s * p[..., 0] + c * p[..., 1]
-    out[..., 2] = p[..., 2]
-    return out
+    """Points (..., 3) turned by ``angle`` (rad) about the gear axis ``z_i``."""
+    return p @ rot_z(angle).T
+
+
+def _ruled(
+    L: Array, h0: Array, h1: Array, psi0: Array, psi1: Array, t: Array, delta: float
+) -> Array:
+    """Points (n_face, len(t), 3) at fractions ``t`` of the way from ``(h0, psi0)`` to
+    ``(h1, psi1)`` in cone coordinates, on each section ``L``."""
+    return from_cone_coordinates(
+        L[:, None],
+        h0[:, None] + (h1 - h0)[:, None] * t,
+        psi0[:, None] + (psi1 - psi0)[:, None] * t,
+        delta,
+    )
 
 
 # --------------------------------------------------------------------------- blank
@@ -626,15 +636,11 @@ def build_gear_solid(
             f"(h = {bl.face * 1e3:.4g} mm); lower the addendum or change the profile"
         )
     t = np.arange(1, n_land + 1) / (n_land + 1)
-    land = from_cone_coordinates(
-        L[:, None],
-        h_at[:, None] + (h_bt - h_at)[:, None] * t,
-        psi_at[:, None] + (psi_bt - psi_at)[:, None] * t,
-        delta,
-    )
+    land = _ruled(L, h_at, h_bt, psi_at, psi_bt, t, delta)
     tick()
     # --- tooth space between B (tooth 0) and A of the next tooth (turned by -2 pi / z)
-    ang = -2 * math.pi / gear.teeth
+    pitch = 2 * math.pi / gear.teeth
+    ang = -pitch
     psi_b0 = pb[:, -1]
     psi_a1 = _unwrap_to(pa[:, 0] + ang, psi_b0)
     if np.any((psi_a1 - psi_b0) * pitch_dir <= 0):
@@ -646,13 +652,7 @@ def build_gear_solid(
         space = _external_space(A, B, L, split, psi_b0, psi_a1, bl.root, n_space, ang, delta)
     else:
         tt = np.arange(1, n_space + 1) / (n_space + 1)
-        h0, h1 = hb[:, -1], ha[:, 0]
-        space = from_cone_coordinates(
-            L[:, None],
-            h0[:, None] + (h1 - h0)[:, None] * tt,
-            psi_b0[:, None] + (psi_a1 - psi_b0)[:, None] * tt,
-            delta,
-        )
+        space = _ruled(L, hb[:, -1], ha[:, 0], psi_b0, psi_a1, tt, delta)
     tick()
     loop = np.concatenate([PA_loop, land, PB_loop, space], axis=1)
     n_a, n_l, n_b = PA_loop.shape[1], land.shape[1], PB_loop.shape[1]
@@ -665,7 +665,6 @@ def build_gear_solid(
     # --- body cone: the loop's azimuths, made strictly monotone along the loop (steps
     # that turn back, or nearly so, are raised to a floor and the pitch rescaled)
     Ll, hl, pl = cone_coordinates(loop, delta)
-    pitch = 2 * math.pi / gear.teeth
     pw = np.unwrap(np.concatenate([pl, pl[:, :1] + ang], axis=1), axis=1) * pitch_dir
     steps = np.maximum(np.diff(pw, axis=1), 0.05 * pitch / loop.shape[1])
     steps *= pitch / steps.sum(axis=1, keepdims=True)
@@ -733,15 +732,14 @@ def _external_space(
         q = out_p[j] * sgn
         h = np.full(n, h_root)
         for s, hh in ((sB[:, j] * sgn, hB[:, j]), (sA[:, j] * sgn, hA[:, j])):
-            order = np.argsort(s)
-            if np.any(np.diff(s[order]) <= 0) or not (
-                np.all(np.diff(s) > 0) or np.all(np.diff(s) < 0)
-            ):
+            ds = np.diff(s)
+            if not (np.all(ds > 0) or np.all(ds < 0)):
                 raise SolidError(
                     "solid: the root part of a flank folds over in a transverse section "
                     "(undercut in the root); the space bottom cannot be built"
                 )
             inside = (q >= s.min()) & (q <= s.max())
+            order = np.argsort(s)
             val = np.interp(q, s[order], hh[order])
             h = np.where(inside, np.maximum(h, val), h)
         out_h[j] = h

@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..errors import ReducerlabError
 from .rotations import euler_zxz
 
 __all__ = [
@@ -97,9 +98,15 @@ def angular_acceleration_fixed(
 
     ``d(w_fixed)/dt = R d(w_body)/dt`` because ``R' w_body = W R w_body = w x w = 0``.
     """
-    R = euler_zxz(phi, theta, psi)
     a = angular_acceleration_body(theta, psi, dphi, dtheta, dpsi, ddphi, ddtheta, ddpsi)
-    return (R @ a[..., None])[..., 0]
+    return _body_to_fixed(phi, theta, psi, a)
+
+
+def _body_to_fixed(
+    phi: ArrayLike, theta: ArrayLike, psi: ArrayLike, v: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Fixed-frame components of body-frame vectors ``v`` (..., 3): ``R v``."""
+    return (euler_zxz(phi, theta, psi) @ v[..., None])[..., 0]
 
 
 def gyroscopic_moment(
@@ -140,8 +147,6 @@ def gyroscopic_moment(
     if J.shape == (3,):
         J = np.diag(J)
     if J.shape != (3, 3) or not np.allclose(J, J.T):
-        from ..errors import ReducerlabError
-
         raise ReducerlabError("inertia must be a symmetric 3x3 tensor or 3 principal values")
     w = angular_velocity_body(theta, psi, dphi, dtheta, dpsi)
     dw = angular_acceleration_body(theta, psi, dphi, dtheta, dpsi, ddphi, ddtheta, ddpsi)
@@ -150,8 +155,5 @@ def gyroscopic_moment(
     if frame == "body":
         return M
     if frame == "fixed":
-        R = euler_zxz(phi, theta, psi)
-        return (R @ M[..., None])[..., 0]
-    from ..errors import ReducerlabError
-
+        return _body_to_fixed(phi, theta, psi, M)
     raise ReducerlabError(f"frame must be 'body' or 'fixed', got {frame!r}")

@@ -76,9 +76,14 @@ def _pair_cones(z_n: int, z_c: int, theta: float, contact: str) -> tuple[float, 
     return dn, dc
 
 
-def _omega_magnitude(omega_h: float, dpsi: float, theta: float) -> float:
-    """|omega| of a gear in steady precession: |omega_H zeta + psi' b| (rad/s)."""
-    return math.sqrt(max(omega_h**2 + dpsi**2 + 2 * omega_h * dpsi * math.cos(theta), 0.0))
+def _nutating_speeds(member: str, omega_h: float, dpsi: float, theta: float) -> dict[str, float]:
+    """Spin, net rotation and ``|omega_H zeta + psi' b|`` of a nutating ``member`` (rad/s)."""
+    w = math.sqrt(max(omega_h**2 + dpsi**2 + 2 * omega_h * dpsi * math.cos(theta), 0.0))
+    return {
+        f"{member}: spin psi'": dpsi,
+        f"{member}: net rotation phi' + psi'": omega_h + dpsi,
+        f"{member}: |omega|": w,
+    }
 
 
 def rolling_spin(
@@ -194,9 +199,7 @@ class NutationDrive(DriveKinematics):
         dpsi, wc = self._rates(omega_in)
         return {
             "input (crank)": omega_in,
-            "nutating gear: spin psi'": dpsi,
-            "nutating gear: net rotation phi' + psi'": omega_in + dpsi,
-            "nutating gear: |omega|": _omega_magnitude(omega_in, dpsi, self.nutation_angle),
+            **_nutating_speeds("nutating gear", omega_in, dpsi, self.nutation_angle),
             "central gear": wc,
         }
 
@@ -266,9 +269,7 @@ class DoubleNutationDrive(DriveKinematics):
         dpsi, w4 = self._rates(omega_in)
         return {
             "input (crank)": omega_in,
-            "nutating gears 1+3: spin psi'": dpsi,
-            "nutating gears 1+3: net rotation phi' + psi'": omega_in + dpsi,
-            "nutating gears 1+3: |omega|": _omega_magnitude(omega_in, dpsi, self.nutation_angle),
+            **_nutating_speeds("nutating gears 1+3", omega_in, dpsi, self.nutation_angle),
             "gear 2 (fixed)": 0.0,
             "gear 4 (output)": w4,
         }

@@ -8,7 +8,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import ReducerlabError
+
 if TYPE_CHECKING:
+    import xarray as xr
     from matplotlib.figure import Figure
 
     from ..analysis.modal import ModalResult, SensitivityResult
@@ -20,6 +23,12 @@ def _figure(**kw: object) -> Figure:
     from matplotlib.figure import Figure
 
     return Figure(**kw)  # no pyplot: no global state, works headless
+
+
+def _mode_labels(ds: xr.Dataset) -> list[str]:
+    """``"<mode>: <frequency> Hz"`` for every mode of a modal dataset."""
+    modes, freqs = ds["mode"].values, ds["frequency"].values
+    return [f"{int(m)}: {f:.4g} Hz" for m, f in zip(modes, freqs, strict=True)]
 
 
 def plot_mode_shapes(
@@ -38,16 +47,12 @@ def plot_mode_shapes(
         the max-normalised shape in each DOF's own unit, as the papers do.
     """
     if scale not in ("energy", "max"):
-        from ..errors import ReducerlabError
-
         raise ReducerlabError(f"scale must be 'energy' or 'max', got {scale!r}")
     ds = result.data
     all_modes = [int(m) for m in ds["mode"].values]
     modes = list(modes) if modes is not None else all_modes
     bad = [m for m in modes if m not in all_modes]
     if bad:
-        from ..errors import ReducerlabError
-
         raise ReducerlabError(f"modes {bad} do not exist; the result has modes 1..{len(all_modes)}")
     ncol = min(3, len(modes))
     nrow = math.ceil(len(modes) / ncol)
@@ -107,10 +112,7 @@ def plot_energy(result: ModalResult) -> Figure:
     )
     widths = [max(len(cells), 1), max(len(elements), 1)]
     ax1, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": widths})
-    ylabels = [
-        f"{int(m)}: {f:.4g} Hz"
-        for m, f in zip(ds["mode"].values, ds["frequency"].values, strict=True)
-    ]
+    ylabels = _mode_labels(ds)
     for ax, data, xl, title in (
         (ax1, grid, [f"{b}\n{f}" for b, f in cells], "kinetic energy share"),
         (ax2, ee, elements, "strain energy share"),
@@ -147,10 +149,7 @@ def plot_sensitivity(result: SensitivityResult) -> Figure:
     lim = float(np.nanmax(np.abs(rel))) if np.any(np.isfinite(rel)) else 1.0
     im = ax.imshow(np.nan_to_num(rel), cmap="RdBu_r", vmin=-lim, vmax=lim, aspect="auto")
     ax.set_xticks(np.arange(len(params)), params, rotation=90, fontsize=7)
-    ylabels = [
-        f"{int(m)}: {f:.4g} Hz"
-        for m, f in zip(ds["mode"].values, ds["frequency"].values, strict=True)
-    ]
+    ylabels = _mode_labels(ds)
     ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=7)
     for (r, c), v in np.ndenumerate(rel):
         if np.isfinite(v):
