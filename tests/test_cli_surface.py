@@ -54,10 +54,17 @@ def test_surface_double_arc_tooth_ply_cloud_and_png(tmp_path):
         (["--gear", "3"], "--gear: gear must be 1..2"),
         (["--points", "2"], "--points: must be an integer in [3, 401]"),
         (["--export", "gear.obj"], "--export: unknown file type '.obj'"),
-        (["--png", "tooth.jpg"], "--png: must name a .png file"),
+        (["--png", "tooth.jpg"], "--png: unknown file type '.jpg' in tooth.jpg; use one of .png"),
+        (["--cloud", "pts.xyz"], "--cloud: unknown file type '.xyz'"),
+        (["--export", "."], "--export: unknown file type '(none)'"),
+        (["--png", "missing_dir_is_a_file.png/t.png"], None),
     ],
 )
-def test_surface_rejects_bad_options(tmp_path, args, message):
+def test_surface_rejects_bad_options(tmp_path, monkeypatch, args, message):
+    monkeypatch.chdir(tmp_path)
+    if message is None:  # the folder of the file is an existing file
+        (tmp_path / "missing_dir_is_a_file.png").write_text("")
+        message = "--png missing_dir_is_a_file.png/t.png: missing_dir_is_a_file.png is a file"
     r = runner.invoke(app, ["surface", str(EXAMPLE), *args])
     assert r.exit_code == 2
     assert message in r.output
@@ -79,7 +86,8 @@ def test_surface_module_must_agree_with_the_mean_radii(tmp_path):
     bad.write_text(text)
     r = runner.invoke(app, ["surface", str(bad)])
     assert r.exit_code == 2
-    assert "surface.normal_module 2.5 mm disagrees with the mean radius of gear1" in r.output
+    assert "surface.normal_module" in r.output
+    assert "2.5 mm disagrees with the mean radius of gear1" in r.output
 
 
 def test_both_gears_of_a_pair_come_from_one_crown_gear(tmp_path):

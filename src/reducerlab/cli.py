@@ -1,27 +1,43 @@
 """Command line: ``reducerlab modal``, ``sensitivity``, ``kinematics``, ``sweep``,
-``campbell``, ``check``, ``surface``, ``demo``.
+``campbell``, ``check``, ``bifurcation``, ``response``, ``surface``, ``khv``, ``demo``.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
-never as a traceback.
+never as a traceback. Text from the user (paths, values, design fields) is printed
+verbatim: the consoles interpret no rich markup, emoji codes or highlighting.
+
+Outputs follow one convention (:mod:`reducerlab.io`): ``-o DIR`` names an output
+directory for every command that writes files; it is checked before any computation,
+each command's files are written together (staged, then moved into place) and every
+file written or replaced is reported on stderr. Options that name one file
+(``surface --export/--png/--cloud``) have their suffix checked before any work.
+
+Counts are bounded (checked before any work, the option named in the message): at
+most 100000 speeds (``campbell --speeds``), 1000000 sweep points, 100000 bifurcation
+values, periods in [1, 10^6], ``--keep`` and ``--history`` at most ``--periods``, RK4
+steps per period in [4, 100000], at most 1024 ``--workers``.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import re
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, NoReturn
+from typing import Annotated, Any, NoReturn
 
 import typer
 from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
+from rich.text import Text
 
 from . import __version__
 from .errors import ReducerlabError
+from .io import OutputSet, atomic_path, prepare_output_dir, prepare_output_file
 
 app = typer.Typer(
     name="reducerlab",
@@ -30,8 +46,24 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
-out = Console()
-err = Console(stderr=True)
+# user text (paths, values, messages) is printed verbatim: no markup, emoji or highlighting
+out = Console(markup=False, emoji=False, highlight=False)
+err = Console(stderr=True, markup=False, emoji=False, highlight=False)
+
+MAX_SPEEDS = 100_000
+"""Most input speeds of ``campbell --speeds``."""
+MAX_SWEEP_POINTS = 1_000_000
+"""Most points of a ``sweep`` (all axes together)."""
+MAX_VALUES = 100_000
+"""Most parameter values of a ``bifurcation``."""
+MAX_PERIODS = 1_000_000
+"""Most forcing periods of ``bifurcation`` and ``response``."""
+MIN_STEPS, MAX_STEPS = 4, 100_000
+"""Range of RK4 steps per forcing period (``--steps``)."""
+MAX_WORKERS = 1024
+"""Most worker processes (``--workers``)."""
+SCHEDULER_TIMEOUT_S = 10.0
+"""Seconds allowed to connect to a Dask scheduler (``--scheduler``)."""
 
 
 class Format(StrEnum):
@@ -54,9 +86,72 @@ def _main(
     """reducerlab: from a design file to frequencies, modes, responses and reports."""
 
 
+def _note(line: str) -> None:
+    """One line on stderr, verbatim (``wrote PATH``)."""
+    err.print(line, soft_wrap=True)
+
+
 def _fail(exc: Exception) -> NoReturn:
-    err.print(f"[bold red]error:[/] {exc}", highlight=False, markup=True, soft_wrap=True)
+    """Print ``error: MESSAGE`` (the message verbatim) and exit with code 2."""
+    err.print(Text.assemble(("error:", "bold red"), " ", str(exc)), soft_wrap=True)
     raise typer.Exit(code=2)
+
+
+def _progress() -> Progress:
+    """A transient progress bar on stderr; task descriptions are shown verbatim."""
+    return Progress(
+        TextColumn("{task.description}", markup=False),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}", markup=False),
+        TimeElapsedColumn(),
+        console=err,
+        transient=True,
+        disable=not err.is_terminal,  # no bar (nor blank line) in logs and pipes
+    )
+
+
+@contextmanager
+def _busy(description: str) -> Iterator[Callable[[int, int], None]]:
+    """A progress bar for work of unknown length; yields an update(done, total)."""
+    with _progress() as progress:
+        task = progress.add_task(description, total=None)
+        yield lambda done, total: progress.update(task, completed=done, total=total)
+
+
+def _finite(lo: float | None = None, hi: float | None = None, *, lo_open: bool = False,
+            hi_open: bool = False) -> Callable[[float | None], float | None]:  # fmt: skip
+    """Typer callback: a float option must be finite and within [lo, hi] (or open ends)."""
+
+    def check(value: float | None) -> float | None:
+        if value is None:
+            return value
+        ok = math.isfinite(value)
+        if ok and lo is not None:
+            ok = value > lo if lo_open else value >= lo
+        if ok and hi is not None:
+            ok = value < hi if hi_open else value <= hi
+        if not ok:
+            low = "-inf" if lo is None else f"{lo:g}"
+            high = "inf" if hi is None else f"{hi:g}"
+            rng = f"{'(' if lo_open else '['}{low}, {high}{')' if hi_open else ']'}"
+            raise typer.BadParameter(f"must be a finite number in {rng}; got {value!r}")
+        return value
+
+    return check
+
+
+def _outputs(output: Path | None) -> OutputSet | None:
+    """The output set of ``-o DIR`` (checked now, before any work), or None."""
+    return None if output is None else OutputSet(output, "-o", report=_note)
+
+
+def _write_file(path: Path, write: Callable[[Path], Any]) -> Path:
+    """Write one file atomically with ``write(temporary_path)`` and report it."""
+    replaced = path.exists()
+    with atomic_path(path) as tmp:
+        write(tmp)
+    _note(f"{'replaced' if replaced else 'wrote'} {path}")
+    return path
 
 
 @contextmanager
@@ -69,13 +164,21 @@ def _user_errors() -> Iterator[None]:
         _fail(exc)
 
 
-def _save_with_figure(result, outdir: Path, stem: str) -> tuple[Path, Path]:
-    """Save ``STEM.nc`` and the result's figure ``STEM.png`` into ``outdir``."""
-    outdir.mkdir(parents=True, exist_ok=True)
-    nc, png = outdir / f"{stem}.nc", outdir / f"{stem}.png"
-    result.save(nc)
-    result.plot().savefig(png, dpi=120)
-    return nc, png
+def _add_with_figure(result, files: OutputSet, stem: str) -> None:
+    """Add ``STEM.nc`` and the result's figure ``STEM.png`` to an open output set."""
+    result.save(files.path(f"{stem}.nc"))
+    result.plot().savefig(files.path(f"{stem}.png"), dpi=120)
+
+
+def _save_with_figure(result, files: OutputSet, stem: str) -> None:
+    """Write ``STEM.nc`` and ``STEM.png`` as one output set."""
+    with files:
+        _add_with_figure(result, files, stem)
+
+
+def _write_json(result, path: Path) -> None:
+    """The result's JSON summary stamped with its provenance (version, time, design)."""
+    path.write_text(json.dumps({**result.to_dict(), **result.provenance}, indent=2) + "\n")
 
 
 def _model_from(design_path: Path):
@@ -85,19 +188,13 @@ def _model_from(design_path: Path):
     return design, build_model(design)
 
 
-def _write_modal(result, outdir: Path) -> list[Path]:
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = [result.save(outdir / "modal.nc")]
-    (outdir / "modal.json").write_text(result.to_json())
-    (outdir / "modal.txt").write_text(result.table() + "\n")
-    written += [outdir / "modal.json", outdir / "modal.txt"]
-    for name, fig in (
-        ("mode_shapes.png", result.plot_shapes()),
-        ("energy.png", result.plot_energy()),
-    ):
-        fig.savefig(outdir / name, dpi=120)
-        written.append(outdir / name)
-    return written
+def _add_modal(result, files: OutputSet) -> None:
+    """Add modal.nc, modal.json, modal.txt and the two figures to an open output set."""
+    result.save(files.path("modal.nc"))
+    _write_json(result, files.path("modal.json"))
+    files.path("modal.txt").write_text(result.table() + "\n")
+    result.plot_shapes().savefig(files.path("mode_shapes.png"), dpi=120)
+    result.plot_energy().savefig(files.path("energy.png"), dpi=120)
 
 
 def _print_modal(result) -> None:
@@ -120,22 +217,28 @@ def modal(
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
     rigid_tol: Annotated[
-        float, typer.Option(help="Relative eigenvalue below which a mode is rigid (0 Hz).")
+        float,
+        typer.Option(
+            help="Relative eigenvalue below which a mode is rigid (0 Hz), in [0, 1).",
+            callback=_finite(0.0, 1.0, hi_open=True),
+        ),
     ] = 1e-10,
 ) -> None:
     """Natural frequencies, mode shapes and energy classification of a design."""
     from .analysis.modal import modal as run_modal
 
     with _user_errors():
-        _, model = _model_from(design)
-        result = run_modal(model, rigid_tol=rigid_tol)
-        written = _write_modal(result, output) if output is not None else []
+        files = _outputs(output)
+        with _busy("modal analysis"):
+            _, model = _model_from(design)
+            result = run_modal(model, rigid_tol=rigid_tol)
+        if files is not None:
+            with files:
+                _add_modal(result, files)
     if fmt is Format.json:
         typer.echo(result.to_json())
     else:
         _print_modal(result)
-    for p in written:
-        err.print(f"wrote {p}", highlight=False)
 
 
 @app.command()
@@ -158,16 +261,17 @@ def sensitivity(
     from .model.inspect import parameter_paths
 
     with _user_errors():
+        files = None if list_params else _outputs(output)
         _, model = _model_from(design)
         if list_params:
             for path, value in parameter_paths(model):
                 typer.echo(f"{path} = {value:.6g}")
             return
         params = param or [p for p, _ in parameter_paths(model)]
-        res = frequency_sensitivity(model, params)
-        if output is not None:
-            nc, png = _save_with_figure(res, output, "sensitivity")
-            err.print(f"wrote {nc}, {png}")
+        with _busy("sensitivity"):
+            res = frequency_sensitivity(model, params)
+        if files is not None:
+            _save_with_figure(res, files, "sensitivity")
     if fmt is Format.json:
         ds = res.data
         typer.echo(
@@ -189,15 +293,12 @@ def sensitivity(
         typer.echo(res.table())
 
 
-def _write_kinematics(result, outdir: Path) -> list[Path]:
-    outdir.mkdir(parents=True, exist_ok=True)
-    written = [result.save(outdir / "kinematics.nc")]
-    (outdir / "kinematics.json").write_text(result.to_json())
-    written.append(outdir / "kinematics.json")
+def _add_kinematics(result, files: OutputSet) -> None:
+    """Add kinematics.nc, kinematics.json (and angular_velocity.png) to an open set."""
+    result.save(files.path("kinematics.nc"))
+    _write_json(result, files.path("kinematics.json"))
     if "omega" in result.data:
-        result.plot().savefig(outdir / "angular_velocity.png", dpi=120)
-        written.append(outdir / "angular_velocity.png")
-    return written
+        result.plot().savefig(files.path("angular_velocity.png"), dpi=120)
 
 
 def _run_kinematics(design):
@@ -225,25 +326,81 @@ def kinematics(
     from .drives import load_design
 
     with _user_errors():
+        files = _outputs(output)
         result = _run_kinematics(load_design(design))
-        written = _write_kinematics(result, output) if output is not None else []
+        if files is not None:
+            with files:
+                _add_kinematics(result, files)
     typer.echo(result.to_json() if fmt is Format.json else result.table())
-    for p in written:
-        err.print(f"wrote {p}", highlight=False)
 
 
-def _parse_speeds(spec: str | None) -> list[float] | None:
-    """``lin:START:STOP:N`` in rpm, or a comma list in rpm."""
+_RANGE_COUNT = re.compile(r"\s*(?:lin|log):[^:]*:[^:]*:\s*([0-9]+)\s*")
+
+
+def _axis(option: str, path: str, spec: str, limit: int):
+    """Parse a value specification (:func:`~reducerlab.analysis.sweep.parse_values`),
+    refusing more than ``limit`` values before any of them is generated."""
+    from .analysis.sweep import parse_values
+
+    m = _RANGE_COUNT.fullmatch(spec)
+    if m and int(m.group(1)) > limit:
+        raise ReducerlabError(
+            f"{option}: {spec!r} asks for {int(m.group(1))} values; at most {limit} are allowed"
+        )
+    axis = parse_values(path, spec)
+    if len(axis.values) > limit:
+        raise ReducerlabError(f"{option}: {len(axis.values)} values; at most {limit} are allowed")
+    return axis
+
+
+def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | None:
+    """``lin:START:STOP:N`` in rpm, or a comma list in rpm (at most :data:`MAX_SPEEDS`)."""
     if spec is None:
         return None
     import numpy as np
 
-    from .analysis.sweep import parse_values
-
-    axis = parse_values("speeds", spec)
+    axis = _axis(option, "speeds", spec, MAX_SPEEDS)
     if axis.relative or any(isinstance(v, str) for v in axis.values):
-        raise ReducerlabError("--speeds takes plain numbers in rpm, e.g. lin:0:3000:301")
+        raise ReducerlabError(f"{option} takes plain numbers in rpm, e.g. lin:0:3000:301")
     return (np.asarray(axis.values, dtype=float) * 2 * np.pi / 60).tolist()
+
+
+_ADDRESS = re.compile(
+    r"(?:(?:tcp|tls|ucx|ws|wss)://)?(?:\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})"
+)
+
+
+@contextmanager
+def _scheduler(address: str | None) -> Iterator[Any]:
+    """A Dask client for ``--scheduler`` (None without one), closed afterwards.
+
+    The address form is checked before connecting; a failed connection is a
+    :class:`ReducerlabError` naming ``--scheduler``.
+    """
+    if address is None:
+        yield None
+        return
+    m = _ADDRESS.fullmatch(address.strip())
+    if not m or not 1 <= int(m.group(1)) <= 65535:
+        raise ReducerlabError(
+            f"--scheduler: {address!r} is not a scheduler address; write "
+            "tcp://HOST:PORT, e.g. tcp://10.0.0.5:8786"
+        )
+    try:
+        from dask.distributed import Client
+    except ImportError:  # pragma: no cover - dask is a dependency
+        raise ReducerlabError("--scheduler needs dask.distributed installed") from None
+    try:
+        client = Client(address.strip(), timeout=SCHEDULER_TIMEOUT_S)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ReducerlabError(
+            f"--scheduler {address}: cannot connect to a Dask scheduler within "
+            f"{SCHEDULER_TIMEOUT_S:g} s ({type(exc).__name__}: {exc})"
+        ) from None
+    try:
+        yield client
+    finally:
+        client.close()
 
 
 @app.command()
@@ -266,49 +423,54 @@ def sweep(
     output: Annotated[Path, typer.Option("--output", "-o", help="Run folder (resumable).")] = Path(
         "sweep-output"
     ),
-    chunk_size: Annotated[int, typer.Option(help="Points per chunk.")] = 2000,
+    chunk_size: Annotated[
+        int, typer.Option(help="Points per chunk.", min=1, max=MAX_SWEEP_POINTS)
+    ] = 2000,
     workers: Annotated[
-        int | None, typer.Option(help="Worker processes (default: all cores).")
+        int | None,
+        typer.Option(help="Worker processes (default: all cores).", min=1, max=MAX_WORKERS),
     ] = None,
     scheduler: Annotated[
         str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
 ) -> None:
-    """Natural frequencies over a parameter (tracked modes, veerings) or a grid of two."""
-    from rich.progress import Progress
+    """Natural frequencies over a parameter (tracked modes, veerings) or a grid of two.
 
-    from .analysis.sweep import parse_values
+    At most 1000000 points in all; the run folder is resumable (sweep.json, chunks/)."""
     from .analysis.sweep import sweep as run_sweep
     from .drives import load_design
 
     with _user_errors():
+        files = OutputSet(output, "-o", report=_note)
         d = load_design(design)
-        axes = [parse_values(param, values)]
+        axes = [_axis("--values", param, values, MAX_SWEEP_POINTS)]
         if grid is not None:
             if "=" not in grid:
                 raise ReducerlabError(
                     "--grid must be 'PATH=VALUES', e.g. 'mesh.damping=lin:0:1e3:11'"
                 )
             p2, v2 = grid.split("=", 1)
-            axes.append(parse_values(p2.strip(), v2.strip()))
-        with Progress(console=err, transient=True) as progress:
-            task = progress.add_task("sweep chunks", total=None)
-
-            def report(done: int, total: int) -> None:
-                progress.update(task, completed=done, total=total)
-
+            axes.append(_axis("--grid", p2.strip(), v2.strip(), MAX_SWEEP_POINTS))
+        n_points = math.prod(len(a.values) for a in axes)
+        if n_points > MAX_SWEEP_POINTS:
+            raise ReducerlabError(
+                f"--values x --grid: {n_points} points; at most {MAX_SWEEP_POINTS} are allowed"
+            )
+        nc_existed = (output / "sweep.nc").exists()
+        with _scheduler(scheduler) as client, _busy("sweep chunks") as report:
             result = run_sweep(
                 d,
                 axes,
                 output=output,
                 chunk_size=chunk_size,
                 workers=workers,
-                scheduler=scheduler,
+                scheduler=client,
                 progress=report,
             )
-        fig = result.plot()
-        fig.savefig(output / "sweep.png", dpi=120)
+        _note(f"{'replaced' if nc_existed else 'wrote'} {output / 'sweep.nc'}")
+        with files:
+            result.plot().savefig(files.path("sweep.png"), dpi=120)
     if fmt is Format.json:
         ds = result.data
         typer.echo(
@@ -324,7 +486,6 @@ def sweep(
         )
     else:
         typer.echo(result.table())
-    err.print(f"wrote {output / 'sweep.nc'}, {output / 'sweep.png'}", highlight=False)
 
 
 @app.command()
@@ -338,15 +499,19 @@ def campbell(
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
 ) -> None:
-    """Campbell diagram: natural frequencies and excitation lines against input speed."""
+    """Campbell diagram: natural frequencies and excitation lines against input speed
+    (at most 100000 speeds)."""
     from .analysis.campbell import campbell as run_campbell
     from .drives import load_design
 
     with _user_errors():
-        res = run_campbell(load_design(design), _parse_speeds(speeds))
-        if output is not None:
-            nc, png = _save_with_figure(res, output, "campbell")
-            err.print(f"wrote {nc}, {png}")
+        files = _outputs(output)
+        d = load_design(design)
+        omegas = _parse_speeds(speeds)
+        with _busy("campbell"):
+            res = run_campbell(d, omegas)
+        if files is not None:
+            _save_with_figure(res, files, "campbell")
     typer.echo(json.dumps({"crossings": res.crossings()}) if fmt is Format.json else res.table())
 
 
@@ -354,7 +519,10 @@ def campbell(
 def check(
     design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
     margin: Annotated[
-        float, typer.Option(help="Relative distance to an excitation that counts (0.10 = 10 %).")
+        float,
+        typer.Option(
+            help="Relative distance to an excitation that counts (0.10 = 10 %), in (0, 1)."
+        ),
     ] = 0.10,
     speed_range: Annotated[
         str | None, typer.Option(help="Operating range in rpm 'MIN,MAX' (default: design's).")
@@ -368,11 +536,13 @@ def check(
     with _user_errors():
         rng = None
         if speed_range is not None:
-            parts = _parse_speeds(speed_range)
+            parts = _parse_speeds(speed_range, "--speed-range")
             if parts is None or len(parts) != 2:
                 raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
             rng = (parts[0], parts[1])
-        report = resonance_check(load_design(design), margin=margin, speed_range=rng)
+        d = load_design(design)
+        with _busy("resonance check"):
+            report = resonance_check(d, margin=margin, speed_range=rng)
     typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
     if not report["ok"]:
         raise typer.Exit(code=1)
@@ -385,10 +555,17 @@ def bifurcation(
     values: Annotated[
         str, typer.Option("--values", "-v", help="'lin:START:STOP:N', a list, or 'rel:...'.")
     ],
-    periods: Annotated[int, typer.Option(help="Mesh periods integrated.")] = 600,
-    keep: Annotated[int, typer.Option(help="Last periods kept as Poincaré points.")] = 100,
+    periods: Annotated[
+        int, typer.Option(help="Mesh periods integrated.", min=1, max=MAX_PERIODS)
+    ] = 600,
+    keep: Annotated[
+        int, typer.Option(help="Last periods kept as Poincaré points (<= --periods).", min=1)
+    ] = 100,
     steps: Annotated[
-        int | None, typer.Option(help="RK4 steps per period (default: from the model).")
+        int | None,
+        typer.Option(
+            help="RK4 steps per period (default: from the model).", min=MIN_STEPS, max=MAX_STEPS
+        ),
     ] = None,
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (resumable).")
@@ -401,41 +578,91 @@ def bifurcation(
     ] = False,
     workers: Annotated[
         int | None,
-        typer.Option(help="Processes building the models (default: one per core).", min=1),
+        typer.Option(
+            help="Processes building the models (default: one per core).", min=1, max=MAX_WORKERS
+        ),
     ] = None,
 ) -> None:
-    """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter."""
-    from rich.progress import Progress
+    """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter.
 
+    At most 100000 values; the output folder is resumable (bifurcation.json, chunks/)."""
     from .analysis.nonlinear import bifurcation as run_bifurcation
-    from .analysis.sweep import parse_values
     from .drives import load_design
 
     with _user_errors():
+        _check_periods(periods, keep=keep)
+        files = OutputSet(output, "-o", report=_note)
         d = load_design(design)
-        axis = parse_values(param, values)
-        with Progress(console=err, transient=True) as progress:
-            task = progress.add_task("bifurcation", total=None)
+        axis = _axis("--values", param, values, MAX_VALUES)
+        quantities = [v for v in axis.values if isinstance(v, str)]
+        if quantities:
+            raise ReducerlabError(
+                "--values: bifurcation takes plain SI numbers or factors (rel:, %), not "
+                f"quantities with units such as {quantities[0]!r}"
+            )
+        with _scheduler(scheduler) as client, _busy("bifurcation") as report:
             res = run_bifurcation(
                 d, axis, periods=periods, keep=keep, steps_per_period=steps,
-                output=output, scheduler=scheduler, exponents=classify, workers=workers,
-                progress=lambda done, total: progress.update(task, completed=done, total=total),
+                output=output, scheduler=client, exponents=classify, workers=workers,
+                progress=report,
             )  # fmt: skip
-        nc, png = _save_with_figure(res, output, "bifurcation")
+        _save_with_figure(res, files, "bifurcation")
     summary = res.to_dict()
     if classify:
         summary["motion"] = res.labels()
     typer.echo(json.dumps(summary))
-    err.print(f"wrote {nc}, {png}", highlight=False)
+
+
+def _check_periods(periods: int, **counts: int) -> None:
+    """``--keep``/``--history`` must not exceed ``--periods``."""
+    for name, value in counts.items():
+        if value > periods:
+            raise ReducerlabError(f"--{name} {value}: must be at most --periods ({periods})")
+
+
+def _time_option(text: str | None, option: str, kind: str) -> float | None:
+    """A positive finite time (``kind = "time"``, s) or frequency (Hz) from an option:
+    a plain number in SI or a quantity string ("2 ms", "500 Hz")."""
+    if text is None:
+        return None
+    from .units import parse_quantity
+
+    try:
+        value = float(text)
+    except ValueError:
+        try:
+            value = parse_quantity(text, kind)
+        except ValueError as exc:
+            raise ReducerlabError(f"{option}: {exc}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise ReducerlabError(f"{option}: must be a finite {kind} > 0; got {text!r}")
+    return value
 
 
 @app.command()
 def response(
     design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
-    periods: Annotated[int, typer.Option(help="Forcing periods integrated.")] = 600,
-    keep: Annotated[int, typer.Option(help="Poincaré points kept.")] = 100,
-    history: Annotated[int, typer.Option(help="Periods of time history kept.")] = 20,
-    steps: Annotated[int | None, typer.Option(help="RK4 steps per period.")] = None,
+    periods: Annotated[
+        int, typer.Option(help="Forcing periods integrated.", min=1, max=MAX_PERIODS)
+    ] = 600,
+    keep: Annotated[int, typer.Option(help="Poincaré points kept (<= --periods).", min=1)] = 100,
+    history: Annotated[
+        int, typer.Option(help="Periods of time history kept (<= --periods).", min=1)
+    ] = 20,
+    steps: Annotated[
+        int | None, typer.Option(help="RK4 steps per period.", min=MIN_STEPS, max=MAX_STEPS)
+    ] = None,
+    period: Annotated[
+        str | None,
+        typer.Option(
+            help="Forcing period, e.g. '2 ms' or 0.002 (s), for a design without a periodic "
+            "mesh law (default: the design's).",
+        ),
+    ] = None,
+    frequency: Annotated[
+        str | None,
+        typer.Option(help="Forcing frequency, e.g. '500 Hz' (instead of --period)."),
+    ] = None,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "response-output"
     ),
@@ -445,18 +672,27 @@ def response(
     from .drives import load_design
 
     with _user_errors():
-        res = run_response(
-            load_design(design), periods=periods, keep=keep, history=history,
-            steps_per_period=steps,
-        )  # fmt: skip
-        nc, png = _save_with_figure(res, output, "response")
+        _check_periods(periods, keep=keep, history=history)
+        if period is not None and frequency is not None:
+            raise ReducerlabError("--period and --frequency: give one of them, not both")
+        T = _time_option(period, "--period", "time")
+        f = _time_option(frequency, "--frequency", "frequency")
+        if f is not None:
+            T = 1.0 / f
+        files = OutputSet(output, "-o", report=_note)
+        d = load_design(design)
+        with _busy("response"):
+            res = run_response(
+                d, periods=periods, keep=keep, history=history, steps_per_period=steps,
+                period=T,
+            )  # fmt: skip
+        _save_with_figure(res, files, "response")
     peaks = ", ".join(f"{m:.3g}x" for m, _ in res.peaks(5))
     typer.echo(
         f"dynamic load factor {res.data.attrs['dynamic_load_factor']:.4f}, mean mesh force "
         f"{res.data.attrs['mean_mesh_force']:.5g} N; spectral peaks at {peaks} the forcing "
         "frequency"
     )
-    err.print(f"wrote {nc}, {png}", highlight=False)
 
 
 class ProfileChoice(StrEnum):
@@ -493,7 +729,6 @@ def surface(
 ) -> None:
     """Generate a gear's tooth surfaces (paper 001), check them, export a closed solid."""
     import numpy as np
-    from rich.progress import Progress
 
     from .drives import load_design
     from .geometry import generate_tooth
@@ -503,15 +738,13 @@ def surface(
     with _user_errors():
         if not 3 <= points <= 401:
             raise ReducerlabError(f"--points: must be an integer in [3, 401]; got {points}")
-        if export is not None and export.suffix.lower() not in MESH_FORMATS:
-            raise ReducerlabError(
-                f"--export: unknown file type {export.suffix or '(none)'!r} in {export}; "
-                f"use one of {', '.join(MESH_FORMATS)}"
-            )
-        if png is not None and png.suffix.lower() != ".png":
-            raise ReducerlabError(f"--png: must name a .png file; got {png}")
-        if cloud is not None and cloud.suffix.lower() != ".ply":
-            raise ReducerlabError(f"--cloud: must name a .ply file; got {cloud}")
+        for option, path, suffixes in (
+            ("--export", export, MESH_FORMATS),
+            ("--png", png, (".png",)),
+            ("--cloud", cloud, (".ply",)),
+        ):
+            if path is not None:
+                prepare_output_file(path, option, suffixes)
         d = load_design(design)
         if not hasattr(d, "tooth_generation"):
             raise ReducerlabError(
@@ -524,7 +757,7 @@ def surface(
                 raise
             name = "--gear" if str(exc).startswith("gear must") else str(design)
             raise ReducerlabError(f"{name}: {exc}") from None
-        with Progress(console=err, transient=True) as progress:
+        with _progress() as progress:
             task = progress.add_task("tooth surfaces", total=None)
             tooth_surface = generate_tooth(crown, bevel, points, points)
             progress.update(task, description="sections and blank")
@@ -545,23 +778,18 @@ def surface(
                 mesh = solid.gear_mesh(
                     progress=lambda k, z: progress.update(task, completed=k, total=z)
                 )
-            written = []
             if export is not None:
                 progress.update(task, description=f"writing {export.name}", total=None)
-                written.append(export_mesh(mesh, export))
+                _write_file(export, lambda tmp: export_mesh(mesh, tmp))
             if cloud is not None:
                 fl = solid.flank_points()
-                pts = [fl["A"][0], fl["B"][0]]
-                nrm = [fl["A"][1], fl["B"][1]]
-                written.append(export_point_cloud(
-                    np.concatenate(pts), np.concatenate(nrm), cloud
-                ))  # fmt: skip
+                pts = np.concatenate([fl["A"][0], fl["B"][0]])
+                nrm = np.concatenate([fl["A"][1], fl["B"][1]])
+                _write_file(cloud, lambda tmp: export_point_cloud(pts, nrm, tmp))
             if png is not None:
                 from .plot.surface import plot_tooth
 
-                png.parent.mkdir(parents=True, exist_ok=True)
-                plot_tooth(solid).savefig(png, dpi=130)
-                written.append(png)
+                _write_file(png, lambda tmp: plot_tooth(solid).savefig(tmp, dpi=130))
         closed = mesh.open_edges() == 0
     typer.echo(
         f"gear {gear}: {bevel.kind}, z = {bevel.teeth}, pitch cone "
@@ -577,8 +805,6 @@ def surface(
     )
     for note in solid.notes:
         typer.echo(f"note: {note}")
-    for p in written:
-        err.print(f"wrote {p}", highlight=False)
 
 
 khv_app = typer.Typer(help="KHV planetary drive tools (paper 004).", no_args_is_help=True)
@@ -588,9 +814,9 @@ app.add_typer(khv_app, name="khv")
 @khv_app.command("closed-graph")
 def khv_closed_graph(
     design: Annotated[Path, typer.Argument(help="KHV design file (TOML).")],
-    output: Annotated[Path, typer.Option("--output", "-o", help="Figure file (PNG).")] = Path(
-        "closed-graph.png"
-    ),
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Output folder (writes closed-graph.png).")
+    ] = Path("."),
 ) -> None:
     """Draw the closed graph (x1 vs x2, limit lines, feasible region) and mark the design."""
     from .design import read_toml, validate_design
@@ -598,20 +824,20 @@ def khv_closed_graph(
     from .plot.khv import plot_closed_graph
 
     with _user_errors():
+        files = OutputSet(output, "-o", report=_note)
         data = read_toml(design)
         if data.get("type") != "khv":
             raise ReducerlabError(f"{design}: type = {data.get('type')!r}: not a KHV design")
         gears = validate_design(Gears, data.get("gears", {}), f"{design}: gears")
         pair = gears.pair()
         fig = plot_closed_graph(pair, gears.shift_line if gears.x2 is None else None)
-        output.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(output, dpi=120)
+        with files:
+            fig.savefig(files.path("closed-graph.png"), dpi=120)
     for c in pair.conditions():
         flag = "ok  " if c.ok else "FAIL"
         typer.echo(f"{flag} {c.name:<28} margin {c.margin:+.4g}   ({c.rule})")
     typer.echo(f"contact ratio {pair.contact_ratio:.4f}, working pressure angle "
                f"{math.degrees(pair.working_pressure_angle):.3f} deg")  # fmt: skip
-    err.print(f"wrote {output}", highlight=False)
 
 
 @khv_app.command("stiffness")
@@ -620,24 +846,29 @@ def khv_stiffness(
     x1: Annotated[
         str, typer.Option(help="Planet shift coefficients to compare, comma separated.")
     ] = "0.416,0.626,0.835",
-    output: Annotated[Path, typer.Option("--output", "-o", help="Figure file (PNG).")] = Path(
-        "mesh-stiffness.png"
-    ),
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Output folder (writes mesh-stiffness.png).")
+    ] = Path("."),
 ) -> None:
     """Time-varying mesh stiffness for several x1 on the design's shift line (Fig. 5)."""
     from .drives import design_from_dict, load_design
     from .plot.khv import plot_mesh_stiffness
 
     with _user_errors():
-        d = load_design(design)
-        if d.type != "khv":
-            raise ReducerlabError(f"{design}: type = {d.type!r}: not a KHV design")
+        files = OutputSet(output, "-o", report=_note)
         try:
             values = [float(v) for v in x1.split(",") if v.strip()]
         except ValueError:
             raise ReducerlabError(f"--x1: {x1!r} is not a list of numbers") from None
         if not values:
             raise ReducerlabError("--x1: give at least one value")
+        if not all(math.isfinite(v) for v in values):
+            raise ReducerlabError(f"--x1: {x1!r}: the values must be finite numbers")
+        if len(values) > 20:
+            raise ReducerlabError(f"--x1: {len(values)} values; at most 20 are allowed")
+        d = load_design(design)
+        if d.type != "khv":
+            raise ReducerlabError(f"{design}: type = {d.type!r}: not a KHV design")
         laws = {}
         for v in values:
             data = d.model_dump()
@@ -648,9 +879,8 @@ def khv_stiffness(
             laws[f"x1 = {v:g}: eps = {dv.gears.pair().contact_ratio:.3f}, "
                  f"mean {law.mean / 1e8:.3f}e8 N/m"] = law  # fmt: skip
             typer.echo(f"x1 = {v:g}: k_C = {dv.pitch_stiffness():.4g} N/m, mean {law.mean:.4g} N/m")
-        output.parent.mkdir(parents=True, exist_ok=True)
-        plot_mesh_stiffness(laws).savefig(output, dpi=120)
-    err.print(f"wrote {output}", highlight=False)
+        with files:
+            plot_mesh_stiffness(laws).savefig(files.path("mesh-stiffness.png"), dpi=120)
 
 
 @app.command()
@@ -659,48 +889,73 @@ def demo(
         "demo-output"
     ),
 ) -> None:
-    """Run every bundled example end to end and write its outputs."""
-    from rich.progress import Progress
-
+    """Run every bundled example end to end and write its outputs (one folder each)."""
     from .analysis.campbell import campbell as run_campbell
     from .analysis.modal import modal as run_modal
     from .drives import build_model, has_model, load_design
     from .examples import example_files
 
+    with _user_errors():
+        prepare_output_dir(output)
     files = example_files()
     if not files:
         _fail(ReducerlabError("no bundled examples found"))
     summary = []
-    with Progress(console=err, transient=True) as progress:
+    with _progress() as progress:
         task = progress.add_task("examples", total=len(files))
         for path in files:
             progress.update(task, description=f"{path.name}")
-            with _user_errors():
+            with _user_errors(), OutputSet(output / path.stem, "-o", report=_note) as files:
                 design = load_design(path)
-                outdir = output / path.stem
                 res_m = res_k = None
                 if has_model(design):
                     res_m = run_modal(build_model(design))
-                    _write_modal(res_m, outdir)
-                    _save_with_figure(run_campbell(design), outdir, "campbell")
+                    _add_modal(res_m, files)
+                    _add_with_figure(run_campbell(design), files, "campbell")
                 if hasattr(design, "kinematics"):
                     res_k = _run_kinematics(design)
-                    _write_kinematics(res_k, outdir)
+                    _add_kinematics(res_k, files)
             summary.append((path, res_m, res_k))
             progress.advance(task)
     for path, res_m, res_k in summary:
-        out.print(f"[bold]{path.name}[/]  ->  {output / path.stem}")
+        out.print(Text.assemble((path.name, "bold"), f"  ->  {output / path.stem}"))
         if res_k is not None:
-            out.print(res_k.table(), highlight=False)
+            out.print(res_k.table())
         if res_m is not None:
             _print_modal(res_m)
     out.print(f"demo outputs in {output.resolve()}")
 
 
+class _Terminated(SystemExit):
+    """SIGTERM, raised in the main thread so that every ``finally`` runs: worker pools
+    end their processes, staged outputs are discarded, finished chunks stay."""
+
+
+def _on_sigterm(signum: int, frame: Any) -> None:
+    import signal
+
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)  # one clean shutdown, not nested ones
+    raise _Terminated(128 + signum)
+
+
 def main() -> None:
-    """Console-script entry point."""
+    """Console-script entry point.
+
+    SIGTERM ends the command like Ctrl-C does (exit code 143): worker processes are
+    stopped, no partial output set is left, and a sweep or bifurcation resumes from its
+    finished chunks when run again.
+    """
+    import signal
+
+    signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         app()
     except KeyboardInterrupt:  # pragma: no cover - interactive
         err.print("interrupted")
         sys.exit(130)
+    except _Terminated as exc:
+        err.print(
+            "terminated (SIGTERM); a sweep or bifurcation resumes from its finished chunks "
+            "when run again"
+        )
+        sys.exit(exc.code)

@@ -25,6 +25,7 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    PrivateAttr,
     ValidationError,
 )
 from pydantic_core import PydanticCustomError
@@ -44,11 +45,13 @@ __all__ = [
     "NonNegativeDamping",
     "NonNegativeStiffness",
     "PositiveInt",
+    "Real",
     "Spec",
     "SpeedRange",
     "Stiffness",
     "Torque",
     "angle_between",
+    "field_rules",
     "quantity",
     "read_toml",
     "validate_design",
@@ -117,10 +120,30 @@ NonNegativeDamping = Damping
 TorsionalDamping = quantity("torsional damping", ge=0)
 Force = quantity("force")
 Torque = quantity("torque")
-#: Speeds are bounded by 1e7 rad/s (about 95 million rpm) so that squares stay finite.
-AngularVelocity = quantity("angular velocity", ge=-1e7, le=1e7)
+#: Speeds are bounded by the kind's range, 1e7 rad/s (about 95 million rpm), so that
+#: squares stay finite.
+AngularVelocity = quantity("angular velocity")
 Angle = quantity("angle")
-PositiveInt = Annotated[int, Field(strict=True, gt=0)]
+#: Counts (teeth, lobes, balls, bearings): a positive integer, at most 100000 so that the
+#: geometry built from it stays finite.
+PositiveInt = Annotated[int, Field(strict=True, gt=0, le=100_000)]
+
+
+def _representable(value: float) -> float:
+    kind = QUANTITIES["dimensionless"]
+    if value != 0 and not kind.lo <= abs(value) <= kind.hi:
+        raise PydanticCustomError(
+            "number_range",
+            "outside the representable range: 0 or a magnitude within [{lo}, {hi}]",
+            {"lo": f"{kind.lo:g}", "hi": f"{kind.hi:g}"},
+        )
+    return value
+
+
+#: A plain number that is not a physical quantity (a ratio, a projection coefficient):
+#: finite, strictly a number (not a boolean or a string), and 0 or of a magnitude within
+#: the range of the "dimensionless" kind of :data:`reducerlab.units.QUANTITIES`.
+Real = Annotated[float, Field(strict=True, allow_inf_nan=False), AfterValidator(_representable)]
 
 
 def _check_range(r: list[float]) -> list[float]:
@@ -136,9 +159,18 @@ SpeedRange = Annotated[list[AngularVelocity], AfterValidator(_check_range)]  # t
 
 
 class Spec(BaseModel):
-    """Base of every design section: unknown fields are errors, instances are frozen."""
+    """Base of every design section: unknown fields are errors, instances are frozen.
 
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+    Validation is strict: a boolean field takes only ``true``/``false`` (not 1, "yes",
+    "on"), a number field takes only a number (not ``true`` or a string), a list only a
+    list; numbers must be finite. Quantity fields still read strings with units, since
+    their converter runs before the strict float check. Plain numbers that are not
+    quantities use :data:`Real` (or an explicitly bounded float).
+    """
+
+    model_config = ConfigDict(
+        extra="forbid", frozen=True, validate_default=True, strict=True, allow_inf_nan=False
+    )
 
 
 class Design(Spec):
@@ -155,6 +187,13 @@ class Design(Spec):
     type: str
     name: str = ""
     description: str = ""
+    _source: str = PrivateAttr(default="<design>")
+
+    @property
+    def source(self) -> str:
+        """Where the design came from (its file for ``load_design``), quoted in front
+        of every error that the builders raise about it."""
+        return self._source
 
     @property
     def hash(self) -> str:
@@ -177,19 +216,30 @@ D = TypeVar("D", bound=BaseModel)
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file, turning syntax errors into a :class:`DesignError`."""
+    """Read a TOML file, turning every failure into a :class:`DesignError`.
+
+    A UTF-8 byte-order mark at the start is skipped; syntax errors, text that is not
+    UTF-8, unreadable files and nesting too deep for the parser name the file.
+    """
     p = Path(path)
     if not p.is_file():
         raise DesignError(f"{p}: no such design file")
     try:
-        with p.open("rb") as fh:
-            return tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise DesignError(f"{p}: not valid TOML: {exc}") from None
+        text = p.read_bytes().decode("utf-8")
     except UnicodeDecodeError:
         raise DesignError(f"{p}: not a text file in UTF-8 (TOML must be UTF-8)") from None
     except OSError as exc:
         raise DesignError(f"{p}: cannot read the design file ({exc.strerror})") from None
+    # a byte-order mark, as some Windows editors write, is not part of the TOML text
+    text = text.removeprefix("\ufeff")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise DesignError(f"{p}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise DesignError(
+            f"{p}: not a usable design: arrays or inline tables nested too deeply"
+        ) from None
 
 
 _RULES = {
@@ -202,6 +252,14 @@ _RULES = {
     "less_than": "must be less than {lt}",
     "less_than_equal": "must be less than or equal to {le}",
     "literal_error": "must be one of {expected}",
+    "bool_type": "must be true or false",
+    "float_type": "must be a number",
+    "finite_number": "must be a finite number",
+    "string_type": "must be a string",
+    "list_type": "must be a list (an array)",
+    "dict_type": "must be a table",
+    "model_type": "must be a table",
+    "model_attributes_type": "must be a table",
 }
 
 
@@ -212,6 +270,40 @@ def _raw_value(data: Any, loc: tuple[Any, ...]) -> Any:
         except (KeyError, IndexError, TypeError):
             return None
     return data
+
+
+def _user_loc(data: Any, loc: tuple[Any, ...]) -> tuple[Any, ...]:
+    """``loc`` without the tags pydantic inserts for a tagged union (``elements.0.mesh``
+    becomes ``elements.0``): the path as the user wrote it."""
+    out = []
+    for key in loc:
+        if isinstance(data, Mapping) and key not in data and data.get("type") == key:
+            continue
+        out.append(key)
+        try:
+            data = data[key]
+        except (KeyError, IndexError, TypeError):
+            data = None
+    return tuple(out)
+
+
+def field_rules(*problems: tuple[str, str]) -> PydanticCustomError:
+    """The error a model validator raises for rules between fields, naming each field.
+
+    Parameters
+    ----------
+    *problems : (str, str)
+        ``(field path relative to the model, rule)`` pairs, e.g.
+        ``("operating.speed", "must be > 0 to set the mesh frequency")``.
+
+    Returns
+    -------
+    PydanticCustomError
+        To ``raise``; :func:`validate_design` reports one line per problem as
+        ``FILE: model.path.field = VALUE: rule``.
+    """
+    message = "; ".join(f"{path}: {rule}" for path, rule in problems)
+    return PydanticCustomError("field_rules", message, {"problems": [list(p) for p in problems]})
 
 
 def _fields_at(model: type[BaseModel], loc: tuple[Any, ...]) -> list[str] | None:
@@ -242,10 +334,12 @@ def _format_errors(
 ) -> list[str]:
     lines = []
     for err in exc.errors(include_url=False):
-        loc = tuple(err["loc"])
-        # Errors inside a tagged union carry the tag as an extra loc element.
-        path = ".".join(str(k) for k in loc) or "(design)"
+        loc = _user_loc(data, tuple(err["loc"]))
         kind = err["type"]
+        if kind == "field_rules":  # rules between fields: one line per named field
+            for sub, rule in err["ctx"]["problems"]:
+                lines.append(_line(source, data, (*loc, *_split(sub)), rule))
+            continue
         rule = _RULES.get(kind)
         if rule is not None:
             try:
@@ -255,17 +349,25 @@ def _format_errors(
         else:
             rule = err["msg"].removeprefix("Value error, ")
         if kind == "extra_forbidden":
-            allowed = _fields_at(model, loc[:-1])
+            allowed = _fields_at(model, tuple(err["loc"])[:-1])
             if allowed:
                 rule += f" (allowed: {', '.join(allowed)})"
-            value = _raw_value(data, loc)
-        elif kind == "missing":
-            value = None
-        else:
-            value = _raw_value(data, loc)
-        shown = "" if kind == "missing" or isinstance(value, dict | list) else f" = {value!r}"
-        lines.append(f"{source}: {path}{shown}: {rule}")
+        lines.append(_line(source, data, loc, rule, show=kind != "missing"))
     return lines
+
+
+def _split(path: str) -> tuple[Any, ...]:
+    return tuple(int(k) if k.isdigit() else k for k in path.split(".") if k)
+
+
+def _line(
+    source: str, data: Mapping[str, Any], loc: tuple[Any, ...], rule: str, show: bool = True
+) -> str:
+    """``FILE: field.path = VALUE: rule`` (the value when the file gives a scalar)."""
+    path = ".".join(str(k) for k in loc) or "(design)"
+    value = _raw_value(data, loc)
+    shown = "" if not show or value is None or isinstance(value, dict | list) else f" = {value!r}"
+    return f"{source}: {path}{shown}: {rule}"
 
 
 def validate_design(model: type[D], data: Mapping[str, Any], source: str = "<design>") -> D:

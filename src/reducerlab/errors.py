@@ -6,7 +6,7 @@ the command line can print its message without a traceback.
 
 from __future__ import annotations
 
-__all__ = ["DesignError", "ModelError", "ReducerlabError"]
+__all__ = ["DesignError", "DivergenceError", "ModelError", "ReducerlabError"]
 
 
 class ReducerlabError(Exception):
@@ -27,3 +27,9 @@ class DesignError(ReducerlabError, ValueError):
 
 class ModelError(ReducerlabError, ValueError):
     """A :class:`~reducerlab.model.Model` or one of its elements is inconsistent."""
+
+
+class DivergenceError(ReducerlabError):
+    """A time integration would give (or gave) unbounded motion: the linear part has a
+    divergent (negative-stiffness) mode, or the state left its bound. The message names
+    the physical DOF(s), the time and the member (parameter value)."""

@@ -11,6 +11,7 @@ import xarray as xr
 
 from . import __version__
 from .errors import ReducerlabError
+from .io import atomic_path, stamp
 
 __all__ = ["Result", "provenance"]
 
@@ -54,24 +55,50 @@ class Result:
         text = self.data.attrs.get("design")
         return json.loads(text) if text else None
 
+    @property
+    def provenance(self) -> dict[str, Any]:
+        """Version, creation time, design hash and design (a JSON object) of the result,
+        as stamped into every JSON result file (:func:`reducerlab.io.stamp`)."""
+        return stamp(self.data.attrs)
+
     def save(self, path: str | Path) -> Path:
-        """Write the dataset to a netCDF file and return its path."""
+        """Write the dataset to a netCDF file and return its path.
+
+        The file is written under a temporary name in the same folder and renamed when
+        complete: an interrupted save never leaves a truncated file at ``path``.
+        """
         p = Path(path)
-        p.parent.mkdir(parents=True, exist_ok=True)
         ds = self.data.copy()
         ds.attrs["result_kind"] = self.kind
-        ds.to_netcdf(p, engine="netcdf4")
+        with atomic_path(p) as tmp:
+            ds.to_netcdf(tmp, engine="netcdf4")
         return p
 
     @classmethod
     def load(cls: type[R], path: str | Path) -> R:
-        """Read a result written by :meth:`save`."""
+        """Read a result written by :meth:`save`.
+
+        Raises
+        ------
+        ReducerlabError
+            Naming the file when it is missing, unreadable (not netCDF, truncated,
+            empty), not a reducerlab result, or a result of another kind.
+        """
         p = Path(path)
         if not p.is_file():
             raise ReducerlabError(f"{p}: no such result file")
-        with xr.open_dataset(p, engine="netcdf4") as ds:
-            data = ds.load()
+        try:
+            with xr.open_dataset(p, engine="netcdf4") as ds:
+                data = ds.load()
+        except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError...
+            raise ReducerlabError(
+                f"{p}: not a readable result file (netCDF): {type(exc).__name__}: {exc}"
+            ) from None
         kind = data.attrs.pop("result_kind", None)
+        if kind is None:
+            raise ReducerlabError(
+                f"{p}: a netCDF file but not a reducerlab result (no 'result_kind' attribute)"
+            )
         if kind != cls.kind:
             raise ReducerlabError(f"{p}: holds a {kind!r} result, not a {cls.kind!r} result")
         return cls(data)

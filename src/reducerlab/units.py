@@ -6,6 +6,22 @@ A design file may give any physical quantity as a plain number, which is read as
 Inside reducerlab everything is SI; degrees, Hz and rpm appear only in tables,
 figures and design files.
 
+Three rules go beyond pint's dimension check (:func:`parse_quantity`):
+
+* a string must start with a number: ``"kg"`` is refused, not read as 1 kg;
+* angles are dimensionless to pint, so a quantity whose SI unit contains ``rad``
+  (angle, angular velocity, torsional stiffness and damping) must either be a plain
+  number (SI, radians) or carry an angle unit (rad, deg, rev, turn, rpm, rps, ...) in
+  the right power: ``"1500 1/min"`` or ``"25 Hz"`` for a speed, ``"1.5e5 N*m"`` for a
+  torsional stiffness are refused (pint would silently read them per radian, a factor
+  2 pi off for revolutions); conversely a frequency refuses angle units;
+* every value that is not zero must have a magnitude within its kind's representable
+  range (:attr:`QuantityKind.lo`, :attr:`QuantityKind.hi`, in SI). The ranges hold every
+  real drive with wide margin (from MEMS to ship and mill gearboxes) and keep the
+  products the model builders form (``k / m``, ``J omega^2``, ``m r^2``) finite and far
+  from underflow, so that an absurd but finite value (``1.7e308 N/m``, ``1e-300 m``)
+  is refused at the boundary instead of failing deep in numpy or scipy.
+
 pint is imported lazily so that ``import reducerlab`` stays fast.
 """
 
@@ -32,32 +48,71 @@ class QuantityKind:
         pint expression of the SI unit values are converted to.
     example : str
         An example string shown in error messages.
+    lo, hi : float
+        Representable range of a nonzero magnitude in SI: ``0`` or
+        ``lo <= |value| <= hi``. Chosen per kind so that every real drive fits with
+        several decades of margin on both sides and so that products of a few such
+        values stay finite (see the table :data:`QUANTITIES`).
+    angle_power : int or None
+        Power of the angle unit (rad) in ``si_unit``, checked on the text of a value
+        with units because pint treats rad as dimensionless: 1 for an angle or an
+        angular velocity, -1 for a torsional stiffness or damping, 0 for a frequency
+        (angle units refused), None where no angle rule applies.
     """
 
     name: str
     si_unit: str
     example: str
+    lo: float
+    hi: float
+    angle_power: int | None = None
 
 
+#: Every kind of quantity a design file may give. Ranges (nonzero magnitudes, SI):
+#:
+#: ========================  ==============  ==============================================
+#: kind                      range           why
+#: ========================  ==============  ==============================================
+#: mass                      1e-9 .. 1e6     a microgram MEMS part .. a 1000 t mill gear
+#: moment of inertia         1e-15 .. 1e9    1 ug at 1 um .. a wind-turbine rotor x 20
+#: length                    1e-9 .. 1e3     1 nm (a transmission error) .. 1 km
+#: angle                     1e-9 .. 1e3     1 nrad .. 160 turns (phases are +-360 deg)
+#: stiffness                 1e-6 .. 1e18    a hair spring .. 1e16, a usual stand-in for rigid
+#: torsional stiffness       1e-9 .. 1e15    a watch balance spring .. a rigid stand-in
+#: damping                   1e-9 .. 1e10    N s/m
+#: torsional damping         1e-12 .. 1e9    N m s/rad
+#: force                     1e-9 .. 1e10    1 nN .. 1 GN x 10
+#: torque                    1e-9 .. 1e10    1 nN m .. 1000x the largest gearbox torque
+#: angular velocity          1e-9 .. 1e7     1e7 rad/s (95 million rpm) keeps squares finite
+#: frequency                 1e-9 .. 1e9     Hz
+#: time                      1e-12 .. 1e9    1 ps .. 30 years
+#: dimensionless             1e-12 .. 1e12
+#: ========================  ==============  ==============================================
+#:
+#: With these bounds ``k / m <= 1e27 s^-2``, ``J omega^2 <= 1e23 N m`` and
+#: ``m r^2 >= 1e-27 kg m^2``: far from overflow and from the subnormal range.
 QUANTITIES: dict[str, QuantityKind] = {
     k.name: k
     for k in (
-        QuantityKind("mass", "kg", "642 g"),
-        QuantityKind("moment of inertia", "kg*m**2", "986900 g*mm^2"),
-        QuantityKind("length", "m", "39.5 mm"),
-        QuantityKind("angle", "rad", "25 deg"),
-        QuantityKind("stiffness", "N/m", "2.2e8 N/m"),
-        QuantityKind("torsional stiffness", "N*m/rad", "1.5e5 N*m/rad"),
-        QuantityKind("damping", "N*s/m", "787 N*s/m"),
-        QuantityKind("torsional damping", "N*m*s/rad", "2 N*m*s/rad"),
-        QuantityKind("force", "N", "100 N"),
-        QuantityKind("torque", "N*m", "50 N*m"),
-        QuantityKind("angular velocity", "rad/s", "1500 rpm"),
-        QuantityKind("frequency", "Hz", "7880 Hz"),
-        QuantityKind("time", "s", "2 ms"),
-        QuantityKind("dimensionless", "", "0.5"),
+        QuantityKind("mass", "kg", "642 g", 1e-9, 1e6),
+        QuantityKind("moment of inertia", "kg*m**2", "986900 g*mm^2", 1e-15, 1e9),
+        QuantityKind("length", "m", "39.5 mm", 1e-9, 1e3),
+        QuantityKind("angle", "rad", "25 deg", 1e-9, 1e3, angle_power=1),
+        QuantityKind("stiffness", "N/m", "2.2e8 N/m", 1e-6, 1e18),
+        QuantityKind("torsional stiffness", "N*m/rad", "1.5e5 N*m/rad", 1e-9, 1e15, -1),
+        QuantityKind("damping", "N*s/m", "787 N*s/m", 1e-9, 1e10),
+        QuantityKind("torsional damping", "N*m*s/rad", "2 N*m*s/rad", 1e-12, 1e9, -1),
+        QuantityKind("force", "N", "100 N", 1e-9, 1e10),
+        QuantityKind("torque", "N*m", "50 N*m", 1e-9, 1e10),
+        QuantityKind("angular velocity", "rad/s", "1500 rpm", 1e-9, 1e7, angle_power=1),
+        QuantityKind("frequency", "Hz", "7880 Hz", 1e-9, 1e9, angle_power=0),
+        QuantityKind("time", "s", "2 ms", 1e-12, 1e9),
+        QuantityKind("dimensionless", "", "0.5", 1e-12, 1e12),
     )
 }
+
+#: A numeric literal at the start of a quantity string (pint reads a bare unit as 1).
+_LEADING_NUMBER = re.compile(r"[+-]?(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 
 @cache
@@ -70,10 +125,48 @@ def registry() -> Any:
     return ureg
 
 
-def _is_ambiguous_speed(text: str) -> bool:
-    # Hz is cycles per second to an engineer but 1/s to pint, which would silently
-    # drop a factor 2*pi when converted to rad/s.
-    return "hz" in text.lower()
+def _article(name: str) -> str:
+    return "an" if name[0] in "aeiou" else "a"
+
+
+def _angle_power(q: Any) -> int:
+    """Power of radian in the root units of ``q`` (deg, rev, rpm, turn all reduce to it)."""
+    _, root = registry().get_root_units(q.units)
+    return round(dict(root._units).get("radian", 0))
+
+
+def _angle_rule(text: str, spec: QuantityKind) -> str:
+    """The message for a value whose angle unit is missing, extra or in the wrong power."""
+    if spec.angle_power == 0:
+        return (
+            f"{text!r}: a frequency is in Hz (cycles per second); angle-based units are "
+            "ambiguous here"
+        )
+    if spec.name == "angular velocity":
+        what = "Hz is" if "hz" in text.lower() else "a unit of 1/time without an angle unit is"
+        return (
+            f"{text!r}: {what} ambiguous for an angular velocity (radians or revolutions "
+            "per unit time?); write 'rpm', 'rev/s' or 'rad/s'"
+        )
+    a = _article(spec.name)
+    return (
+        f"{text!r} needs an angle unit: {a} {spec.name} is in {spec.si_unit} (a plain number "
+        f"is read as SI); write e.g. {spec.example!r}"
+    )
+
+
+def _in_range(value: Any, out: float, spec: QuantityKind) -> float:
+    if not math.isfinite(out):
+        raise ValueError(f"expected a finite {spec.name}, got {value!r}")
+    if out != 0 and not spec.lo <= abs(out) <= spec.hi:
+        unit = f" {spec.si_unit}" if spec.si_unit else ""
+        shown = f"{value!r}" if isinstance(value, str) else f"{out!r}{unit}"
+        conv = f" = {out!r}{unit}" if isinstance(value, str) else ""
+        raise ValueError(
+            f"{shown}{conv} is outside the range of {_article(spec.name)} {spec.name}: "
+            f"0 or a magnitude within [{spec.lo:g}, {spec.hi:g}]{unit}"
+        )
+    return out
 
 
 def parse_quantity(value: Any, kind: str) -> float:
@@ -89,16 +182,17 @@ def parse_quantity(value: Any, kind: str) -> float:
     Returns
     -------
     float
-        The magnitude in the SI unit of ``kind``.
+        The magnitude in the SI unit of ``kind``: 0 or within the kind's range.
 
     Raises
     ------
     ValueError
-        With a message naming the expected dimension and an example, if the value
-        cannot be parsed, is not finite, or has the wrong dimension.
+        With a message naming the expected kind and an example, if the value cannot be
+        parsed, has no number, is not finite, has the wrong dimension, lacks (or, for a
+        frequency, has) an angle unit, or lies outside the kind's representable range.
     """
     spec = QUANTITIES[kind]
-    a = "an" if spec.name[0] in "aeiou" else "a"
+    a = _article(spec.name)
     if isinstance(value, bool):
         raise ValueError(f"expected {a} {spec.name}, e.g. {spec.example!r}, not a boolean")
     if isinstance(value, int | float):
@@ -106,52 +200,52 @@ def parse_quantity(value: Any, kind: str) -> float:
             out = float(value)
         except OverflowError:
             raise ValueError(f"expected a finite {spec.name}, got {value!r}") from None
-    elif isinstance(value, str):
-        import pint
-
-        ureg = registry()
-        text = value.strip()
-        if not text:
-            raise ValueError(
-                f"expected {a} {spec.name}, e.g. {spec.example!r}, got an empty string"
-            )
-        if kind == "angular velocity" and _is_ambiguous_speed(text):
-            raise ValueError(
-                "Hz is ambiguous for an angular velocity; write 'rpm', 'rev/s' or 'rad/s'"
-            )
-        if kind == "frequency" and re.search(r"rad|rev|rpm|rps|cycle|turn", text.lower()):
-            raise ValueError(
-                f"{text!r}: a frequency is in Hz (cycles per second); angle-based units are "
-                "ambiguous here"
-            )
-        try:
-            q = ureg.Quantity(text)
-        except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
-            raise ValueError(
-                f"cannot read {text!r} as {a} {spec.name} ({exc}); write e.g. {spec.example!r}"
-            ) from None
-        except Exception as exc:  # tokenizer errors of pint are plain Python errors
-            raise ValueError(
-                f"cannot read {text!r} as {a} {spec.name} ({type(exc).__name__}); "
-                f"write e.g. {spec.example!r}"
-            ) from None
-        if not isinstance(q, ureg.Quantity):  # a bare number inside a string
-            q = ureg.Quantity(float(q), "")
-        try:
-            out = float(q.to(spec.si_unit).magnitude)
-        except pint.errors.DimensionalityError:
-            got = str(q.dimensionality) if str(q.dimensionality) else "dimensionless"
-            want = ureg.Quantity(1, spec.si_unit).dimensionality
-            want_s = str(want) if str(want) else "dimensionless"
-            raise ValueError(
-                f"wrong dimension: expected {a} {spec.name} [{want_s}], e.g. {spec.example!r}, "
-                f"but {text!r} is [{got}]"
-            ) from None
-    else:
+        return _in_range(value, out, spec)
+    if not isinstance(value, str):
         raise ValueError(
             f"expected {a} {spec.name} as a number (SI) or a string with units, "
             f"e.g. {spec.example!r}; got {type(value).__name__}"
         )
-    if not math.isfinite(out):
-        raise ValueError(f"expected a finite {spec.name}, got {value!r}")
-    return out
+    import pint
+
+    ureg = registry()
+    text = value.strip()
+    if not text:
+        raise ValueError(f"expected {a} {spec.name}, e.g. {spec.example!r}, got an empty string")
+    if not _LEADING_NUMBER.match(text):
+        raise ValueError(
+            f"{text!r}: a number is missing: expected {a} {spec.name} as a number followed "
+            f"by its unit, e.g. {spec.example!r}"
+        )
+    if spec.name == "angular velocity" and "hz" in text.lower():  # before pint, for 'hz'
+        raise ValueError(_angle_rule(text, spec))
+    try:
+        q = ureg.Quantity(text)
+    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
+        raise ValueError(
+            f"cannot read {text!r} as {a} {spec.name} ({exc}); write e.g. {spec.example!r}"
+        ) from None
+    except Exception as exc:  # tokenizer errors of pint are plain Python errors
+        raise ValueError(
+            f"cannot read {text!r} as {a} {spec.name} ({type(exc).__name__}); "
+            f"write e.g. {spec.example!r}"
+        ) from None
+    if not isinstance(q, ureg.Quantity):  # a bare number inside a string
+        q = ureg.Quantity(q, "")
+    try:
+        out = float(q.to(spec.si_unit).magnitude)
+    except pint.errors.DimensionalityError:
+        got = str(q.dimensionality) if str(q.dimensionality) else "dimensionless"
+        want = ureg.Quantity(1, spec.si_unit).dimensionality
+        want_s = str(want) if str(want) else "dimensionless"
+        raise ValueError(
+            f"wrong dimension: expected {a} {spec.name} [{want_s}], e.g. {spec.example!r}, "
+            f"but {text!r} is [{got}]"
+        ) from None
+    except (TypeError, ValueError, OverflowError, ArithmeticError):
+        raise ValueError(
+            f"cannot read {text!r} as {a} {spec.name}; write e.g. {spec.example!r}"
+        ) from None
+    if spec.angle_power is not None and not q.unitless and _angle_power(q) != spec.angle_power:
+        raise ValueError(_angle_rule(text, spec))
+    return _in_range(value, out, spec)

@@ -132,12 +132,12 @@ def test_infeasible_and_bad_designs_are_refused(design):
 
 
 def test_cli_closed_graph_and_stiffness(tmp_path):
-    r = runner.invoke(app, ["khv", "closed-graph", str(EXAMPLE), "-o", str(tmp_path / "cg.png")])
+    r = runner.invoke(app, ["khv", "closed-graph", str(EXAMPLE), "-o", str(tmp_path)])
     assert r.exit_code == 0, r.output
-    assert "tip overlap interference" in r.output and (tmp_path / "cg.png").exists()
-    r = runner.invoke(app, ["khv", "stiffness", str(EXAMPLE), "-o", str(tmp_path / "k.png")])
+    assert "tip overlap interference" in r.output and (tmp_path / "closed-graph.png").exists()
+    r = runner.invoke(app, ["khv", "stiffness", str(EXAMPLE), "-o", str(tmp_path)])
     assert r.exit_code == 0, r.output
-    assert r.output.count("mean") == 3 and (tmp_path / "k.png").exists()
+    assert r.output.count("mean") == 3 and (tmp_path / "mesh-stiffness.png").exists()
     r = runner.invoke(app, ["khv", "stiffness", str(EXAMPLE), "--x1", "a,b"])
     assert r.exit_code == 2 and "not a list of numbers" in r.output
     r = runner.invoke(app, ["modal", str(EXAMPLE), "--format", "json"])

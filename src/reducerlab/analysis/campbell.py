@@ -20,12 +20,12 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from ..design import Design
-from ..errors import ReducerlabError
+from ..errors import ModelError, ReducerlabError
 from ..model import Model
 from ..model.laws import flat_period
 from ..results import Result, provenance
 from .batch import eigh_batch
-from .sweep import _rigid_clean
+from .modal import strain_ratio
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -84,13 +84,28 @@ def _model_of(target: Design | Model) -> Model:
     raise ReducerlabError(f"campbell: target must be a Design or a Model, got {type(target)}")
 
 
-def _frequencies(model: Model, speeds: NDArray) -> NDArray:
+def _frequencies(model: Model, speeds: NDArray, rigid_tol: float = 1e-10) -> NDArray:
+    """Frequencies (Hz, speed, mode); rigid-body modes (no element strained, see
+    :func:`~reducerlab.analysis.modal.strain_ratio`) at exactly 0."""
     Ms, Ks = [], []
     for w in speeds:
-        m = model.with_speed(float(w)).matrices()
+        m = model.with_speed(float(w)).matrices()  # checked: finite, in solver range
         Ms.append(m.M)
         Ks.append(m.K)
-    lam = _rigid_clean(eigh_batch(np.array(Ms), np.array(Ks))[0])
+    M = np.array(Ms)
+    try:
+        lam, phi, _ = eigh_batch(M, np.array(Ks))
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise ModelError(
+            f"campbell: the eigen-solver failed for model {model.name!r} ({exc}); check "
+            "for an extreme inertia or stiffness value"
+        ) from None
+    if not np.all(np.isfinite(lam)):
+        raise ModelError(
+            f"campbell: non-finite natural frequencies for model {model.name!r}; check for "
+            "an extreme inertia or stiffness value"
+        )
+    lam = np.where(strain_ratio(model, M, phi) <= rigid_tol, 0.0, lam)
     return np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
 
 

@@ -202,7 +202,9 @@ def _rhs(tab, row, y, out, MK, MC, pi, pj, MG, G, hb, cm, k3, d, dv, fm):
             x = d[b]
             h = hb[m, b]
             f = x - min(max(x, -h), h)
-            fm[b] = tab[row, m, b] * f + k3[m, b] * (f * f * f) + cm[m, b] * dv[b]
+            # the cubic term only where k3 != 0: no 0 * inf when f^3 overflows
+            c3 = k3[m, b] * (f * f * f) if k3[m, b] != 0.0 else 0.0
+            fm[b] = tab[row, m, b] * f + c3 + cm[m, b] * dv[b]
         for i in range(n):
             for b in range(B):
                 out[n + i, b] -= MG[i, m, b] * fm[b]
@@ -231,6 +233,8 @@ def _block(
     k3b = np.empty((L, nb_))
     y = np.empty((n2, nb_))
     dtb = np.empty((N, nb_))
+    limb = np.empty((n2, nb_))
+    invl = np.empty((n2, nb_))
     for b in range(nb_):
         e = min(lo + b, hi - 1)
         for i in range(n):
@@ -255,6 +259,8 @@ def _block(
             k3b[m, b] = k3[e, m]
         for i in range(n2):
             y[i, b] = y0[e, i]
+            limb[i, b] = limit[e, i]
+            invl[i, b] = 1.0 / limit[e, i] if limit[e, i] > 0.0 else math.inf
         for q in range(N):
             dtb[q, b] = dts[e, q]
     MB = np.empty((hi - lo, n, f_kind.shape[0]))
@@ -329,12 +335,13 @@ def _block(
                     y[i, b] += (dtb[q, b] / 6.0) * (
                         k1[i, b] + 2.0 * k2[i, b] + 2.0 * k3s[i, b] + k4[i, b]
                     )
-                    tot[b] += abs(y[i, b])
-            # cheap test first: the sum bounds every component; NaN fails it too
+                    tot[b] += abs(y[i, b]) * invl[i, b]
+            # cheap test first: the sum of |y_i| / limit_i bounds every component's
+            # ratio; NaN fails it too
             for b in range(width):
-                if not (tot[b] <= limit) and not failed[b]:
+                if not (tot[b] <= 1.0) and not failed[b]:
                     for i in range(n2):
-                        if not (abs(y[i, b]) <= limit):
+                        if not (abs(y[i, b]) <= limb[i, b]):
                             failed[b] = True
                             status[lo + b, 0] = 1.0
                             status[lo + b, 1] = (
@@ -343,6 +350,8 @@ def _block(
                                 + (offs[lo + b, q] + dts[lo + b, q])
                             )
                             status[lo + b, 2] = i
+                            for j in range(n2):
+                                status[lo + b, 3 + j] = y[j, b]
                             for qq in range(N):
                                 dtb[qq, b] = 0.0
                             break
@@ -402,15 +411,16 @@ def rk4_ensemble(
 
     Returns ``poincare`` (E, n_keep + 1, 2n): the state at the start of each of the last
     ``n_keep`` periods and at the end; ``hist`` (E, n_hist * N, 2n): every step of the
-    last ``n_hist`` periods; ``status`` (E, 3): (failed flag, time, state index) when a
-    state became non-finite or exceeded ``limit``. Rows after a failure stay NaN.
+    last ``n_hist`` periods; ``status`` (E, 3 + 2n): (failed flag, time, state index,
+    state) when a state component became non-finite or exceeded its bound ``limit``
+    (E, 2n; inf for none). Rows after a failure stay NaN.
     Members run in blocks of ``width``: 8 or :data:`BLOCK` (see :func:`block_width`).
     """
     E, n2 = y0.shape
     N = offs.shape[1]
     poincare = np.full((E, n_keep + 1, n2), np.nan)
     hist = np.full((E, max(n_hist, 0) * N, n2), np.nan)
-    status = np.zeros((E, 3))
+    status = np.zeros((E, 3 + n2))
     n_blocks = (E + width - 1) // width
     for blk in nb.prange(n_blocks):
         lo = blk * width

@@ -109,7 +109,8 @@ class KinematicsResult(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (keys ``ratio``, ``speeds_rad_s``, ``speeds_rpm``,
-        ``mesh_frequencies_hz``, ``cone_angles_deg``)."""
+        ``mesh_frequencies_hz``, ``cone_angles_deg``, ``design_hash``,
+        ``reducerlab_version``; the full provenance is :attr:`provenance`)."""
         ds = self.data
 
         def pairs(var: str, dim: str, f=float) -> dict[str, float]:
@@ -124,6 +125,7 @@ class KinematicsResult(Result):
             "mesh_frequencies_hz": pairs("mesh_frequency", "mesh"),
             "cone_angles_deg": pairs("cone_angle", "gear", lambda v: math.degrees(float(v))),
             "design_hash": ds.attrs.get("design_hash"),
+            "reducerlab_version": ds.attrs.get("reducerlab_version"),
         }
 
     def to_json(self) -> str:

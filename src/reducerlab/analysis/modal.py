@@ -5,8 +5,8 @@ stiffness (paper 000 Eq. 9, paper 003 Eq. 12), ``lambda = (2 pi f)^2``.
 
 Conventions (``docs/conventions.md``):
 
-* rigid-body modes (``|lambda| <= rigid_tol * max |lambda|``) are reported as exactly
-  0 Hz;
+* rigid-body modes (motions that strain no element: :func:`strain_ratio` at most
+  ``rigid_tol``) are reported as exactly 0 Hz;
 * a negative eigenvalue, which speed-dependent (centripetal) terms can produce, is a
   static divergence; it is kept, and its frequency is reported with a minus sign,
   ``f = -sqrt(-lambda) / 2 pi``, and flagged ``unstable``;
@@ -62,8 +62,19 @@ def _solve(M: NDArray, K: NDArray, model: Model) -> tuple[NDArray, NDArray]:
         )
     try:
         lam, phi = scipy.linalg.eigh(K, M)
-    except np.linalg.LinAlgError as exc:
-        raise ModelError(f"mass matrix is not positive definite ({exc})") from None
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        d = np.diag(M)
+        i, j = int(np.argmin(d)), int(np.argmax(d))
+        raise ModelError(
+            f"model {model.name!r}: the eigen-solver failed ({exc}); the inertias span "
+            f"{d[i]:.3g} ({model.dof_names[i]}) to {d[j]:.3g} ({model.dof_names[j]}) in SI: "
+            "check for an extreme inertia or stiffness value"
+        ) from None
+    if not (np.all(np.isfinite(lam)) and np.all(np.isfinite(phi))):
+        raise ModelError(
+            f"model {model.name!r}: the eigen-solver returned non-finite values; check for "
+            "an extreme inertia or stiffness value"
+        )
     return lam, phi
 
 
@@ -95,6 +106,42 @@ def _energy_labels(
     return labels, fam_out, body_out
 
 
+#: Mass-weighted amplitude, relative to the mode's largest, below which an element
+#: is not moved by a mode (round-off of the eigen-solver is ~1e-16).
+MOTION_TOL = 1e-6
+
+
+def strain_ratio(model: Model, M: NDArray, phi: NDArray) -> NDArray[np.float64]:
+    """Largest element strain ratio of each mode, for shapes ``phi`` (..., n, modes).
+
+    For every element ``e`` with stiffness (at zero speed, mean mesh stiffness
+    included) that the mode moves (mass-weighted amplitude ``sqrt(M_ii) |phi_i|`` of
+    one of its DOFs above ``1e-6`` of the mode's largest), the ratio
+    ``|phi_e^T K_e phi_e| / (|phi_e|^T |K_e| |phi_e|)``; the largest over the
+    elements. It is 0 (round-off) for a motion that strains no element: a rigid-body
+    motion, the null space of ``K`` by the model's connectivity, whatever the spread of
+    stiffness and mass values; it is of order one for a motion that strains an
+    element (a support that the mode moves gives 1). Unlike an eigenvalue compared
+    with the largest eigenvalue, it does not depend on the other modes.
+    """
+    phi = np.asarray(phi)
+    w = np.abs(phi) * np.sqrt(np.abs(np.diagonal(M, axis1=-2, axis2=-1)))[..., :, None]
+    wmax = w.max(axis=-2)
+    ratio = np.zeros(phi.shape[:-2] + phi.shape[-1:])
+    for e in model.elements:
+        idx, em = model.element_matrices(e, 0.0)
+        Ke = np.real(em.K)
+        if not np.any(Ke):
+            continue
+        pe = phi[..., idx, :]
+        u = np.abs(np.einsum("...im,ij,...jm->...m", pe, Ke, pe))
+        a = np.einsum("...im,ij,...jm->...m", np.abs(pe), np.abs(Ke), np.abs(pe))
+        moved = (w[..., idx, :].max(axis=-2) > MOTION_TOL * wmax) & (a > 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.maximum(ratio, np.where(moved, u / np.where(moved, a, 1.0), 0.0))
+    return ratio
+
+
 def _rigid_and_elastic(
     model: Model, M: NDArray, K: NDArray, rigid_tol: float
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
@@ -109,16 +156,14 @@ def _rigid_and_elastic(
     do to each rigid mode (``phi^T K phi``) is returned as ``drift`` (rad^2/s^2).
     """
     lam, phi = _solve(M, K, model)
-    scale = float(np.max(np.abs(lam))) if lam.size else 1.0
-    tiny = np.finfo(float).tiny
     if model.speed == 0.0:
-        rigid = np.abs(lam) <= rigid_tol * max(scale, tiny)
+        rigid = strain_ratio(model, M, phi) <= rigid_tol
         return np.where(rigid, 0.0, lam), phi, rigid, np.zeros(int(rigid.sum()))
     K0 = model.with_speed(0.0).matrices().K
-    lam0, phi0 = _solve(M, K0, model)
-    null = np.abs(lam0) <= rigid_tol * max(float(np.max(np.abs(lam0))), tiny)
+    _, phi0 = _solve(M, K0, model)
+    null = strain_ratio(model, M, phi0) <= rigid_tol
     if not null.any() or np.array_equal(K0, K):
-        rigid = np.abs(lam) <= rigid_tol * max(scale, tiny)
+        rigid = strain_ratio(model, M, phi) <= rigid_tol if null.any() else np.zeros(lam.size, bool)
         return np.where(rigid, 0.0, lam), phi, rigid, np.zeros(int(rigid.sum()))
     N, V = phi0[:, null], phi0[:, ~null]  # M-orthonormal bases
     drift = np.einsum("im,ij,jm->m", N, K, N)
@@ -138,9 +183,12 @@ def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
     model : Model
         Any lumped-parameter model (mesh stiffness at its mean).
     rigid_tol : float
-        Eigenvalues with ``|lambda| <= rigid_tol * max|lambda|`` are rigid-body modes
-        (reported as exactly 0 Hz). The default sits about six orders of magnitude
-        above the round-off of ``eigh`` (~1e-16 max|lambda|). With speed-dependent
+        A mode is a rigid-body mode (reported as exactly 0 Hz) when it strains no
+        element: its largest element strain ratio (:func:`strain_ratio`,
+        ``|phi_e^T K_e phi_e| / (|phi_e|^T |K_e| |phi_e|)``, 0 for a rigid motion, of
+        order one for an elastic one) is at most ``rigid_tol``. The test is
+        structural: it does not compare eigenvalues with the largest one, so a very
+        light or very stiff body does not turn elastic modes into rigid ones. With speed-dependent
         terms, rigid modes are the null space of the stiffness at zero speed (see
         :func:`_rigid_and_elastic`); the attribute ``rigid_speed_eigenvalues`` records
         what the speed terms would make of them.

@@ -4,7 +4,7 @@ with spectra whose peaks are labelled as multiples of the mesh frequency."""
 
 from __future__ import annotations
 
-import json
+import contextlib
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -16,10 +16,11 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..design import Design
-from ..errors import ReducerlabError
+from ..errors import DivergenceError, ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
 from .response import (
+    check_stability,
     elastic_names,
     ensemble,
     forcing_period,
@@ -29,7 +30,9 @@ from .response import (
     static_states,
     to_system,
 )
+from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .sweep import Axis, _Evaluator, _resolve
+from .workers import check_workers, dask_client, worker_pool
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -70,7 +73,8 @@ def bifurcation(
     ``scale`` (m; 1 um = paper 004's b_c).
 
     With ``output``, every finished chunk of parameter values is written to
-    ``output/chunks/`` at once and a re-run with the same arguments computes only the
+    ``output/chunks/`` at once (atomically, stamped with the run key, its index and its
+    values) and a re-run with the same arguments checks those and computes only the
     missing chunks; with ``scheduler`` (a Dask address or client) the chunks run on the
     cluster. With ``exponents``, the largest Lyapunov exponent of every value is
     computed over the kept periods and :meth:`BifurcationResult.labels` / the figure's
@@ -91,9 +95,9 @@ def bifurcation(
     else:
         raise ReducerlabError("bifurcation: target must be a Design or a Model")
     t = _resolve(design, model, axis.path)
-    vals = [float(v) * (t.base if axis.relative else 1.0) for v in axis.values]
     if any(isinstance(v, str) for v in axis.values):
         raise ReducerlabError("bifurcation: give SI numbers for the values")
+    vals = [float(v) * (t.base if axis.relative else 1.0) for v in axis.values]
     ev = _Evaluator(design.model_dump(mode="python") if design else None, model, (t,))
     values = np.asarray(vals, float)
     base = model.nonlinear()
@@ -102,44 +106,39 @@ def bifurcation(
         raise ReducerlabError(f"bifurcation: line must be in 0..{n_lines - 1}, got {line}")
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
         raise ReducerlabError(f"chunk_size must be a positive integer, got {chunk_size!r}")
-    chunks = [values[i : i + chunk_size] for i in range(0, values.size, chunk_size)]
-    folder = Path(output) if output is not None else None
-    if folder is not None:
-        (folder / "chunks").mkdir(parents=True, exist_ok=True)
-        spec = json.dumps(
-            {"path": axis.path, "values": values.tolist(), "periods": periods, "keep": keep,
-             "steps": steps_per_period, "line": line, "chunk": chunk_size,
-             "exponents": bool(exponents), "scale": scale,
-             "model": _fingerprint(base),
-             "design": design.hash if design else None},
-            sort_keys=True,
-        )  # fmt: skip
-        manifest = folder / "bifurcation.json"
-        if manifest.exists() and manifest.read_text() != spec:
-            raise ReducerlabError(f"{folder} holds a different bifurcation run; use another folder")
-        manifest.write_text(spec)
-
-    def chunk_file(i: int) -> Path | None:
-        return None if folder is None else folder / "chunks" / f"chunk_{i:05d}.npy"
-
-    members = _Members(ev, rigid_reduction(base))
-    if values.size > 8:
-        members.probe(float(values.min()), float(values.max()))
     if workers is None:
         workers = (os.cpu_count() or 1) if values.size >= 200 else 1
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ReducerlabError(f"workers must be a positive integer, got {workers!r}")
+    check_workers(workers, "bifurcation")
+    chunks = [values[i : i + chunk_size] for i in range(0, values.size, chunk_size)]
+    folder = Path(output) if output is not None else None
+    key = ""
+    if folder is not None:
+        spec = {"path": axis.path, "values": values.tolist(), "periods": periods, "keep": keep,
+                "steps": steps_per_period, "line": line, "chunk": chunk_size,
+                "exponents": bool(exponents), "scale": scale, "model": _fingerprint(base),
+                "design": design.hash if design else None}  # fmt: skip
+        key = open_run(folder, "bifurcation.json", spec, "bifurcation run")
+
+    def chunk_file(i: int) -> Path | None:
+        return None if folder is None else chunk_path(folder, i)
+
+    results: dict[int, NDArray] = {}
+    todo = []
+    for i in range(len(chunks)):  # finished chunks are checked before any new work
+        f = chunk_file(i)
+        if f is not None and f.exists():
+            results[i] = load_chunk(f, key, i, chunks[i], ("poincare",))["poincare"]
+        else:
+            todo.append(i)
+    members = _Members(ev, rigid_reduction(base))
+    if values.size > 8 and todo:
+        members.probe(float(values.min()), float(values.max()))
+    if todo:  # a divergent linear part at either end fails at once, before any chunk
+        ends = np.unique([values[0], values[-1]])
+        check_stability(members(ends), [f"{axis.path} = {v:.6g}" for v in ends])
     job = _BifurcationChunk(
         members, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents)
     )
-    results: dict[int, NDArray] = {}
-    todo = []
-    for i in range(len(chunks)):
-        f = chunk_file(i)
-        if f is not None and f.exists():
-            results[i] = np.load(f)
-        else:
-            todo.append(i)
     done = sum(len(chunks[i]) for i in results)
     if progress:
         progress(done, values.size)
@@ -147,37 +146,31 @@ def bifurcation(
     def finish(i: int, points: NDArray) -> None:
         nonlocal done
         results[i] = points
-        _save(chunk_file(i), points)
+        f = chunk_file(i)
+        if f is not None:
+            save_chunk(f, key, i, chunks[i], {"poincare": points})
         done += len(chunks[i])
         if progress:
             progress(done, values.size)
 
     if scheduler is not None and todo:
-        from dask.distributed import Client, as_completed
+        from dask.distributed import as_completed
 
-        client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
-        try:
+        with dask_client(scheduler, "bifurcation") as client:
             futures = {client.submit(job, chunks[i], pure=False): i for i in todo}
             for fut in as_completed(futures):
                 finish(futures[fut], fut.result())
-        finally:
-            if client is not scheduler:
-                client.close()
-    else:
-        pool = None
-        if workers > 1 and members.affine is None and todo:
-            import multiprocessing
-            from concurrent.futures import ProcessPoolExecutor
+    elif todo:
+        forked = workers > 1 and members.affine is None
+        # fork: the children only build models (no compiled parallel code runs in them)
+        # and start without re-importing; they end with this process (see .workers), and
+        # at once when this block raises (Ctrl-C, SIGTERM): the written chunks stay
+        with worker_pool(workers, "fork") if forked else contextlib.nullcontext() as pool:
 
-            # fork: the children only build models (no compiled parallel code runs
-            # in them), and start without re-importing
-            pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"))
+            def submit(i: int) -> list:
+                parts = np.array_split(chunks[i], workers)
+                return [pool.submit(members, part) for part in parts if part.size]
 
-        def submit(i: int) -> list:
-            parts = np.array_split(chunks[i], workers)
-            return [pool.submit(members, part) for part in parts if part.size]
-
-        try:
             pending = submit(todo[0]) if pool else None
             for k, i in enumerate(todo):
                 if pool is None:
@@ -187,9 +180,6 @@ def bifurcation(
                     if k + 1 < len(todo):
                         pending = submit(todo[k + 1])  # built while this chunk integrates
                 finish(i, job.integrate(chunks[i], systems))
-        finally:
-            if pool is not None:
-                pool.shutdown(cancel_futures=True)
     points = np.concatenate([results[i] for i in range(len(chunks))])
     exponent = points[:, keep] if exponents else None
     points = points[:, :keep]
@@ -229,14 +219,6 @@ def _fingerprint(s: NonlinearSystem) -> str:
     for a in (getattr(s, f) for f in NonlinearSystem.ARRAYS):
         h.update(np.ascontiguousarray(a, dtype=float).tobytes())
     return h.hexdigest()[:16]
-
-
-def _save(path: Path | None, arr: NDArray) -> None:
-    if path is None:
-        return
-    tmp = path.with_name(path.stem + ".tmp.npy")
-    np.save(tmp, arr)
-    os.replace(tmp, path)
 
 
 _FLAT = NonlinearSystem.ARRAYS
@@ -506,10 +488,14 @@ def response(
     history: int = 20,
     steps_per_period: int | None = None,
     line: int = 0,
+    period: float | None = None,
 ) -> ResponseResult:
     """Steady nonlinear response of a design or model (compiled kernel, rigid motion
     removed): mesh deflection, its velocity, mesh force and dynamic load factor over
-    the last ``history`` periods, and the Poincaré points of the last ``keep``."""
+    the last ``history`` periods, and the Poincaré points of the last ``keep``.
+
+    ``period`` (s) is the forcing (sampling) period; by default the period of the
+    model's first periodic law (a model without one needs it)."""
     from ..drives import build_model
     from ..model.laws import evaluate_flat
     from .response import to_system
@@ -519,11 +505,23 @@ def response(
         raise ReducerlabError("response: target must be a Design or a Model")
     if not (isinstance(history, int) and history >= 1):
         raise ReducerlabError(f"response: history must be >= 1 period, got {history!r}")
-    s = to_system(model)
-    if not 0 <= line < s.G.shape[0]:
-        raise ReducerlabError(f"response: the model has no mesh line {line}")
+    flat = model.nonlinear()
+    n_lines = flat.G.shape[0]
+    if n_lines == 0:
+        raise ReducerlabError(
+            "response: the model has no mesh line: a nonlinear response needs at least "
+            "one mesh (or cubic spring) element"
+        )
+    s = to_system(flat)
+    if isinstance(line, bool) or not isinstance(line, int) or not 0 <= line < n_lines:
+        raise ReducerlabError(
+            f"response: line must be a mesh line index in 0..{n_lines - 1} "
+            f"({', '.join(s.line_names)}), got {line!r}"
+        )
+    label = repr(model.name) if model.name else "the model"
     res = ensemble([s], periods=periods, keep=keep, history=history,
-                   steps_per_period=steps_per_period, y0=static_state(s))  # fmt: skip
+                   steps_per_period=steps_per_period, y0=static_state(s),
+                   period=period, labels=[label])  # fmt: skip
     n = s.n
     t, H = res.history_time[0], res.history[0]
     g = s.G[line]
@@ -573,4 +571,10 @@ def response(
             **provenance(model.metadata),
         },
     )
+    for name, var in data.data_vars.items():
+        if not np.all(np.isfinite(var.values)) and name != "dynamic_load":
+            raise DivergenceError(
+                f"response: the {var.attrs.get('long_name', name)} is not finite (an extreme "
+                "parameter value overflowed); check the loads, stiffnesses and inertias"
+            )
     return ResponseResult(data)

@@ -27,17 +27,21 @@ import scipy.integrate
 import scipy.linalg
 from numpy.typing import NDArray
 
-from ..errors import ReducerlabError
+from ..errors import DivergenceError, ModelError, ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_period
+from ..model.system import describe_dofs
 
 __all__ = [
+    "BOUND_FACTOR",
     "Ensemble",
+    "check_stability",
     "dimensionless",
     "ensemble",
     "forcing_period",
     "lyapunov",
     "simulate_reference",
+    "state_bounds",
     "static_state",
     "static_states",
     "steps_for",
@@ -53,6 +57,11 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
     T = rigid_reduction(s)
     if T is None:
         return s
+    if T.shape[0] == 0:
+        raise ReducerlabError(
+            f"the model's DOFs {s.dof_names} move only as rigid bodies (no support, "
+            "coupling or mesh resists any motion): there is no vibration to integrate"
+        )
     return s.reduced(T, elastic_names(T))[0]
 
 
@@ -62,7 +71,10 @@ def rigid_reduction(s: NonlinearSystem) -> NDArray[np.float64] | None:
     when ``s`` has no rigid motion. Any ``T`` with the same null space serves another
     system of the same topology (see :meth:`NonlinearSystem.reduced`)."""
     k_mean = s.mean_stiffness
-    lam, V = scipy.linalg.eigh(k_mean, s.M)
+    try:
+        lam, V = scipy.linalg.eigh(k_mean, s.M)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise ModelError(_mass_problem(s, exc)) from None
     rigid = np.abs(lam) <= 1e-10 * max(np.abs(lam).max(), np.finfo(float).tiny)
     if not rigid.any():
         return None
@@ -72,6 +84,156 @@ def rigid_reduction(s: NonlinearSystem) -> NDArray[np.float64] | None:
 def elastic_names(T: NDArray[np.float64]) -> list[str]:
     """Coordinate names of a reduction ``T``."""
     return [f"elastic_{i + 1}" for i in range(T.shape[0])]
+
+
+def _mass_problem(s: NonlinearSystem, exc: Exception | None = None) -> str:
+    """Message for a mass matrix that the solvers cannot factorise, naming the DOF."""
+    names, _, M = s.physical()
+    d = np.diag(M)
+    if np.any(~(d > 0)):
+        bad = [names[i] for i in np.nonzero(~(d > 0))[0]]
+        return (
+            f"DOF(s) {bad} have no inertia, so the mass matrix is singular; add an "
+            "Inertia element on each DOF (or remove the DOF)"
+        )
+    i, j = int(np.argmin(d)), int(np.argmax(d))
+    return (
+        f"the mass matrix is not positive definite to working precision ({exc}); the "
+        f"inertias span {d[i]:.3g} ({names[i]}) to {d[j]:.3g} ({names[j]}) in SI: check "
+        "for an extreme inertia value"
+    )
+
+
+def _law_peak(kind: int, p: NDArray[np.float64]) -> float:
+    """An upper bound of ``|law(t)|`` over all times."""
+    if kind == LAW_FOURIER:
+        n = int(p[2])
+        return float(abs(p[0]) + np.abs(p[3 : 3 + n]).sum())
+    if kind == LAW_PIECEWISE:
+        n, m = int(p[2]), int(p[3])
+        return float(np.abs(p[4 + n : 4 + n + n * m]).reshape(n, m).sum(axis=1).max())
+    return float(abs(p[0]))
+
+
+#: Default state bound of :func:`ensemble`: a state component beyond ``BOUND_FACTOR``
+#: times the displacement scale of its member (see :func:`state_bounds`) stops the run.
+BOUND_FACTOR = 1e6
+
+
+def state_bounds(
+    systems: Sequence[NonlinearSystem],
+    y0: NDArray[np.float64] | None,
+    period: NDArray[np.float64],
+    factor: float = BOUND_FACTOR,
+) -> NDArray[np.float64]:
+    """Default bounds ``(E, 2n)`` of the state components, the rule of :func:`ensemble`.
+
+    For each member the displacement scale ``d`` (in the system's coordinates: metres
+    or radians, or mass-weighted modal amplitudes after rigid-motion removal) is the
+    largest of
+
+    * the static deflection under the peak loads with the mean mesh stiffness,
+      ``max_i sum_j |(K_mean^-1 B)_ij| F_peak_j`` (``F_peak``: an upper bound of each
+      load law's magnitude);
+    * the largest initial displacement ``max_i |q0_i|``;
+    * the clearance of each mesh line, ``(b_m + e_peak_m) / max_i |G_mi|`` (half backlash
+      plus peak transmission error, over the line's largest projection coefficient);
+
+    a displacement component beyond ``factor * d`` (default ``1e6 d``), or a velocity
+    component beyond ``factor * d * w`` with ``w`` the larger of the highest natural
+    frequency (rad/s) of the mean system and the forcing frequency ``2 pi / T``, is a
+    divergence. A member with ``d = 0`` (no load, no clearance, at rest) is bounded only
+    by overflow (inf).
+    """
+    E, n = len(systems), systems[0].n
+    K = np.stack([s.mean_stiffness for s in systems])
+    B = np.stack([s.load_matrix for s in systems])
+    out = np.full((E, 2 * n), math.inf)
+    for e, s in enumerate(systems):
+        f_peak = np.array([_law_peak(int(k), p) for k, p in zip(s.f_kind, s.f_params,
+                                                                  strict=True)])  # fmt: skip
+        d = 0.0
+        if f_peak.size and np.any(f_peak):
+            KiB = np.linalg.pinv(K[e]) @ B[e]
+            d = float(np.max(np.abs(KiB) @ f_peak))
+        if y0 is not None:
+            d = max(d, float(np.max(np.abs(y0[e, :n]))))
+        for m in range(s.G.shape[0]):
+            g = float(np.abs(s.G[m]).max())
+            if g > 0:
+                clear = s.half_backlash[m] + _law_peak(int(s.e_kind[m]), s.e_params[m])
+                d = max(d, float(clear) / g)
+        if not (d > 0 and math.isfinite(d)):
+            continue
+        Lc = np.linalg.cholesky(s.M)
+        A = np.linalg.solve(Lc, np.linalg.solve(Lc, K[e]).T)
+        w = max(math.sqrt(max(float(np.linalg.eigvalsh(0.5 * (A + A.T)).max()), 0.0)),
+                2 * math.pi / float(period[e]))  # fmt: skip
+        out[e, :n] = factor * d
+        out[e, n:] = factor * d * w
+    return out
+
+
+#: Relative size of ``phi^T K phi`` against ``|phi|^T |K| |phi|`` below which a negative
+#: eigenvalue is round-off of a rigid-body mode, not a divergent mode.
+STRAIN_TOL = 1e-9
+
+
+def check_stability(
+    systems: Sequence[NonlinearSystem], labels: Sequence[str] | None = None
+) -> None:
+    """Raise :class:`DivergenceError` when the linear part of a member has a divergent
+    mode: a negative eigenvalue of ``K_mean phi = lambda M phi`` (mean mesh stiffness)
+    whose strain energy is not round-off (``|phi^T K phi| > 1e-9 |phi|^T |K| |phi|``,
+    robust to rigid-body modes) and that no hardening cubic line confines
+    (``sum_m k3_m (G_m phi)^4 > 0``, the double well of a Duffing oscillator). The message
+    names the member, the eigenvalue and the physical DOFs that dominate the mode.
+    Members are checked together (batched Cholesky and ``eigh``).
+    """
+    if not systems:
+        return
+    K = np.stack([s.mean_stiffness for s in systems])
+    M = np.stack([s.M for s in systems])
+    try:
+        Lc = np.linalg.cholesky(0.5 * (M + np.swapaxes(M, 1, 2)))
+    except np.linalg.LinAlgError:
+        for s in systems:
+            try:
+                np.linalg.cholesky(s.M)
+            except np.linalg.LinAlgError as exc:
+                raise ModelError(_mass_problem(s, exc)) from None
+        raise
+    A = np.linalg.solve(Lc, np.swapaxes(np.linalg.solve(Lc, K), 1, 2))
+    lam, Y = np.linalg.eigh(0.5 * (A + np.swapaxes(A, 1, 2)))
+    if not np.any(lam < 0):
+        return
+    phi = np.linalg.solve(np.swapaxes(Lc, 1, 2), Y)
+    num = np.einsum("eim,eij,ejm->em", phi, K, phi)
+    den = np.einsum("eim,eij,ejm->em", np.abs(phi), np.abs(K), np.abs(phi))
+    k3 = np.stack([s.line_cubic for s in systems])  # (E, L)
+    G = np.stack([s.G for s in systems])  # (E, L, n)
+    Gp = np.einsum("eli,eim->elm", G, phi)
+    quartic = np.einsum("el,elm->em", k3, Gp**4)
+    quartic_abs = np.einsum("el,elm->em", np.abs(k3),
+                            np.einsum("eli,eim->elm", np.abs(G), np.abs(phi)) ** 4)  # fmt: skip
+    divergent = (lam < 0) & (np.abs(num) > STRAIN_TOL * den) & ~(quartic > 1e-9 * quartic_abs)
+    bad = np.nonzero(divergent.any(axis=1))[0]
+    if not bad.size:
+        return
+    e = int(bad[0])
+    j = int(np.argmin(np.where(divergent[e], lam[e], np.inf)))
+    s = systems[e]
+    label = labels[e] if labels is not None else (f"member {e}" if len(systems) > 1 else "")
+    where = f" for {label}" if label else ""
+    rate = math.sqrt(-float(lam[e, j]))
+    dofs = describe_dofs(s.dominant_dofs(phi[e, :, j]))
+    raise DivergenceError(
+        f"the linear part of the model is unstable{where}: a divergent mode "
+        f"(negative stiffness, eigenvalue {lam[e, j]:.4g} rad^2/s^2: any disturbance grows "
+        f"as exp({rate:.4g} t/s)) of the DOF(s) {dofs}; a response would be meaningless. "
+        "Check the stiffness acting on those DOFs (e.g. centripetal terms larger than the "
+        "support and mesh stiffness: lower the speed or stiffen the supports)"
+    )
 
 
 def static_state(s: NonlinearSystem) -> NDArray[np.float64]:
@@ -152,16 +314,19 @@ def _prepare(
     systems: Sequence[NonlinearSystem],
     steps_per_period: int | None,
     period: float | None,
+    labels: Sequence[str] | None = None,
 ) -> _Prepared:
-    """Check an ensemble and stack its arrays for the kernel (member axis first)."""
+    """Check an ensemble (structure, linear stability: :func:`check_stability`) and
+    stack its arrays for the kernel (member axis first)."""
     _check_structure(systems)
+    check_stability(systems, labels)
     if period is not None and not (isinstance(period, int | float) and period > 0):
         raise ReducerlabError(f"period must be > 0 s, got {period!r}")
     from .kernel import step_grid
 
     E = len(systems)
     T = np.array([period if period is not None else forcing_period(s) for s in systems])
-    Minv = np.linalg.inv(np.stack([s.M for s in systems]))
+    Minv = np.linalg.inv(np.stack([s.M for s in systems]))  # M is positive definite (above)
     N = steps_per_period or _steps_batch(systems, T)
     if not (isinstance(N, int) and N >= 4):
         raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
@@ -260,7 +425,7 @@ def ensemble(
     history: int = 0,
     steps_per_period: int | None = None,
     y0: NDArray[np.float64] | None = None,
-    limit: float = math.inf,
+    limit: float | None = None,
     labels: Sequence[str] | None = None,
     period: float | None = None,
 ) -> Ensemble:
@@ -280,14 +445,25 @@ def ensemble(
         Overrides :func:`steps_for` (the largest over the members is used).
     y0 : array, optional
         Initial states (member, 2n) or (2n,); zeros by default.
-    limit : float
-        |state| above this counts as divergence (in the system's coordinates: after
-        rigid-motion removal they are mass-weighted modal amplitudes, not metres); by
-        default only a non-finite state (overflow, NaN) does.
+    limit : float, optional
+        |state component| above this counts as divergence (in the system's
+        coordinates: after rigid-motion removal they are mass-weighted modal amplitudes,
+        not metres); ``math.inf``: only a non-finite state (overflow, NaN) does. By
+        default each member gets the bounds of :func:`state_bounds`: 1e6 times its
+        displacement scale (static deflection under the peak loads, initial state,
+        mesh clearances), and that times its highest frequency for velocities.
     labels : sequence of str
         Names of the members for error messages (parameter values).
     period : float, optional
         Sampling period (s) when the systems have no periodic law.
+
+    Raises
+    ------
+    DivergenceError
+        Before integrating, when a member's linear part has a divergent mode
+        (:func:`check_stability`); during it, when a state component leaves its bound
+        or becomes non-finite: the message names the member (``labels``), the time and
+        the physical DOFs that dominate the motion.
     """
     from .kernel import block_width, law_values, rk4_ensemble
 
@@ -307,28 +483,23 @@ def ensemble(
             raise ReducerlabError(
                 f"y0 must have shape ({2 * n},) or ({E}, {2 * n}), got {y0.shape}"
             )
-    prep = _prepare(systems, steps_per_period, period)
+    if limit is not None and not (isinstance(limit, int | float) and limit > 0):
+        raise ReducerlabError(f"limit must be a number > 0, got {limit!r}")
+    prep = _prepare(systems, steps_per_period, period, labels)
     T, N = prep.period, prep.steps
     Y0 = (
         np.zeros((E, 2 * n))
         if y0 is None
         else np.broadcast_to(np.asarray(y0, float), (E, 2 * n)).copy()
     )
+    if not np.all(np.isfinite(Y0)):
+        raise ReducerlabError("y0: the initial state must be finite")
+    bounds = state_bounds(systems, Y0, T) if limit is None else np.full((E, 2 * n), float(limit))
     poincare, hist, status = rk4_ensemble(
         *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
-        periods, keep, history, limit, block_width(E),
+        periods, keep, history, bounds, block_width(E),
     )  # fmt: skip
-    bad = np.nonzero(status[:, 0])[0]
-    if bad.size:
-        e = int(bad[0])
-        i = int(status[e, 2])
-        what = s0.dof_names[i % n] + (" velocity" if i >= n else " displacement")
-        label = labels[e] if labels is not None else f"member {e}"
-        raise ReducerlabError(
-            f"integration diverged for {label} at t = {status[e, 1]:.6g} s: {what} exceeded "
-            f"{limit:g} (or became NaN); reduce the step (steps_per_period > {N}) or check "
-            "the parameters"
-        )
+    _raise_diverged(systems, status, bounds, labels, N)
     G = prep.arrays[3]
     L = G.shape[1]
     # mesh deflections G q - e(t) at the Poincare times and along the history
@@ -351,6 +522,45 @@ def ensemble(
         dH = np.empty((E, 0, L))
     times = tH
     return Ensemble(poincare, hist, dP, dH, T, times, list(systems))
+
+
+def _raise_diverged(
+    systems: Sequence[NonlinearSystem],
+    status: NDArray[np.float64],
+    bounds: NDArray[np.float64],
+    labels: Sequence[str] | None,
+    steps: int,
+) -> None:
+    """Raise :class:`DivergenceError` for the first member the kernel stopped, naming
+    the physical DOFs that dominate its motion at the time it left its bound."""
+    bad = np.nonzero(status[:, 0])[0]
+    if not bad.size:
+        return
+    e = int(bad[0])
+    s = systems[e]
+    n = s.n
+    i = int(status[e, 2])
+    y = status[e, 3 : 3 + 2 * n]
+    part = y[:n] if i < n else y[n:]
+    if not np.all(np.isfinite(part)) or not np.any(part):
+        part = np.eye(n)[i % n]  # the coordinate that failed
+    dofs = describe_dofs(s.dominant_dofs(part))
+    kind = "displacement" if i < n else "velocity"
+    label = labels[e] if labels is not None else (f"member {e}" if len(systems) > 1 else "")
+    where = f" for {label}" if label else ""
+    bound = float(bounds[e, i])
+    why = (
+        f"left its bound ({bound:.3g} in the system's coordinates, see "
+        "reducerlab.analysis.response.state_bounds)"
+        if math.isfinite(bound) and np.isfinite(y[i])
+        else "became non-finite (overflow or NaN)"
+    )
+    raise DivergenceError(
+        f"integration diverged{where} at t = {status[e, 1]:.6g} s: the {kind} of the "
+        f"motion, dominated by {dofs}, {why}. The motion is unbounded (an instability of "
+        f"the nonlinear or time-varying system) or the step too long: check the "
+        f"parameters, or give steps_per_period > {steps}"
+    )
 
 
 def _check_commensurate(s: NonlinearSystem, T: float) -> None:
@@ -475,7 +685,8 @@ def lyapunov(
     if not (isinstance(periods, int) and isinstance(transient, int) and 0 <= transient < periods):
         raise ReducerlabError("lyapunov: need 0 <= transient < periods")
     pairs = [s for s in systems for _ in range(2)]
-    prep = _prepare(pairs, steps_per_period, None)
+    labels = None if len(systems) == 1 else [f"member {i // 2}" for i in range(len(pairs))]
+    prep = _prepare(pairs, steps_per_period, None, labels)
     T = prep.period
     bw = block_width(len(pairs))
     E2, n = len(pairs), systems[0].n
@@ -491,15 +702,17 @@ def lyapunov(
             raise ReducerlabError(
                 f"y0 must have shape ({2 * n},) or ({len(systems)}, {2 * n}), got {y0.shape}"
             )
-    inf = math.inf
+    if not np.all(np.isfinite(Y)):
+        raise ReducerlabError("y0: the initial state must be finite")
+    bounds = state_bounds(pairs, Y, T)
     elapsed = 0
     # warm up the reference without perturbation to estimate the state scales
     for _ in range(transient):
         P, _, status = rk4_ensemble(
-            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0, inf, bw
-        )
-        if status[:, 0].any():
-            raise ReducerlabError("lyapunov: integration diverged during the transient")
+            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0,
+            bounds, bw,
+        )  # fmt: skip
+        _raise_diverged(pairs, status, bounds, labels, prep.steps)
         Y = P[:, 1].copy()
         elapsed += 1
     ref = Y[0::2]
@@ -511,10 +724,10 @@ def lyapunov(
     total = np.zeros(len(systems))
     for _ in range(periods - transient):
         P, _, status = rk4_ensemble(
-            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0, inf, bw
-        )
-        if status[:, 0].any():
-            raise ReducerlabError("lyapunov: integration diverged")
+            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0,
+            bounds, bw,
+        )  # fmt: skip
+        _raise_diverged(pairs, status, bounds, labels, prep.steps)
         Y = P[:, 1].copy()
         elapsed += 1
         diff = (Y[1::2] - Y[0::2]) / scale

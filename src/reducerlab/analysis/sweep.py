@@ -2,11 +2,13 @@
 a linear or logarithmic range, relative to the design value, or a grid of two.
 
 Points are evaluated in chunks. Each finished chunk is written to the run folder at
-once (``chunks/chunk_NNNNN.npz``, written atomically), so an interrupted run loses
-nothing: running the same sweep into the same folder again computes only the missing
-chunks. Chunks run in worker processes by default, or on a Dask cluster when a
-scheduler address is given. Where ``M`` and ``K`` are affine in the swept parameters
-(``K = K0 + p K1``), a chunk is one batched eigenproblem with no Python loop per point.
+once (``chunks/chunk_NNNNN.npz``, written atomically and stamped with the run key, its
+index and its parameter values, see :mod:`.runfolder`), so an interrupted run loses
+nothing: running the same sweep into the same folder again checks the finished chunks
+and computes only the missing ones. Chunks run in worker processes by default (see
+:mod:`.workers`), or on a Dask cluster when a scheduler address is given. Where ``M``
+and ``K`` are affine in the swept parameters (``K = K0 + p K1``), a chunk is one
+batched eigenproblem with no Python loop per point.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ import os
 import re
 import shutil
 from collections.abc import Callable, Iterable, Sequence
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -33,7 +35,9 @@ from ..errors import DesignError, ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
 from .batch import eigh_batch
+from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes
+from .workers import check_workers, dask_client, worker_pool
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -306,24 +310,37 @@ def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
 
 
 # ----------------------------------------------------------------------------- running
-def _solve_chunk(ev: _Evaluator, points: NDArray, path: str) -> str:
+_ARRAYS = ("lam", "phi", "y")
+
+
+def _solve_chunk(ev: _Evaluator, points: NDArray, path: str, key: str, index: int) -> str:
     lam, phi, y = ev.solve(points)
-    tmp = f"{path}.tmp.npz"
-    np.savez(tmp, lam=lam, phi=phi, y=y)
-    os.replace(tmp, path)
+    save_chunk(path, key, index, points, {"lam": lam, "phi": phi, "y": y})
     return path
 
 
 @dataclass
 class _Run:
     folder: Path
+    key: str
     chunks: list[tuple[int, NDArray]] = field(default_factory=list)
 
     def chunk_path(self, i: int) -> Path:
-        return self.folder / "chunks" / f"chunk_{i:05d}.npz"
+        return chunk_path(self.folder, i)
 
     def missing(self) -> list[tuple[int, NDArray]]:
-        return [(i, pts) for i, pts in self.chunks if not self.chunk_path(i).exists()]
+        """Chunks still to compute; the stamps of the finished ones are checked."""
+        todo = []
+        for i, pts in self.chunks:
+            path = self.chunk_path(i)
+            if path.exists():
+                load_chunk(path, self.key, i, pts)
+            else:
+                todo.append((i, pts))
+        return todo
+
+    def load(self, i: int, pts: NDArray) -> dict[str, NDArray]:
+        return load_chunk(self.chunk_path(i), self.key, i, pts, _ARRAYS)
 
 
 def _submit_all(
@@ -336,43 +353,31 @@ def _submit_all(
 ) -> None:
     if not jobs:
         return
+    args = [(ev, pts, str(run.chunk_path(i)), run.key, i) for i, pts in jobs]
     if scheduler is not None:
-        from dask.distributed import Client, as_completed
+        from dask.distributed import as_completed as dask_completed
 
-        client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
-        try:
-            futures = [
-                client.submit(_solve_chunk, ev, pts, str(run.chunk_path(i)), pure=False)
-                for i, pts in jobs
-            ]
-            for f in as_completed(futures):
+        with dask_client(scheduler, "sweep") as client:
+            futures = [client.submit(_solve_chunk, *a, pure=False) for a in args]
+            for f in dask_completed(futures):
                 f.result()
                 if progress:
                     progress(1)
-        finally:
-            if client is not scheduler:
-                client.close()
         return
     n_workers = workers if workers is not None else (os.cpu_count() or 1)
     if n_workers <= 1 or len(jobs) == 1:
-        for i, pts in jobs:
-            _solve_chunk(ev, pts, str(run.chunk_path(i)))
+        for a in args:
+            _solve_chunk(*a)
             if progress:
                 progress(1)
         return
-    with ProcessPoolExecutor(max_workers=min(n_workers, len(jobs))) as pool:
-        futures = [pool.submit(_solve_chunk, ev, pts, str(run.chunk_path(i))) for i, pts in jobs]
-        try:
-            from concurrent.futures import as_completed
-
-            for f in as_completed(futures):
-                f.result()
-                if progress:
-                    progress(1)
-        except BaseException:
-            for f in futures:
-                f.cancel()
-            raise
+    # on any exception (Ctrl-C, SIGTERM, an error) the pool ends its workers at once;
+    # the chunks already written stay, and a re-run resumes from them
+    with worker_pool(min(n_workers, len(jobs))) as pool:
+        for f in as_completed([pool.submit(_solve_chunk, *a) for a in args]):
+            f.result()
+            if progress:
+                progress(1)
 
 
 def sweep(
@@ -400,7 +405,8 @@ def sweep(
     chunk_size : int
         Points per chunk.
     workers : int, optional
-        Worker processes (default: all cores); 1 runs in this process.
+        Worker processes (default: all cores; at most 4 per core); 1 runs in this
+        process. Workers end with this process, whatever ends it.
     scheduler : str or dask.distributed.Client, optional
         Run the chunks on a Dask cluster (``"tcp://HOST:PORT"``) instead.
     track : bool
@@ -421,8 +427,8 @@ def sweep(
         raise ReducerlabError("sweep: the two grid axes must be different parameters")
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
         raise ReducerlabError(f"sweep: chunk_size must be a positive integer, got {chunk_size!r}")
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
-        raise ReducerlabError(f"sweep: workers must be a positive integer, got {workers!r}")
+    if workers is not None:
+        check_workers(workers, "sweep")
     if isinstance(target, Design):
         design, model = target, build_model(target)
     elif isinstance(target, Model):
@@ -477,38 +483,26 @@ def sweep(
         ).hexdigest(),
         "chunk_size": chunk_size,
     }
-    key = hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()[:16]
     temporary = output is None
     folder = Path(output) if output is not None else Path(_tempdir())
-    (folder / "chunks").mkdir(parents=True, exist_ok=True)
-    manifest = folder / "sweep.json"
-    if manifest.exists():
-        old = json.loads(manifest.read_text())
-        if old.get("key") != key:
-            raise ReducerlabError(
-                f"{folder} holds a different sweep ({old.get('axes')}); choose another output "
-                "folder or delete it"
-            )
-    else:
-        manifest.write_text(json.dumps({"key": key, **spec}, indent=1))
-    run = _Run(folder)
-    run.chunks = [
-        (i, points[s : s + chunk_size]) for i, s in enumerate(range(0, len(points), chunk_size))
-    ]
-    jobs = run.missing()
-    total, done = len(run.chunks), len(run.chunks) - len(jobs)
-    if progress:
-        progress(done, total)
-
-    def tick(k: int) -> None:
-        nonlocal done
-        done += k
+    try:
+        run = _Run(folder, open_run(folder, "sweep.json", spec, "sweep"))
+        run.chunks = [
+            (i, points[s : s + chunk_size]) for i, s in enumerate(range(0, len(points), chunk_size))
+        ]
+        jobs = run.missing()
+        total, done = len(run.chunks), len(run.chunks) - len(jobs)
         if progress:
             progress(done, total)
 
-    try:
+        def tick(k: int) -> None:
+            nonlocal done
+            done += k
+            if progress:
+                progress(done, total)
+
         _submit_all(ev, jobs, run, workers, scheduler, tick)
-        parts = [np.load(run.chunk_path(i)) for i, _ in run.chunks]
+        parts = [run.load(i, pts) for i, pts in run.chunks]
         lam = np.concatenate([p["lam"] for p in parts])
         phi = np.concatenate([p["phi"] for p in parts])
         y = np.concatenate([p["y"] for p in parts])
@@ -516,7 +510,7 @@ def sweep(
         if track and len(axes) == 1 and len(columns[0]) > 1:
             _add_tracking(result, ev, columns[0])
         if not temporary:
-            result.save(folder / "sweep.nc")
+            result.save(folder / "sweep.nc")  # atomic
         return result
     finally:
         if temporary:

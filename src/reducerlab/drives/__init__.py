@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..design import Design, read_toml, validate_design
-from ..errors import DesignError
+from ..errors import DesignError, ReducerlabError
 from ..kinematics import DriveKinematics
 from ..model import Model
 from . import cycloid_ball, gear_pair, khv, kinematic, lumped, nutation
@@ -85,7 +85,9 @@ def design_from_dict(data: Mapping[str, Any], source: str = "<design>") -> Desig
         raise DesignError(
             f"{source}: type = {kind!r}: unknown drive type (one of: {', '.join(DRIVES)})"
         )
-    return validate_design(DRIVES[kind].design, data, source)
+    design = validate_design(DRIVES[kind].design, data, source)
+    design._source = source
+    return design
 
 
 def load_design(path: str | Path) -> Design:
@@ -111,20 +113,59 @@ def has_model(design: Design) -> bool:
     return _entry(design).build is not None
 
 
+def _from_source(design: Design, exc: ReducerlabError) -> DesignError:
+    """``exc`` with the design's file named in front, as every design error does
+    (``FILE: field: rule``): builders check rules between fields that the schema cannot
+    see, and know the fields but not the file."""
+    source = design.source
+    text = str(exc)
+    if source in text:
+        return exc
+    return DesignError(f"{source}: {text}")
+
+
 def build_model(design: Design) -> Model:
-    """Turn a validated design into its generic :class:`~reducerlab.model.Model`."""
+    """Turn a validated design into its generic :class:`~reducerlab.model.Model`.
+
+    Raises
+    ------
+    ReducerlabError
+        When the builder finds a rule broken between fields; the message starts with
+        the design's source (its file, for :func:`load_design`).
+    """
     build = _entry(design).build
     if build is None:
         raise DesignError(
-            f"design type {design.type!r} describes kinematics only and has no dynamic "
-            "model; use 'reducerlab kinematics'"
+            f"{design.source}: design type {design.type!r} describes kinematics only and "
+            "has no dynamic model; use 'reducerlab kinematics'"
         )
-    return build(design)
+    try:
+        return build(design)
+    except ReducerlabError as exc:
+        raise _from_source(design, exc) from None
 
 
 def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
-    """The drive kinematics of a design and its input speed (rad/s)."""
+    """The drive kinematics of a design and its input speed (rad/s).
+
+    Raises
+    ------
+    DesignError
+        Naming the design's source when it has no kinematics or its ``input_speed`` is
+        zero (a model may run at rest; speeds and mesh frequencies need a speed).
+    """
     method = getattr(design, "kinematics", None)
     if method is None:
-        raise DesignError(f"design type {design.type!r} defines no drive kinematics")
-    return method(), float(design.input_speed)
+        raise DesignError(
+            f"{design.source}: design type {design.type!r} defines no drive kinematics"
+        )
+    speed = float(design.input_speed)
+    if speed == 0.0:
+        raise DesignError(
+            f"{design.source}: input_speed = 0: member speeds and mesh frequencies need a "
+            "non-zero input speed (e.g. input_speed = '1500 rpm')"
+        )
+    try:
+        return method(), speed
+    except ReducerlabError as exc:
+        raise _from_source(design, exc) from None

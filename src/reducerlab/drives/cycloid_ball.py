@@ -37,10 +37,12 @@ from ..design import (
     MomentOfInertia,
     NonNegativeStiffness,
     PositiveInt,
+    Real,
     Spec,
     SpeedRange,
     Stiffness,
     angle_between,
+    field_rules,
 )
 from ..kinematics import CycloidBallDrive
 from ..model import (
@@ -149,10 +151,10 @@ class CycloidBallPair(Spec):
     """Cycloid-ball meshing pairs (Eq. 1, 8, 10)."""
 
     ball_stiffness: Stiffness
-    deformation_coefficient: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)]
+    deformation_coefficient: Annotated[Real, Field(gt=0, le=1)]
     balls: PositiveInt | None = None
     ball_damping: Damping = 0.0
-    short_width_coefficient: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] | None = None
+    short_width_coefficient: Annotated[Real, Field(gt=0, lt=1)] | None = None
     groove_half_angle: angle_between(0, 90) | None = None  # type: ignore[valid-type]
 
 
@@ -185,25 +187,27 @@ class CycloidBallDesign(Design):
         zc, zp = self.centre_disc.lobes, self.planetary_disc.lobes
         problems = []
         if zp != zc + 2:
-            problems.append(
-                f"planetary_disc.lobes must be centre_disc.lobes + 2 (hypotrochoid over "
-                f"epitrochoid), got {zp} and {zc}"
-            )
+            problems.append((
+                "planetary_disc.lobes",
+                f"planetary_disc.lobes must be centre_disc.lobes + 2 = {zc + 2} (hypotrochoid "
+                "over epitrochoid)",
+            ))  # fmt: skip
         elif self.cycloid_pair.balls is not None and self.cycloid_pair.balls != self.balls:
-            problems.append(
-                f"cycloid_pair.balls must be (centre lobes + planetary lobes) / 2 = "
-                f"{self.balls}, got {self.cycloid_pair.balls}"
-            )
+            problems.append((
+                "cycloid_pair.balls",
+                f"cycloid_pair.balls must be (centre lobes + planetary lobes) / 2 = {self.balls}",
+            ))  # fmt: skip
         for name, z in (("centre_disc", zc), ("planetary_disc", zp), ("end_cover_disc", zp)):
             r = getattr(self, name).pitch_radius
             want = self.pitch_radius(z)
             if r is not None and abs(r - want) > 1e-6 * want:
-                problems.append(
-                    f"{name}.pitch_radius = {r * 1e3:.6g} mm disagrees with lobes x "
-                    f"eccentricity / 2 = {want * 1e3:.6g} mm"
-                )
+                problems.append((
+                    f"{name}.pitch_radius",
+                    f"{r * 1e3:.6g} mm disagrees with lobes x eccentricity / 2 = "
+                    f"{want * 1e3:.6g} mm",
+                ))  # fmt: skip
         if problems:
-            raise ValueError("; ".join(problems))
+            raise field_rules(*problems)
         return self
 
     @property

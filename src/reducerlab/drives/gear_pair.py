@@ -32,6 +32,7 @@ from ..design import (
     Stiffness,
     Torque,
     angle_between,
+    field_rules,
     quantity,
 )
 from ..kinematics import ExternalGearPair
@@ -80,17 +81,18 @@ class GearMesh(Spec):
     @model_validator(mode="after")
     def _phases_match(self) -> GearMesh:
         if self.stiffness_phases and len(self.stiffness_phases) != len(self.stiffness_harmonics):
-            raise ValueError(
-                f"stiffness_phases has {len(self.stiffness_phases)} entries but "
-                f"stiffness_harmonics has {len(self.stiffness_harmonics)}; give one phase per "
-                "harmonic or none"
-            )
+            raise field_rules((
+                "stiffness_phases",
+                f"has {len(self.stiffness_phases)} entries but stiffness_harmonics has "
+                f"{len(self.stiffness_harmonics)}; give one phase per harmonic or none",
+            ))  # fmt: skip
         total = sum(self.stiffness_harmonics)
         if total > self.stiffness:
-            raise ValueError(
-                f"stiffness_harmonics add up to {total:.6g} N/m, more than the mean "
-                f"stiffness {self.stiffness:.6g} N/m, so k(t) would become negative"
-            )
+            raise field_rules((
+                "stiffness_harmonics",
+                f"add up to {total:.6g} N/m, more than the mean stiffness "
+                f"{self.stiffness:.6g} N/m, so k(t) would become negative",
+            ))  # fmt: skip
         return self
 
 
@@ -115,10 +117,10 @@ class GearPairDesign(Design):
     @model_validator(mode="after")
     def _harmonics_need_speed(self) -> GearPairDesign:
         if self.mesh.stiffness_harmonics and self.operating.speed <= 0:
-            raise ValueError(
-                "mesh.stiffness_harmonics need operating.speed > 0 to set the mesh "
-                f"frequency; operating.speed is {self.operating.speed:g} rad/s"
-            )
+            raise field_rules((
+                "operating.speed",
+                "mesh.stiffness_harmonics need operating.speed > 0 to set the mesh frequency",
+            ))  # fmt: skip
         return self
 
     def base_radius(self, which: Literal["pinion", "gear"]) -> float:

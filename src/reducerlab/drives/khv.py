@@ -32,10 +32,12 @@ from ..design import (
     Mass,
     MomentOfInertia,
     PositiveInt,
+    Real,
     Spec,
     SpeedRange,
     Torque,
     angle_between,
+    field_rules,
     quantity,
 )
 from ..errors import ReducerlabError
@@ -48,8 +50,8 @@ __all__ = ["PAPER_LINE", "KHVDesign", "build_model", "relative_coordinates"]
 #: The points M and N of paper 004 Fig. 3; x2 is on the straight line through them when
 #: a design gives x1 only.
 PAPER_LINE = (0.416, 0.601, 0.835, 0.995)
-Shift = Annotated[float, Field(ge=-1.5, le=3.0, allow_inf_nan=False)]
-Ratio = Annotated[float, Field(ge=0, lt=1, allow_inf_nan=False)]
+Shift = Annotated[Real, Field(ge=-1.5, le=3.0)]
+Ratio = Annotated[Real, Field(ge=0, lt=1)]
 TorsionalStiffness = quantity("torsional stiffness", gt=0)
 
 
@@ -59,21 +61,21 @@ class Gears(Spec):
     planet_teeth: PositiveInt
     ring_teeth: PositiveInt
     module: Length
-    addendum: Annotated[float, Field(gt=0, le=1.5, allow_inf_nan=False)] = 1.0
+    addendum: Annotated[Real, Field(gt=0, le=1.5)] = 1.0
     pressure_angle: angle_between(5, 45) = math.radians(20.0)  # type: ignore[valid-type]
     face_width: Length
     x1: Shift
     x2: Shift | None = None
-    shift_line: tuple[float, float, float, float] = PAPER_LINE
+    shift_line: Annotated[list[Real], Field(min_length=4, max_length=4)] = Field(
+        default_factory=lambda: list(PAPER_LINE)
+    )
 
     @model_validator(mode="after")
     def _teeth(self) -> Gears:
         if self.ring_teeth <= self.planet_teeth:
-            raise ValueError(
-                f"ring_teeth ({self.ring_teeth}) must exceed planet_teeth ({self.planet_teeth})"
-            )
+            raise field_rules(("ring_teeth", f"must exceed planet_teeth ({self.planet_teeth})"))
         if self.shift_line[0] == self.shift_line[2]:
-            raise ValueError("shift_line needs two points with different x1")
+            raise field_rules(("shift_line", "needs two points with different x1"))
         return self
 
     @property
@@ -142,17 +144,18 @@ class KHVDesign(Design):
     @model_validator(mode="after")
     def _feasible(self) -> KHVDesign:
         if self.input_speed <= 0:
-            raise ValueError("input_speed must be > 0 (the mesh period follows from it)")
+            raise field_rules(("input_speed", "must be > 0 (the mesh period follows from it)"))
         try:
             pair = self.gears.pair()
             pair.check()
         except ReducerlabError as exc:
-            raise ValueError(f"gears: {exc}") from None
+            raise field_rules(("gears", str(exc))) from None
         if not 1.0 < pair.contact_ratio < 2.0:
-            raise ValueError(
-                f"gears: contact ratio {pair.contact_ratio:.4g} outside (1, 2), where the "
-                "single/double-tooth law of paper 004 applies"
-            )
+            raise field_rules((
+                "gears",
+                f"contact ratio {pair.contact_ratio:.4g} outside (1, 2), where the "
+                "single/double-tooth law of paper 004 applies",
+            ))  # fmt: skip
         return self
 
     def kinematics(self) -> KHVDrive:

@@ -17,7 +17,7 @@ from typing import Literal
 
 from pydantic import model_validator
 
-from ..design import AngularVelocity, Design, PositiveInt, angle_between
+from ..design import AngularVelocity, Design, PositiveInt, angle_between, field_rules
 from ..errors import ReducerlabError
 from ..kinematics import (
     CycloidBallDrive,
@@ -77,27 +77,32 @@ class KinematicsDesign(Design):
         extra = [k for k in self.teeth if k not in need]
         problems = []
         if missing or extra:
-            problems.append(
+            problems.append((
+                "teeth",
                 f"teeth for drive {self.drive!r} must be exactly {{{', '.join(need)}}}"
                 + (f"; missing {missing}" if missing else "")
-                + (f"; unknown {extra}" if extra else "")
-            )
+                + (f"; unknown {extra}" if extra else ""),
+            ))  # fmt: skip
         if self.drive in NUTATING and self.nutation_angle is None:
-            problems.append(f"drive {self.drive!r} needs nutation_angle (e.g. '5 deg')")
+            problems.append(
+                ("nutation_angle", f"drive {self.drive!r} needs nutation_angle (e.g. '5 deg')")
+            )
         if self.drive not in NUTATING and self.nutation_angle is not None:
-            problems.append(f"drive {self.drive!r} has no nutation_angle")
+            problems.append(("nutation_angle", f"drive {self.drive!r} has no nutation_angle"))
         if self.drive not in NUTATING and self.contact is not None:
-            problems.append(f"drive {self.drive!r} has no bevel contact type")
+            problems.append(("contact", f"drive {self.drive!r} has no bevel contact type"))
         if self.output is not None and self.output not in outputs:
-            problems.append(f"output for drive {self.drive!r} must be one of {list(outputs)}")
+            problems.append(
+                ("output", f"output for drive {self.drive!r} must be one of {list(outputs)}")
+            )
         if self.input_speed == 0:
-            problems.append("input_speed must not be zero")
+            problems.append(("input_speed", "input_speed must not be zero"))
         if problems:
-            raise ValueError("; ".join(problems))
+            raise field_rules(*problems)
         try:
             self.kinematics()
         except ReducerlabError as exc:
-            raise ValueError(str(exc)) from None
+            raise field_rules(("teeth", str(exc))) from None
         return self
 
     def kinematics(self) -> DriveKinematics:

@@ -42,6 +42,7 @@ from ..design import (
     Mass,
     MomentOfInertia,
     NonNegativeStiffness,
+    Real,
     Spec,
     SpeedRange,
     Stiffness,
@@ -49,6 +50,7 @@ from ..design import (
     TorsionalDamping,
     TorsionalStiffness,
     angle_between,
+    field_rules,
     quantity,
 )
 from ..errors import DesignError, ModelError
@@ -69,9 +71,7 @@ from ..model.laws import TimeLaw
 
 __all__ = ["LumpedDesign", "build_model"]
 
-Coefficients = Annotated[
-    dict[str, Annotated[float, Field(allow_inf_nan=False)]], Field(min_length=1)
-]
+Coefficients = Annotated[dict[str, Real], Field(min_length=1)]
 Frequency = quantity("frequency", gt=0)
 Phase = angle_between(-360, 360, closed=True)
 
@@ -86,9 +86,9 @@ class DofSpec(Spec):
     @model_validator(mode="after")
     def _radius(self) -> DofSpec:
         if self.kind == "u" and self.radius is None:
-            raise ValueError("a 'u' DOF needs a radius (e.g. radius = \"45 mm\")")
+            raise field_rules(("radius", "a 'u' DOF needs a radius (e.g. radius = \"45 mm\")"))
         if self.kind != "u" and self.radius is not None:
-            raise ValueError(f"only kind 'u' takes a radius, not kind {self.kind!r}")
+            raise field_rules(("radius", f"only kind 'u' takes a radius, not kind {self.kind!r}"))
         return self
 
     @property
@@ -147,22 +147,24 @@ class MeshSpec(Spec):
     harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
     phases: list[Phase] = Field(default_factory=list)  # type: ignore[valid-type]
     frequency: Frequency | None = None  # type: ignore[valid-type]
-    order: Annotated[float, Field(gt=0)] | None = None
+    order: Annotated[Real, Field(gt=0)] | None = None
     name: str = ""
 
     @model_validator(mode="after")
     def _law(self) -> MeshSpec:
         if self.phases and len(self.phases) != len(self.harmonics):
-            raise ValueError(
-                f"phases has {len(self.phases)} entries but harmonics has {len(self.harmonics)}"
-            )
+            raise field_rules(
+                ("phases", f"phases has {len(self.phases)} entries but harmonics has "
+                 f"{len(self.harmonics)}")
+            )  # fmt: skip
         if self.harmonics and (self.frequency is None) == (self.order is None):
-            raise ValueError("harmonics need exactly one of frequency (Hz) or order")
+            raise field_rules(("harmonics", "need exactly one of frequency (Hz) or order"))
         if sum(self.harmonics) > self.stiffness:
-            raise ValueError(
-                f"harmonics add up to {sum(self.harmonics):.6g} N/m, more than the mean "
-                f"stiffness {self.stiffness:.6g} N/m"
-            )
+            raise field_rules((
+                "harmonics",
+                f"add up to {sum(self.harmonics):.6g} N/m, more than the mean stiffness "
+                f"{self.stiffness:.6g} N/m, so k(t) would become negative",
+            ))  # fmt: skip
         return self
 
 
@@ -172,7 +174,7 @@ class CentripetalSpec(Spec):
     type: Literal["centripetal"]
     dof: str
     mass: Mass
-    ratio: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0
+    ratio: Annotated[Real, Field(gt=0)] = 1.0
     name: str = ""
 
 
@@ -204,61 +206,70 @@ class LumpedDesign(Design):
     @model_validator(mode="after")
     def _consistent(self) -> LumpedDesign:
         kinds = {d.name: d.kind for d in self.dofs}
-        problems = []
+        problems: list[tuple[str, str]] = []
 
         for i, e in enumerate(self.elements):
-            where = f"elements.{i} ({e.type})"
+            where = f"elements.{i}"
+            field = "coefficients" if hasattr(e, "coefficients") else "dof"
             names = list(e.coefficients) if hasattr(e, "coefficients") else [e.dof]
             unknown = [n for n in names if n not in kinds]
             if unknown:
-                problems.append(f"{where}: unknown DOF {unknown}; DOFs are {list(kinds)}")
+                problems.append(
+                    (f"{where}.{field}", f"unknown DOF {unknown}; DOFs are {list(kinds)}")
+                )
                 continue
             rot = [kinds[n] in ("rx", "ry", "rz", "u") for n in names]
-            problems += _unit_rules(e, where, rot, kinds[names[0]])
+            problems += [(f"{where}.{f}", rule) for f, rule in _unit_rules(e, rot, kinds[names[0]])]
         if problems:
-            raise ValueError("; ".join(problems))
+            raise field_rules(*problems)
         return self
 
 
-def _exactly_one(e: Spec, where: str, a: str, b: str) -> list[str]:
+def _exactly_one(e: Spec, a: str, b: str) -> list[tuple[str, str]]:
     given = [f for f in (a, b) if getattr(e, f) is not None]
     if len(given) != 1:
-        return [f"{where}: give exactly one of {a} or {b}"]
+        return [(a, f"give exactly one of {a} or {b}")]
     return []
 
 
-def _unit_rules(e: Spec, where: str, rot: list[bool], kind: str) -> list[str]:
-    out: list[str] = []
+def _unit_rules(e: Spec, rot: list[bool], kind: str) -> list[tuple[str, str]]:
+    """Which quantities an element gives for the kind of its DOFs: ``(field, rule)``."""
+    out: list[tuple[str, str]] = []
     if isinstance(e, InertiaSpec):
-        out += _exactly_one(e, where, "mass", "moment_of_inertia")
+        out += _exactly_one(e, "mass", "moment_of_inertia")
         if not out and kind in ("rx", "ry", "rz") and e.mass is not None:
-            out.append(f"{where}: {e.dof} is a rotation: give moment_of_inertia, not mass")
+            out.append(("mass", f"{e.dof} is a rotation: give moment_of_inertia, not mass"))
         if not out and kind in ("x", "y", "z") and e.moment_of_inertia is not None:
-            out.append(f"{where}: {e.dof} is a translation: give mass, not moment_of_inertia")
+            out.append(
+                ("moment_of_inertia", f"{e.dof} is a translation: give mass, not moment_of_inertia")
+            )
     elif isinstance(e, SupportSpec | CouplingSpec):
         lin = e.stiffness is not None or e.damping is not None
         tor = e.torsional_stiffness is not None or e.torsional_damping is not None
+        field = "stiffness" if lin else "torsional_stiffness"
         if lin == tor:
-            out.append(
-                f"{where}: give stiffness/damping (linear) or torsional_stiffness/"
-                "torsional_damping (angular), not both or neither"
-            )
+            out.append((
+                field,
+                "give stiffness/damping (linear) or torsional_stiffness/torsional_damping "
+                "(angular), not both or neither",
+            ))  # fmt: skip
         elif isinstance(e, SupportSpec) and tor and kind not in ("rx", "ry", "rz"):
-            out.append(f"{where}: {e.dof} is not a rotation: use stiffness/damping")
+            out.append((field, f"{e.dof} is not a rotation: use stiffness/damping"))
         elif isinstance(e, SupportSpec) and lin and kind in ("rx", "ry", "rz"):
-            out.append(f"{where}: {e.dof} is a rotation: use torsional_stiffness/torsional_damping")
+            out.append((field, f"{e.dof} is a rotation: use torsional_stiffness/torsional_damping"))
         elif isinstance(e, CouplingSpec) and tor and not all(rot):
-            out.append(
-                f"{where}: a torsional coupling joins rotations (and u DOFs with coefficients "
-                "in 1/m), not translations"
-            )
+            out.append((
+                field,
+                "a torsional coupling joins rotations (and u DOFs with coefficients in 1/m), "
+                "not translations",
+            ))  # fmt: skip
     elif isinstance(e, LoadSpec):
-        out += _exactly_one(e, where, "force", "torque")
+        out += _exactly_one(e, "force", "torque")
         if not out and (e.torque is not None) != (kind in ("rx", "ry", "rz")):
             want = "torque" if kind in ("rx", "ry", "rz") else "force"
-            out.append(f"{where}: {e.dof} takes a {want}")
+            out.append(("torque" if e.torque is not None else "force", f"{e.dof} takes a {want}"))
     elif isinstance(e, CentripetalSpec) and kind not in ("x", "y", "z"):
-        out.append(f"{where}: centripetal terms act on translations, not {e.dof}")
+        out.append(("dof", f"centripetal terms act on translations, not {e.dof}"))
     return out
 
 

@@ -42,6 +42,7 @@ from ..design import (
     Stiffness,
     Torque,
     angle_between,
+    field_rules,
     quantity,
 )
 from ..kinematics import DoubleNutationDrive, NutationDrive, gyroscopic_moment
@@ -110,11 +111,15 @@ class MeshSpec(Spec):
     @model_validator(mode="after")
     def _terms(self) -> MeshSpec:
         if self.phases and len(self.phases) != len(self.harmonics):
-            raise ValueError(
-                f"phases has {len(self.phases)} entries, harmonics {len(self.harmonics)}"
+            raise field_rules(
+                ("phases", f"has {len(self.phases)} entries, harmonics {len(self.harmonics)}")
             )
         if sum(self.harmonics) > self.stiffness:
-            raise ValueError("harmonics add up to more than the mean stiffness")
+            raise field_rules((
+                "harmonics",
+                f"add up to {sum(self.harmonics):.6g} N/m, more than the mean stiffness "
+                f"{self.stiffness:.6g} N/m, so k(t) would become negative",
+            ))  # fmt: skip
         return self
 
 
@@ -182,30 +187,36 @@ class NutationDesign(Design):
         missing = [n for n in optional if double and getattr(self, n) is None]
         extra = [n for n in optional if not double and getattr(self, n) is not None]
         if missing:
-            raise ValueError(f"a double-sided drive needs {missing}")
+            raise field_rules(("sides", f"a double-sided drive needs {missing}"))
         if extra:
-            raise ValueError(f"a single-sided drive has no {extra}")
+            raise field_rules(("sides", f"a single-sided drive has no {extra}"))
         if not double and self.nutation_angle is None:
-            raise ValueError("a single-sided drive needs nutation_angle")
+            raise field_rules(("nutation_angle", "a single-sided drive needs nutation_angle"))
         if self.input_speed <= 0:
-            raise ValueError("input_speed must be > 0")
-        for pair in self._pairs():
+            raise field_rules(("input_speed", "must be > 0"))
+        for k, pair in enumerate(self._pairs()):
             zn, zc = pair[0].teeth, pair[1].teeth
             if zn <= zc:
-                raise ValueError(
-                    f"the nutating (internal) gear needs more teeth than its mate, got {zn} <= {zc}"
-                )
-        theta = self.theta  # derives / checks the cone geometry
+                raise field_rules((
+                    f"gear{2 * k + 1}.teeth",
+                    f"the nutating (internal) gear needs more teeth than its mate "
+                    f"gear{2 * k + 2}, got {zn} <= {zc}",
+                ))  # fmt: skip
+        try:
+            theta = self.theta  # derives / checks the cone geometry
+        except ValueError as exc:  # no angle makes the mean radii agree
+            raise field_rules(("gear1.mean_radius", str(exc))) from None
         distances = self.cone_distances(theta)
         ref = distances[0]
         bad = [(k, d) for k, d in enumerate(distances) if abs(d / ref - 1) > CONE_DISTANCE_TOL]
         if bad:
             listing = ", ".join(f"{d * 1e3:.5g} mm" for d in distances)
-            raise ValueError(
+            raise field_rules((
+                "nutation_angle" if self.nutation_angle is not None else "gear1.mean_radius",
                 f"mean cone distances r_m / sin(delta) disagree ({listing}) at nutation angle "
                 f"{math.degrees(theta):.5g} deg: the tooth numbers, mean radii and nutation "
-                "angle are inconsistent"
-            )
+                "angle are inconsistent",
+            ))  # fmt: skip
         if self.surface is not None:
             self._check_surface(distances[0])
         return self
@@ -214,21 +225,24 @@ class NutationDesign(Design):
         sf = self.surface
         assert sf is not None
         if not sf.face_width < cone_distance:
-            raise ValueError(
-                f"surface.face_width {sf.face_width * 1e3:.5g} mm must be smaller than the "
-                f"mean cone distance {cone_distance * 1e3:.5g} mm"
-            )
+            raise field_rules((
+                "surface.face_width",
+                f"{sf.face_width * 1e3:.5g} mm must be smaller than the mean cone distance "
+                f"{cone_distance * 1e3:.5g} mm",
+            ))  # fmt: skip
         if sf.normal_module is None:
             return
         n_gears = 4 if self.sides == "double" else 2
         for k in range(1, n_gears + 1):
             m_r = self.surface_module(k)
             if abs(sf.normal_module / m_r - 1) > CONE_DISTANCE_TOL:
-                raise ValueError(
+                raise field_rules((
+                    "surface.normal_module",
                     f"surface.normal_module {sf.normal_module * 1e3:.6g} mm disagrees with the "
-                    f"mean radius of gear{k}: 2 r_m cos(beta) / z = {m_r * 1e3:.6g} mm (omit "
-                    "it to take each gear's module from its mean radius)"
-                )
+                    "mean radius of "
+                    f"gear{k}: 2 r_m cos(beta) / z = {m_r * 1e3:.6g} mm (omit it to take each "
+                    "gear's module from its mean radius)",
+                ))  # fmt: skip
 
     @property
     def spiral_angle(self) -> float:

@@ -172,8 +172,83 @@ class Model:
         return idx, Matrices(m_, c_, k_)
 
     def matrices(self) -> Matrices:
-        """Assemble ``M``, ``C`` and the mean ``K`` (mesh stiffness at its time average)."""
-        return self._assemble(self.elements)
+        """Assemble ``M``, ``C`` and the mean ``K`` (mesh stiffness at its time average).
+
+        Raises :class:`ModelError` naming the DOF and element when an entry is not finite
+        or the mass and stiffness are out of the range of the eigen-solvers (see
+        :meth:`check_numerics`).
+        """
+        with np.errstate(over="ignore", invalid="ignore"):  # reported below, by DOF
+            mats = self._assemble(self.elements)
+        self.check_numerics(mats.M, mats.C, mats.K)
+        return mats
+
+    def check_numerics(self, M: NDArray, C: NDArray, K: NDArray) -> None:
+        """Check assembled matrices before any solver sees them.
+
+        * every entry finite (else the DOF and the elements acting on it are named: an
+          extreme value overflowed);
+        * when every DOF has inertia: with ``D = diag(M)^-1/2``, the scaled mass
+          ``D M D`` (unit diagonal) must have its smallest eigenvalue above
+          ``1e-12`` (else the inertia couplings make ``M`` singular to working
+          precision), and the scaled stiffness ``D K D`` (squared natural frequencies
+          of each DOF alone, rad^2/s^2) must stay within ``1e150`` (else the eigen-
+          solvers overflow: an inertia or stiffness value is extreme; the DOF with the
+          largest ``K_ii / M_ii`` is named with its inertia).
+        """
+        for what, a in (("mass", M), ("damping", C), ("stiffness", K)):
+            if not np.all(np.isfinite(a)):
+                i = int(np.argwhere(~np.isfinite(a))[0][0])
+                raise ModelError(
+                    f"model {self.name!r}: the {what} at DOF {self.dof_names[i]!r} is not "
+                    f"finite: {self._culprits(i)}; an extreme value overflowed (or NaN "
+                    "was given): use values within the physical range"
+                )
+        d = np.real(np.diag(M))
+        if not np.all(d > 0):
+            return  # massless DOFs: the analyses that need M^-1 say so
+        D = 1.0 / np.sqrt(d)
+        with np.errstate(over="ignore", invalid="ignore"):
+            Ms = np.real(M) * D[:, None] * D[None, :]
+            Ks = np.real(K) * D[:, None] * D[None, :]
+            ratio = np.abs(np.diag(Ks))
+        if not np.all(np.isfinite(Ks)) or np.abs(Ks).max(initial=0.0) > 1e150:
+            i = int(np.nanargmax(np.where(np.isfinite(ratio), ratio, np.inf)))
+            raise ModelError(
+                f"model {self.name!r}: DOF {self.dof_names[i]!r} has stiffness / inertia "
+                f"{K[i, i]:.3g} / {M[i, i]:.3g} (SI), a squared frequency beyond the range "
+                f"of the eigen-solvers; {self._culprits(i)}: check for an extreme inertia "
+                "or stiffness value"
+            )
+        if self.n > 1:
+            lam, vec = np.linalg.eigh(0.5 * (Ms + Ms.T))
+            if lam[0] <= 1e-12 * lam[-1]:
+                v = np.abs(vec[:, 0])
+                dofs = [self.dof_names[i] for i in np.nonzero(v > 0.1 * v.max())[0]]
+                raise ModelError(
+                    f"model {self.name!r}: the mass matrix is singular to working "
+                    f"precision: the inertia couplings of DOFs {dofs} cancel (scaled "
+                    f"smallest eigenvalue {lam[0]:.3g}); check their mass elements"
+                )
+
+    def _culprits(self, i: int) -> str:
+        """The elements acting on DOF ``i`` with their largest local coefficient."""
+        dof = self.dof_names[i]
+        parts = []
+        for e in self.elements:
+            if dof not in e.dofs:
+                continue
+            c = self._local(e)
+            vals = [np.abs(np.asarray(b, complex)).max() for b in (c.mass, c.damping,
+                    c.stiffness) if b is not None]  # fmt: skip
+            vals += [max(abs(line.stiffness.mean), abs(line.damping), abs(line.cubic))
+                     for line in c.lines]  # fmt: skip
+            if vals:
+                parts.append((float(np.nan_to_num(max(vals), nan=np.inf)), e.name))
+        parts.sort(reverse=True)
+        if not parts:
+            return f"no element acts on {dof!r}"
+        return "elements on it: " + ", ".join(f"{n!r} (coefficient {v:.3g})" for v, n in parts)
 
     def _assemble(self, elements: Iterable[Element], speed: Any = None) -> Matrices:
         n = self.n
@@ -216,6 +291,7 @@ class Model:
             for local, law in c.loads:
                 load_dofs.append(idx[local])
                 load_laws.append(law)
+        self.check_numerics(M, C, K)
         return NonlinearSystem.from_laws(
             dof_names=self.dof_names,
             M=M,

@@ -295,6 +295,12 @@ class Mesh(Element):
         mean = np.real(self.stiffness.mean)
         if not (np.isfinite(mean) and mean > 0):
             raise ModelError(f"{self.name}: mean stiffness must be > 0 N/m, got {mean!r}")
+        low = self.stiffness.lower_bound()  # type: ignore[union-attr]
+        if low is not None and low < 0:
+            raise ModelError(
+                f"{self.name}: the stiffness law goes down to {low:.6g} N/m: a mesh stiffness "
+                "must stay >= 0 (for a Fourier law: the amplitudes add up to more than the mean)"
+            )
         _nonneg(self.name, "damping", self.damping)
 
     @property

@@ -12,6 +12,7 @@ import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from functools import cached_property
+from itertools import pairwise
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -57,6 +58,15 @@ class TimeLaw(ABC):
         """Times in ``[t0, t1]`` where the law or its derivative jumps (s)."""
         return np.empty(0)
 
+    def lower_bound(self) -> float | None:
+        """A value the law never goes below (its unit), or None where unknown.
+
+        Exact for a constant and a piecewise polynomial, ``mean - sum |k_r|`` for a
+        Fourier series. Elements whose law must stay non-negative (a mesh stiffness)
+        check it, so that a law built in Python obeys the rule a design file obeys.
+        """
+        return None
+
     def at_speed(self, speed: float) -> TimeLaw:
         """The law at model speed ``speed`` (rad/s).
 
@@ -101,6 +111,9 @@ class Constant(TimeLaw):
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         return np.full(np.shape(t), self.mean) if np.ndim(t) else np.asarray(self.mean)
+
+    def lower_bound(self) -> float:
+        return float(np.real(self.mean))
 
     def derivative(self, t: ArrayLike) -> NDArray[np.float64]:
         return np.zeros(np.shape(t))
@@ -167,6 +180,10 @@ class Fourier(TimeLaw):
             return Constant(self.mean)
         return Fourier(self.mean, self.amplitudes, self.omega * speed / self.ref_speed,
                        self.phases)  # fmt: skip
+
+    def lower_bound(self) -> float:
+        # attained when the phases line up (always for one harmonic)
+        return float(np.real(self.mean) - np.sum(np.abs(np.real(self.amplitudes))))
 
     def _arg(self, t: ArrayLike) -> NDArray[np.float64]:
         r = np.arange(1, len(self.amplitudes) + 1)
@@ -264,6 +281,18 @@ class PiecewisePolynomial(TimeLaw):
         object.__setattr__(out, "period", self.period / abs(f))
         object.__setattr__(out, "t0", self.t0 / abs(f))
         object.__setattr__(out, "ref_speed", None)
+        return out
+
+    def lower_bound(self) -> float:
+        # exact: each piece's minimum is at an end of its interval or where c'(s) = 0
+        edges = np.append(np.asarray(self.breaks), 1.0)
+        out = math.inf
+        for (a, b), c in zip(pairwise(edges), self.coefficients, strict=True):
+            poly = np.polynomial.Polynomial(c)
+            crit = poly.deriv().roots() if len(c) > 2 else np.empty(0)
+            crit = np.real(crit[(np.abs(np.imag(crit)) < 1e-12)])
+            s = np.concatenate(([a, b], crit[(crit > a) & (crit < b)]))
+            out = min(out, float(np.min(poly(s))))
         return out
 
     def _piece(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:

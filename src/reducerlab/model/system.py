@@ -18,7 +18,60 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 from .laws import TimeLaw, evaluate_flat, flat_mean
 
-__all__ = ["NonlinearSystem", "pack_laws"]
+__all__ = ["NonlinearSystem", "Origin", "pack_laws"]
+
+
+@dataclass(frozen=True)
+class Origin:
+    """The physical coordinates behind a system in other (relative, modal) coordinates.
+
+    ``q = S u``: the physical DOF motions ``q`` (named ``dof_names``) of a motion ``u`` of
+    the system's coordinates; ``M`` is the physical mass matrix, used to rank DOFs by
+    their share of kinetic energy (as :func:`reducerlab.analysis.modal.modal` labels
+    modes). Error messages use it to name physical DOFs instead of ``elastic_1``.
+    """
+
+    dof_names: list[str]
+    S: NDArray[np.float64]
+    M: NDArray[np.float64]
+
+
+def dominant_dofs(
+    names: Sequence[str], M: NDArray[np.float64], q: NDArray[np.float64], count: int = 3
+) -> list[tuple[str, float]]:
+    """The DOFs with the largest share of the kinetic-energy norm ``q^T M q`` of a motion
+    ``q`` (at most ``count``, those with at least 10 % or the largest), with their
+    shares (fractions)."""
+    q = np.asarray(q, float)
+    bad = ~np.isfinite(q)
+    if bad.any() or not np.any(q):
+        i = int(np.argmax(bad)) if bad.any() else 0
+        return [(names[i], 1.0)]
+    scale = np.abs(q).max()
+    qs = q / scale
+    share = qs * (M @ qs)
+    total = float(np.sum(share))
+    share = share / total if total > 0 else np.abs(qs) / np.abs(qs).sum()
+    order = np.argsort(-share, kind="stable")
+    out = [(names[int(i)], float(share[i])) for i in order[:count] if share[i] >= 0.1]
+    return out or [(names[int(order[0])], float(share[order[0]]))]
+
+
+def describe_dofs(parts: Sequence[tuple[str, float]]) -> str:
+    """``"wheel.x (90 %), pinion.x (10 %)"``."""
+    return ", ".join(f"{name} ({100 * share:.0f} %)" for name, share in parts)
+
+
+def _require_finite(owner: str, what: str, a: NDArray, rows: Sequence[str]) -> None:
+    """Raise naming the row (DOF or line) of the first non-finite entry of ``a``."""
+    a = np.asarray(a, dtype=float)
+    if a.size and not np.all(np.isfinite(a)):
+        r = int(np.argwhere(~np.isfinite(a))[0][0]) if a.ndim else 0
+        where = f" at {rows[r]!r}" if r < len(rows) else ""
+        raise ReducerlabError(
+            f"{owner}: the {what} is not finite{where} (an extreme parameter value "
+            "overflowed, or NaN was given); check the values of that DOF's elements"
+        )
 
 
 def pack_laws(laws: Sequence[TimeLaw]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
@@ -81,6 +134,9 @@ class NonlinearSystem:
     f_kind: NDArray[np.int64]
     f_params: NDArray[np.float64]
     line_cubic: NDArray[np.float64] = field(default=None)  # type: ignore[assignment]
+    #: Physical DOFs behind relative coordinates (set by :meth:`reduced`); None when
+    #: the coordinates are the physical DOFs themselves.
+    origin: Origin | None = field(default=None, compare=False)
 
     #: The float arrays that parameter values change (not the law kinds or names).
     ARRAYS: ClassVar[tuple[str, ...]] = (
@@ -94,6 +150,33 @@ class NonlinearSystem:
         if cubic.shape != (n_lines,):
             raise ReducerlabError(f"line_cubic must have shape ({n_lines},), got {cubic.shape}")
         object.__setattr__(self, "line_cubic", cubic)
+        dofs, lines = list(self.dof_names), list(self.line_names)
+        loads = [f"load {j + 1}" for j in range(np.shape(self.f_params)[0])]
+        for what, a, rows in (
+            ("mass matrix", self.M, dofs), ("damping matrix", self.C, dofs),
+            ("stiffness matrix", self.K, dofs), ("line of action of a mesh", self.G, lines),
+            ("stiffness law of a mesh", self.k_params, lines),
+            ("damping of a mesh", self.line_damping, lines),
+            ("backlash of a mesh", self.half_backlash, lines),
+            ("transmission error law of a mesh", self.e_params, lines),
+            ("cubic stiffness of a mesh", cubic, lines),
+            ("load distribution", self.load_matrix, dofs), ("load law", self.f_params, loads),
+        ):  # fmt: skip
+            _require_finite("model", what, a, rows)
+
+    def physical(self) -> tuple[list[str], NDArray[np.float64], NDArray[np.float64]]:
+        """Physical DOF names, the map ``S`` (``q = S u``) from this system's coordinates
+        and the physical mass matrix (identity map when no reduction was applied)."""
+        if self.origin is None:
+            return list(self.dof_names), np.eye(self.n), self.M
+        o = self.origin
+        return list(o.dof_names), o.S, o.M
+
+    def dominant_dofs(self, u: NDArray[np.float64], count: int = 3) -> list[tuple[str, float]]:
+        """Physical DOFs that dominate a motion ``u`` of this system's coordinates, with
+        their shares of its kinetic-energy norm (see :func:`dominant_dofs`)."""
+        names, S, M = self.physical()
+        return dominant_dofs(names, M, S @ np.asarray(u, float), count)
 
     @classmethod
     def from_laws(
@@ -143,7 +226,9 @@ class NonlinearSystem:
             delta = self.G[m] @ q - e
             h = self.half_backlash[m]
             f = delta - min(max(delta, -h), h)
-            out[m] = k * f + self.line_cubic[m] * f**3 + self.line_damping[m] * (self.G[m] @ v - de)
+            k3 = self.line_cubic[m]
+            cubic = k3 * f * f * f if k3 != 0.0 else 0.0  # no 0 * inf for a huge f
+            out[m] = k * f + cubic + self.line_damping[m] * (self.G[m] @ v - de)
         return out
 
     def external_forces(self, t: float) -> NDArray[np.float64]:
@@ -176,17 +261,30 @@ class NonlinearSystem:
                 f"reduced: T must be (n_relative, {self.n}) with one name per row, got "
                 f"{T.shape} and {len(names)} names"
             )
+        names0, S0, M0 = self.physical()
         Minv_Tt = np.linalg.solve(self.M, T.T)
         W = np.linalg.inv(T @ Minv_Tt)
         S = Minv_Tt @ W
         # rigid modes: null space of T; they must carry no stiffness, damping or mesh
         _, sv, vt = np.linalg.svd(T)
         R = vt[np.sum(sv > 1e-12 * sv.max()) :].T
-        for name, A in (("K", self.K), ("C", self.C), ("G", self.G)):
-            if R.size and A.size and np.abs(A @ R).max() > 1e-9 * max(np.abs(A).max(), 1e-300):
+        for what, A, rows in (
+            ("the stiffness (supports, couplings) at", self.K, self.dof_names),
+            ("the damping (supports, couplings) at", self.C, self.dof_names),
+            ("the mesh line(s)", self.G, self.line_names),
+        ):
+            if not (R.size and A.size):
+                continue
+            AR = np.abs(A @ R)
+            if AR.max() > 1e-9 * max(np.abs(A).max(), 1e-300):
+                resist = [rows[i] for i in np.nonzero(AR.max(axis=1) > 1e-9 * AR.max())[0]]
+                free = np.abs(R).max(axis=1)
+                moving = [self.dof_names[i] for i in np.nonzero(free > 1e-6 * free.max())[0]]
                 raise ReducerlabError(
-                    f"reduced: the rows of T leave a motion that {name} resists; T must "
-                    "describe every relative (elastic) motion"
+                    f"reduced: the relative coordinates {list(names)} leave a motion of "
+                    f"{moving} free, but {what} {resist} resist(s) it; add a relative "
+                    "coordinate that measures that motion (every elastic deformation "
+                    "must be described), or remove the stiffness that holds it"
                 )
         red = replace(
             self,
@@ -196,6 +294,7 @@ class NonlinearSystem:
             K=S.T @ self.K @ S,
             G=self.G @ S,
             load_matrix=S.T @ self.load_matrix,
+            origin=Origin(names0, S0 @ S, M0),
         )
         return red, S
 

@@ -1,0 +1,205 @@
+"""Resumable run folders of the chunked runs (sweep, bifurcation).
+
+A run folder holds a manifest (``sweep.json``, ``bifurcation.json``: the run's
+specification and its key, a hash of that specification) and ``chunks/chunk_NNNNN.npz``,
+one per finished chunk. Every chunk file is stamped with the run key, its chunk index
+and the parameter values it was computed for; on resume each is checked against the
+run before it is used. Every file is written atomically (a temporary file in the same
+folder, then renamed: :func:`reducerlab.io.atomic_path`), and every file read on resume
+goes through one loader (:func:`read_manifest`, :func:`load_chunk`) that turns any
+failure into a :class:`~reducerlab.errors.ReducerlabError` naming the file and the fix.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError
+from ..io import atomic_path
+
+__all__ = [
+    "chunk_path",
+    "load_chunk",
+    "open_run",
+    "read_manifest",
+    "run_key",
+    "save_chunk",
+]
+
+_STAMP = ("run_key", "chunk_index", "chunk_values")
+
+
+def run_key(spec: dict[str, Any]) -> str:
+    """The run key: 16 hex digits of the SHA-256 of the specification (sorted JSON)."""
+    return hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def read_manifest(path: Path) -> dict[str, Any] | None:
+    """The manifest at ``path`` (``None`` when there is none).
+
+    Raises
+    ------
+    ReducerlabError
+        When it cannot be read or is not a JSON object with a run key.
+    """
+    if not path.exists():
+        return None
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(data, dict) or not isinstance(data.get("key"), str):
+            raise ValueError("not a run manifest (no run key)")
+    except (OSError, ValueError) as exc:  # JSONDecodeError and UnicodeError are ValueErrors
+        raise ReducerlabError(
+            f"{path}: unreadable run manifest ({type(exc).__name__}: {exc}); delete it to "
+            "start the run's record anew (finished chunks carry their own run stamp and "
+            "are checked against the run), or choose another output folder"
+        ) from None
+    return data
+
+
+def open_run(folder: Path, manifest: str, spec: dict[str, Any], what: str) -> str:
+    """Prepare ``folder`` for the run ``spec``: check or write its manifest.
+
+    Parameters
+    ----------
+    folder : Path
+        The run folder (created with its ``chunks`` folder).
+    manifest : str
+        The manifest's file name (``"sweep.json"``).
+    spec : dict
+        JSON-ready specification of the run; its hash is the run key.
+    what : str
+        The kind of run, for messages (``"sweep"``, ``"bifurcation run"``).
+
+    Returns
+    -------
+    str
+        The run key.
+
+    Raises
+    ------
+    ReducerlabError
+        When the folder holds another run, or its manifest is unreadable.
+    """
+    key = run_key(spec)
+    (folder / "chunks").mkdir(parents=True, exist_ok=True)
+    path = folder / manifest
+    old = read_manifest(path)
+    if old is None:
+        with atomic_path(path) as tmp:
+            tmp.write_text(json.dumps({"key": key, **spec}, indent=1), encoding="utf-8")
+    elif old["key"] != key:
+        shown = old.get("axes", old.get("path"))
+        detail = f" ({shown})" if shown is not None else ""
+        raise ReducerlabError(
+            f"{folder} holds a different {what}{detail}; choose another output folder or delete it"
+        )
+    return key
+
+
+def chunk_path(folder: Path, index: int) -> Path:
+    """The file of chunk ``index`` in the run folder ``folder``."""
+    return folder / "chunks" / f"chunk_{index:05d}.npz"
+
+
+def save_chunk(
+    path: str | Path, key: str, index: int, values: NDArray, arrays: dict[str, NDArray]
+) -> None:
+    """Write one finished chunk atomically, stamped with its run, index and values.
+
+    Parameters
+    ----------
+    path : path
+        The chunk file (``.npz``).
+    key : str
+        Run key (:func:`run_key`).
+    index : int
+        Chunk index in the run.
+    values : ndarray
+        The parameter values of the chunk's points (SI).
+    arrays : dict
+        The results of the chunk.
+    """
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        np.savez(
+            f,
+            run_key=np.asarray(key),
+            chunk_index=np.asarray(index, dtype=np.int64),
+            chunk_values=np.asarray(values, dtype=float),
+            **arrays,
+        )
+        f.flush()
+        os.fsync(f.fileno())
+
+
+def load_chunk(
+    path: Path, key: str, index: int, values: NDArray, names: Iterable[str] = ()
+) -> dict[str, NDArray]:
+    """Read chunk ``index`` of run ``key`` and check its stamp.
+
+    Parameters
+    ----------
+    path : Path
+        The chunk file.
+    key, index, values
+        What the file must be stamped with: run key, chunk index, and the parameter
+        values of the chunk's points (compared exactly).
+    names : iterable of str
+        The result arrays to read (their first axis must match ``values``); none to
+        check the stamp only.
+
+    Returns
+    -------
+    dict
+        The arrays named in ``names``.
+
+    Raises
+    ------
+    ReducerlabError
+        When the file cannot be read (empty, truncated, not a chunk file) or belongs to
+        another run, chunk or set of values; the message names the file and tells to
+        delete it, after which the next run recomputes that chunk.
+    """
+    fix = "delete it to recompute that chunk"
+    values = np.asarray(values, dtype=float)
+    names = tuple(names)
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            missing = [n for n in (*_STAMP, *names) if n not in z.files]
+            if missing:
+                raise ValueError(f"not a chunk file of this version (no {', '.join(missing)})")
+            got_key = str(z["run_key"])
+            got_index = int(z["chunk_index"])
+            got_values = z["chunk_values"]
+            arrays = {n: z[n] for n in names}
+    except Exception as exc:  # BadZipFile, EOFError, OSError, ValueError...
+        raise ReducerlabError(
+            f"{path}: unreadable chunk file ({type(exc).__name__}: {exc}); {fix}"
+        ) from None
+    if got_key != key:
+        raise ReducerlabError(
+            f"{path}: chunk of another run (run key {got_key}, this run's is {key}); {fix}"
+        )
+    if got_index != index:
+        raise ReducerlabError(
+            f"{path}: holds chunk {got_index}, not chunk {index} (copied or renamed?); {fix}"
+        )
+    if got_values.shape != values.shape or not np.array_equal(got_values, values):
+        raise ReducerlabError(
+            f"{path}: computed for other parameter values than chunk {index} of this run; {fix}"
+        )
+    for n, a in arrays.items():
+        if a.ndim == 0 or a.shape[0] != values.shape[0]:
+            raise ReducerlabError(
+                f"{path}: array {n!r} has shape {a.shape}, not one row per point of the "
+                f"chunk ({values.shape[0]}); {fix}"
+            )
+    return arrays

@@ -1,0 +1,236 @@
+"""Issue 13, numerics: no silently wrong or NaN results from divergent, extreme or
+degenerate models; errors name physical DOFs, times and parameter values."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from reducerlab.analysis.campbell import campbell
+from reducerlab.analysis.modal import modal
+from reducerlab.analysis.nonlinear import bifurcation, response
+from reducerlab.analysis.response import (
+    BOUND_FACTOR,
+    check_stability,
+    ensemble,
+    state_bounds,
+    to_system,
+)
+from reducerlab.analysis.sweep import Axis
+from reducerlab.drives import build_model, design_from_dict, load_design
+from reducerlab.errors import DivergenceError, ModelError, ReducerlabError
+from reducerlab.examples import example_dir
+from reducerlab.model import (
+    Centripetal,
+    Coupling,
+    CubicSpring,
+    Dof,
+    Fourier,
+    Inertia,
+    Load,
+    Mesh,
+    Model,
+    Support,
+)
+
+
+def centrifuged(ratio: float = 15.0) -> Model:
+    """Two bodies on bearings and a mesh; the centripetal term of the wheel exceeds its
+    support and mesh stiffness (ratio 15 at 3000 rpm): a divergent mode of wheel.x."""
+    return Model(
+        [Dof("pinion", "x"), Dof("wheel", "x")],
+        [
+            Inertia("pinion.x", 1.0),
+            Inertia("wheel.x", 4.0),
+            Support("pinion.x", 1e8, 200.0),
+            Support("wheel.x", 1e7, 200.0),
+            Centripetal("wheel.x", 4.0, ratio),
+            Mesh({"pinion.x": 1.0, "wheel.x": -1.0}, Fourier(2e8, (3e7,), 16 * 100 * math.pi),
+                 damping=400.0),
+            Load("pinion.x", 1000.0),
+        ],
+        speed=100 * math.pi,
+        name="centrifuged",
+    )  # fmt: skip
+
+
+def test_divergent_linear_part_stops_response_and_bifurcation_naming_the_dof():
+    m = centrifuged()
+    assert modal(m).data["unstable"].values.any()  # modal flags it too
+    with pytest.raises(DivergenceError, match=r"divergent mode.*wheel\.x"):
+        response(m, periods=10, keep=2, history=2)
+    ax = Axis("support:wheel.x.stiffness", [1e6, 2e6, 3e6])
+    with pytest.raises(DivergenceError, match=r"support:wheel\.x\.stiffness = 1e\+06.*wheel\.x"):
+        bifurcation(m, ax, periods=10, keep=2)
+    # a stable member is untouched by the check: same model at a low frame speed
+    response(centrifuged(ratio=1.0), periods=10, keep=2, history=2)
+
+
+def test_stability_check_spares_rigid_modes_and_the_duffing_double_well():
+    # a free pair: its rigid mode has eigenvalue ~0 of either sign
+    free = Model(
+        [Dof("a", "x"), Dof("b", "x")],
+        [Inertia("a.x", 1.0), Inertia("b.x", 1e-3), Coupling({"a.x": 1, "b.x": -1}, 1e9),
+         Mesh({"a.x": 1.0, "b.x": -1.0}, Fourier(1e6, (1e5,), 50.0))],
+    ).nonlinear()  # fmt: skip
+    check_stability([free])
+    # negative linear stiffness held by a hardening cubic spring: bounded, allowed
+    duffing = Model(
+        [Dof("a", "x")],
+        [Inertia("a.x", 1.0), Support("a.x", 0.0, 0.3), CubicSpring({"a.x": 1.0}, -1.0, 1.0)],
+    ).nonlinear()
+    check_stability([duffing])
+    softening = Model(
+        [Dof("a", "x")],
+        [Inertia("a.x", 1.0), CubicSpring({"a.x": 1.0}, -1.0, -1.0)],
+    ).nonlinear()
+    with pytest.raises(DivergenceError, match=r"a\.x"):
+        check_stability([softening], ["case 3"])
+
+
+def mathieu(amplitude: float) -> Model:
+    """A free pair whose mesh stiffness pumps at twice its natural frequency."""
+    return Model(
+        [Dof("pinion", "x"), Dof("wheel", "x")],
+        [Inertia("pinion.x", 1.0), Inertia("wheel.x", 1.0),
+         Mesh({"pinion.x": 1.0, "wheel.x": -1.0}, Fourier(2.0, (amplitude,), 4.0)),
+         Load("pinion.x", 0.1), Load("wheel.x", -0.1)],
+        name="mathieu",
+    )  # fmt: skip
+
+
+def test_parametric_instability_stops_at_the_state_bound_with_time_and_physical_dofs():
+    # linear part stable (mean stiffness > 0), but the pumped stiffness makes the motion
+    # grow exponentially: the default bound stops it long before overflow
+    with pytest.raises(DivergenceError) as exc:
+        response(mathieu(0.8), periods=200, keep=5, history=2)
+    text = str(exc.value)
+    assert "'mathieu' at t = " in text and "pinion.x" in text and "wheel.x" in text
+    assert "elastic_" not in text  # relative coordinates mapped back to the DOFs
+    t = float(text.split("at t = ")[1].split(" s")[0])
+    assert 0 < t < 200 * math.pi / 2
+    ok = response(mathieu(0.0), periods=40, keep=2, history=2)
+    assert ok.data.attrs["dynamic_load_factor"] == pytest.approx(1.0)
+
+
+def test_default_state_bound_rule():
+    s = Model(
+        [Dof("a", "x")],
+        [Inertia("a.x", 4.0), Support("a.x", 1e4), Load("a.x", Fourier(60.0, (40.0,), 10.0))],
+    ).nonlinear()
+    b = state_bounds([s], np.zeros((1, 2)), np.array([2 * math.pi / 10.0]))
+    d = 100.0 / 1e4  # static deflection under the peak load 60 + 40
+    assert b[0, 0] == pytest.approx(BOUND_FACTOR * d)
+    assert b[0, 1] == pytest.approx(BOUND_FACTOR * d * 50.0)  # sqrt(1e4 / 4) > 10 rad/s
+    with pytest.raises(DivergenceError, match=r"case 2 at t = .*a\.x.*left its bound"):
+        ensemble([s], periods=5, keep=1, y0=np.array([2e6 * d, 0.0]), labels=["case 2"],
+                 limit=1e4 * d)  # fmt: skip
+
+
+def test_a_very_light_pinion_keeps_its_elastic_modes():
+    data = load_design(example_dir() / "gear_pair.toml").model_dump(mode="python")
+    data["pinion"]["mass"] = 1e-9  # 1e-6 g
+    model = build_model(design_from_dict(data))
+    res = modal(model)
+    mats = model.matrices()
+    lam = scipy.linalg.eigh(mats.K, mats.M, eigvals_only=True)
+    rigid = res.data["rigid"].values.astype(bool)
+    assert rigid.sum() == 1  # the free rotation of the pair only
+    elastic = np.sqrt(lam[1:]) / (2 * math.pi)
+    np.testing.assert_allclose(res.frequencies[1:], elastic, rtol=1e-6)
+    assert res.frequencies[1] == pytest.approx(1388.35, rel=1e-4)
+    assert campbell(model, [0.0, 10.0]).data["frequency"].values[0, 1] == pytest.approx(
+        res.frequencies[1], rel=1e-9
+    )
+
+
+RIGID = {
+    "cycloid_ball": 1, "gear_pair": 1, "khv": 1, "nutation_double_sided": 1,
+    "nutation_surface": 1, "torsional_chain": 1,
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(RIGID))
+def test_true_rigid_modes_of_every_example(name):
+    res = modal(build_model(load_design(example_dir() / f"{name}.toml")))
+    rigid = res.data["rigid"].values.astype(bool)
+    assert rigid.sum() == RIGID[name]
+    assert np.all(res.frequencies[rigid] == 0.0)
+    assert np.all(np.abs(res.frequencies[~rigid]) > 1.0)
+
+
+def chain(inertia: float = 6e-2, torque: float = 2.0, shaft: float = 2.5e3) -> Model:
+    return Model(
+        [Dof("motor", "rz"), Dof("pinion", "rz"), Dof("load", "rz")],
+        [Inertia("motor.rz", 4e-4), Inertia("pinion.rz", inertia), Inertia("load.rz", 8e-3),
+         Coupling({"motor.rz": 1, "pinion.rz": -1}, shaft, 0.05),
+         Mesh({"pinion.rz": 0.012, "load.rz": -0.03}, Fourier(2.4e8, (3e7,), 1000.0),
+              damping=400.0),
+         Load("motor.rz", torque)],
+        name="chain",
+    )  # fmt: skip
+
+
+def test_huge_torque_gives_finite_results():
+    # f**3 with a zero cubic coefficient once gave inf * 0 = NaN
+    res = response(chain(torque=1e150), periods=20, keep=2, history=2)
+    for var in res.data.data_vars.values():
+        assert np.all(np.isfinite(var.values))
+    s = to_system(chain(torque=1e150))
+    assert np.all(np.isfinite(s.mesh_forces(0.0, np.full(s.n, 1e140), np.zeros(s.n))))
+
+
+@pytest.mark.parametrize(
+    ("kw", "dof"),
+    [({"inertia": 1e-300}, "pinion.rz"), ({"shaft": 1.7e308}, "motor.rz")],
+)
+def test_extreme_values_give_model_errors_naming_the_dof(kw, dof):
+    m = chain(**kw)
+    for run in (
+        lambda: modal(m),
+        lambda: campbell(m, [0.0, 100.0]),
+        lambda: response(m, periods=10, keep=2, history=2),
+    ):
+        with pytest.raises(ModelError, match=rf"'{dof}'"):
+            run()
+
+
+def test_overflowing_assembly_names_dof_and_elements():
+    m = Model(
+        [Dof("a", "x")],
+        [Inertia("a.x", 1.0), Support("a.x", 1.7e308, name="s1"),
+         Support("a.x", 1.7e308, name="s2")],
+    )  # fmt: skip
+    with pytest.raises(ModelError, match=r"stiffness at DOF 'a\.x' is not finite.*'s1'"):
+        m.matrices()
+
+
+def test_flat_system_refuses_non_finite_arrays():
+    s = chain().nonlinear()
+    K = s.K.copy()
+    K[1, 1] = np.nan
+    with pytest.raises(ReducerlabError, match=r"stiffness matrix is not finite at 'pinion\.rz'"):
+        dataclasses.replace(s, K=K)
+
+
+def test_response_without_a_mesh_says_so():
+    free = Model([Dof("a", "x")], [Inertia("a.x", 1.0), Load("a.x", 1.0)])
+    with pytest.raises(ReducerlabError, match="no mesh line: a nonlinear response needs"):
+        response(free, period=0.1)
+
+
+def test_reduction_error_names_dofs_and_elements():
+    s = Model(
+        [Dof("a", "x"), Dof("b", "x")],
+        [Inertia("a.x", 1.0), Inertia("b.x", 1.0), Support("a.x", 10.0),
+         Mesh({"a.x": 1.0, "b.x": -1.0}, 100.0)],
+    ).nonlinear()  # fmt: skip
+    # a single relative coordinate leaves the common motion free, held by the support
+    with pytest.raises(ReducerlabError) as exc:
+        s.reduced(np.array([[1.0, -1.0]]), ["stretch"])
+    text = str(exc.value)
+    assert "'a.x'" in text and "rows of T" not in text and "stretch" in text
