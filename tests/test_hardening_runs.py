@@ -111,7 +111,9 @@ def test_corrupt_or_empty_chunk_files(tmp_path, content, why):
     for folder, run in ((tmp_path / "s", _sweep), (tmp_path / "b", _bif)):
         bad = folder / "chunks" / "chunk_00001.npz"
         bad.write_bytes(content)
-        with pytest.raises(ReducerlabError, match=rf"chunk_00001\.npz: unreadable chunk file \(({why})") as e:  # noqa: E501
+        with pytest.raises(
+            ReducerlabError, match=rf"chunk_00001\.npz: unreadable chunk file \(({why})"
+        ) as e:
             run(folder)
         assert DELETE in str(e.value)
         bad.unlink()
@@ -187,7 +189,9 @@ def test_unreachable_dask_scheduler_is_a_clear_error():
     d = load_design(GEAR_PAIR)
     with (
         dask.config.set({"distributed.comm.timeouts.connect": "1s"}),
-        pytest.raises(ReducerlabError, match=r"cannot connect to the Dask scheduler 'tcp://127\.0\.0\.1:9'"),  # noqa: E501
+        pytest.raises(
+            ReducerlabError, match=r"cannot connect to the Dask scheduler 'tcp://127\.0\.0\.1:9'"
+        ),
     ):
         sweep(d, parse_values("mesh.stiffness", "1e8,2e8"), scheduler="tcp://127.0.0.1:9")
     with (
@@ -228,8 +232,13 @@ def _alive(pid: int) -> bool:
 
 def _start_parallel_sweep(out: Path) -> tuple[subprocess.Popen, set[int]]:
     """A CLI sweep with 2 workers, running, with its workers up and a chunk written."""
-    cmd = [sys.executable, "-m", "reducerlab", "sweep", str(GEAR_PAIR), *SLOW, "-o", str(out),
-           "--chunk-size", "100", "--workers", "2"]  # fmt: skip
+    return _start(["sweep", str(GEAR_PAIR), *SLOW, "-o", str(out), "--chunk-size", "100",
+                   "--workers", "2"], out)  # fmt: skip
+
+
+def _start(args: list[str], out: Path) -> tuple[subprocess.Popen, set[int]]:
+    """The CLI with ``args`` running, its workers up and a chunk written in ``out``."""
+    cmd = [sys.executable, "-m", "reducerlab", *args]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 30
     workers: set[int] = set()
@@ -239,7 +248,7 @@ def _start_parallel_sweep(out: Path) -> tuple[subprocess.Popen, set[int]]:
             return proc, workers
         time.sleep(0.05)
     proc.kill()
-    pytest.fail(f"the sweep did not start its workers: {proc.communicate()[1]}")
+    pytest.fail(f"the run did not start its workers: {proc.communicate()[1]}")
 
 
 def _check_no_orphans(workers: set[int]) -> None:
@@ -301,3 +310,73 @@ def test_sigkill_of_a_parallel_sweep_leaves_no_worker(tmp_path):
     proc.wait()
     _check_no_orphans(workers)
     _check_chunks_resume(out)
+
+
+# 2000 values, 8 chunks of 250: each chunk's models are built in 2 forked processes
+BIF = ["-p", "gears.x1", "-v", "lin:0.416:0.835:2000", "--periods", "200", "--keep", "20",
+       "--workers", "2"]  # fmt: skip
+
+
+@linux
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL])
+def test_signals_to_a_parallel_bifurcation_leave_no_worker(tmp_path, sig):
+    out = tmp_path / "run"
+    proc, workers = _start(["bifurcation", str(KHV), *BIF, "-o", str(out)], out)
+    os.kill(proc.pid, sig)
+    try:
+        _, stderr = proc.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail("the bifurcation did not end on the signal")
+    assert proc.returncode == (128 + sig if sig == signal.SIGTERM else -sig), stderr
+    if sig == signal.SIGTERM:
+        # even when the signal lands inside the compiled kernel
+        assert "terminated (SIGTERM)" in stderr and "Traceback" not in stderr
+    _check_no_orphans(workers)
+    written = sorted((out / "chunks").glob("chunk_*.npz"))
+    assert written
+    seen = []
+
+    def stop(done: int, total: int) -> None:
+        seen.append((done, total))
+        raise _Stop
+
+    with pytest.raises(_Stop):
+        bifurcation(load_design(KHV), parse_values("gears.x1", BIF[3]), periods=200, keep=20,
+                    output=out, workers=1, progress=stop)  # fmt: skip
+    assert seen == [(250 * len(written), 2000)]
+
+
+_ORPHAN = """
+import os, sys, threading, time
+from reducerlab.analysis import workers
+pid = os.fork()
+if pid == 0:
+    null = os.open(os.devnull, os.O_RDWR)
+    os.dup2(null, 1)  # let the test's pipe close when the parent exits
+    os.dup2(null, 2)
+    if sys.argv[1] == "pdeathsig":
+        assert workers._set_pdeathsig()
+    elif sys.argv[1] == "watchdog":
+        threading.Thread(target=workers._watch_parent, args=(os.getppid(),), daemon=True).start()
+    time.sleep(30)
+    os._exit(0)
+print(pid, flush=True)
+time.sleep(0.3)
+os._exit(0)
+"""
+
+
+@linux
+@pytest.mark.parametrize("guard", ["pdeathsig", "watchdog"])
+def test_each_guard_alone_ends_an_orphaned_worker(guard):
+    # the death signal (Linux) and the watchdog thread (the fallback elsewhere) each end
+    # a process whose parent dies (with guard "none" the child sleeps on: the test fails)
+    r = subprocess.run([sys.executable, "-c", _ORPHAN, guard], capture_output=True, text=True,
+                       timeout=30)  # fmt: skip
+    child = int(r.stdout)
+    try:
+        _check_no_orphans({child})
+    finally:
+        if _alive(child):
+            os.kill(child, signal.SIGKILL)

@@ -14,6 +14,7 @@ import time
 import numpy as np
 import pytest
 
+from reducerlab.analysis.runfolder import load_chunk
 from reducerlab.analysis.sweep import Axis, SweepResult, parse_values, sweep
 from reducerlab.drives import build_model, load_design
 from reducerlab.errors import ReducerlabError
@@ -170,7 +171,13 @@ def test_resume_after_kill(tmp_path):
     proc.wait()
     before = sorted(p.name for p in chunks.glob("chunk_*.npz"))
     assert 0 < len(before) < 40, "the sweep must be interrupted mid-run for this test"
-    assert not list(chunks.glob("*.tmp*")) or True  # partial temp files are ignored
+    # chunks are written atomically: every chunk file left by the kill is complete and
+    # stamped (a partial write stays under a hidden temporary name and is ignored)
+    key = json.loads((out / "sweep.json").read_text())["key"]
+    for p in chunks.glob("chunk_*.npz"):
+        i = int(p.stem.split("_")[1])
+        pts = np.arange(10.0, 2010.0)[50 * i : 50 * (i + 1), None]
+        assert load_chunk(p, key, i, pts, ["lam", "phi", "y"])["lam"].shape == (50, 6)
     stamps = {p.name: p.stat().st_mtime_ns for p in chunks.glob("chunk_*.npz")}
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr

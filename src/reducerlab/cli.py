@@ -14,7 +14,7 @@ file written or replaced is reported on stderr. Options that name one file
 Counts are bounded (checked before any work, the option named in the message): at
 most 100000 speeds (``campbell --speeds``), 1000000 sweep points, 100000 bifurcation
 values, periods in [1, 10^6], ``--keep`` and ``--history`` at most ``--periods``, RK4
-steps per period in [4, 100000], at most 1024 ``--workers``.
+steps per period in [4, 100000], at most 4 ``--workers`` per core.
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ from rich.table import Table
 from rich.text import Text
 
 from . import __version__
+from .analysis.workers import max_workers
 from .errors import ReducerlabError
 from .io import OutputSet, atomic_path, prepare_output_dir, prepare_output_file
 
@@ -60,8 +61,8 @@ MAX_PERIODS = 1_000_000
 """Most forcing periods of ``bifurcation`` and ``response``."""
 MIN_STEPS, MAX_STEPS = 4, 100_000
 """Range of RK4 steps per forcing period (``--steps``)."""
-MAX_WORKERS = 1024
-"""Most worker processes (``--workers``)."""
+MAX_WORKERS = max_workers()
+"""Most worker processes (``--workers``): the API's limit, 4 per core."""
 SCHEDULER_TIMEOUT_S = 10.0
 """Seconds allowed to connect to a Dask scheduler (``--scheduler``)."""
 
@@ -582,6 +583,8 @@ def bifurcation(
             help="Processes building the models (default: one per core).", min=1, max=MAX_WORKERS
         ),
     ] = None,
+    period: PeriodOption = None,
+    frequency: FrequencyOption = None,
 ) -> None:
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter.
 
@@ -591,6 +594,7 @@ def bifurcation(
 
     with _user_errors():
         _check_periods(periods, keep=keep)
+        T = _forcing_period(period, frequency)
         files = OutputSet(output, "-o", report=_note)
         d = load_design(design)
         axis = _axis("--values", param, values, MAX_VALUES)
@@ -602,7 +606,7 @@ def bifurcation(
             )
         with _scheduler(scheduler) as client, _busy("bifurcation") as report:
             res = run_bifurcation(
-                d, axis, periods=periods, keep=keep, steps_per_period=steps,
+                d, axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
                 output=output, scheduler=client, exponents=classify, workers=workers,
                 progress=report,
             )  # fmt: skip
@@ -639,6 +643,28 @@ def _time_option(text: str | None, option: str, kind: str) -> float | None:
     return value
 
 
+def _forcing_period(period: str | None, frequency: str | None) -> float | None:
+    """The sampling period (s) given by ``--period`` or ``--frequency``, or None."""
+    if period is not None and frequency is not None:
+        raise ReducerlabError("--period and --frequency: give one of them, not both")
+    f = _time_option(frequency, "--frequency", "frequency")
+    return 1.0 / f if f is not None else _time_option(period, "--period", "time")
+
+
+PeriodOption = Annotated[
+    str | None,
+    typer.Option(
+        "--period",
+        help="Forcing period, e.g. '2 ms' or 0.002 (s), for a design without a periodic "
+        "mesh law (default: the design's).",
+    ),
+]
+FrequencyOption = Annotated[
+    str | None,
+    typer.Option("--frequency", help="Forcing frequency, e.g. '500 Hz' (instead of --period)."),
+]
+
+
 @app.command()
 def response(
     design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
@@ -652,17 +678,8 @@ def response(
     steps: Annotated[
         int | None, typer.Option(help="RK4 steps per period.", min=MIN_STEPS, max=MAX_STEPS)
     ] = None,
-    period: Annotated[
-        str | None,
-        typer.Option(
-            help="Forcing period, e.g. '2 ms' or 0.002 (s), for a design without a periodic "
-            "mesh law (default: the design's).",
-        ),
-    ] = None,
-    frequency: Annotated[
-        str | None,
-        typer.Option(help="Forcing frequency, e.g. '500 Hz' (instead of --period)."),
-    ] = None,
+    period: PeriodOption = None,
+    frequency: FrequencyOption = None,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "response-output"
     ),
@@ -673,12 +690,7 @@ def response(
 
     with _user_errors():
         _check_periods(periods, keep=keep, history=history)
-        if period is not None and frequency is not None:
-            raise ReducerlabError("--period and --frequency: give one of them, not both")
-        T = _time_option(period, "--period", "time")
-        f = _time_option(frequency, "--frequency", "frequency")
-        if f is not None:
-            T = 1.0 / f
+        T = _forcing_period(period, frequency)
         files = OutputSet(output, "-o", report=_note)
         d = load_design(design)
         with _busy("response"):
@@ -687,11 +699,18 @@ def response(
                 period=T,
             )  # fmt: skip
         _save_with_figure(res, files, "response")
-    peaks = ", ".join(f"{m:.3g}x" for m, _ in res.peaks(5))
+    attrs = res.data.attrs
+    dlf = attrs["dynamic_load_factor"]
     typer.echo(
-        f"dynamic load factor {res.data.attrs['dynamic_load_factor']:.4f}, mean mesh force "
-        f"{res.data.attrs['mean_mesh_force']:.5g} N; spectral peaks at {peaks} the forcing "
-        "frequency"
+        f"dynamic load factor {dlf:.4f}, mean mesh force {attrs['mean_mesh_force']:.5g} N"
+        if math.isfinite(dlf)
+        else "no mean mesh force (no load on the model): the dynamic load factor is undefined"
+    )
+    peaks = res.peaks(5)
+    typer.echo(
+        "spectral peaks at " + ", ".join(f"{m:.3g}x" for m, _ in peaks) + " the forcing frequency"
+        if peaks
+        else "no spectral peaks: the mesh deflection is constant (nothing excites the model)"
     )
 
 
@@ -938,6 +957,19 @@ def _on_sigterm(signum: int, frame: Any) -> None:
     raise _Terminated(128 + signum)
 
 
+def _termination(exc: BaseException) -> _Terminated | None:
+    """The SIGTERM behind ``exc``, if any: raised inside compiled code (the numba
+    kernel), it surfaces as the context of another error (``SystemError``)."""
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, _Terminated):
+            return e
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return None
+
+
 def main() -> None:
     """Console-script entry point.
 
@@ -953,9 +985,12 @@ def main() -> None:
     except KeyboardInterrupt:  # pragma: no cover - interactive
         err.print("interrupted")
         sys.exit(130)
-    except _Terminated as exc:
+    except BaseException as exc:
+        term = _termination(exc)
+        if term is None:
+            raise
         err.print(
             "terminated (SIGTERM); a sweep or bifurcation resumes from its finished chunks "
             "when run again"
         )
-        sys.exit(exc.code)
+        sys.exit(term.code)

@@ -20,6 +20,7 @@ from ..errors import DivergenceError, ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
 from .response import (
+    at_rest,
     check_stability,
     elastic_names,
     ensemble,
@@ -54,6 +55,7 @@ def bifurcation(
     periods: int = 600,
     keep: int = 100,
     steps_per_period: int | None = None,
+    period: float | None = None,
     line: int = 0,
     scale: float = 1e-6,
     chunk_size: int = 250,
@@ -70,7 +72,9 @@ def bifurcation(
     ``periods`` forcing periods from static equilibrium under the mean mesh stiffness;
     the last ``keep`` stroboscopic points of mesh ``line``'s
     deflection ``delta = G q - e`` are kept (paper 004 Fig. 7, 9, 11), in units of
-    ``scale`` (m; 1 um = paper 004's b_c).
+    ``scale`` (m; 1 um = paper 004's b_c). ``period`` (s) is the forcing (sampling)
+    period; by default the period of the model's first periodic law (a model without
+    one needs it).
 
     With ``output``, every finished chunk of parameter values is written to
     ``output/chunks/`` at once (atomically, stamped with the run key, its index and its
@@ -117,6 +121,8 @@ def bifurcation(
                 "steps": steps_per_period, "line": line, "chunk": chunk_size,
                 "exponents": bool(exponents), "scale": scale, "model": _fingerprint(base),
                 "design": design.hash if design else None}  # fmt: skip
+        if period is not None:  # only when given: earlier run folders keep their key
+            spec["period"] = period
         key = open_run(folder, "bifurcation.json", spec, "bifurcation run")
 
     def chunk_file(i: int) -> Path | None:
@@ -130,15 +136,17 @@ def bifurcation(
             results[i] = load_chunk(f, key, i, chunks[i], ("poincare",))["poincare"]
         else:
             todo.append(i)
-    members = _Members(ev, rigid_reduction(base))
+    rest = at_rest(model)
+    members = _Members(ev, rigid_reduction(rest if rest is not None else base))
     if values.size > 8 and todo:
         members.probe(float(values.min()), float(values.max()))
     if todo:  # a divergent linear part at either end fails at once, before any chunk
         ends = np.unique([values[0], values[-1]])
         check_stability(members(ends), [f"{axis.path} = {v:.6g}" for v in ends])
     job = _BifurcationChunk(
-        members, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents)
-    )
+        members, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents),
+        period,
+    )  # fmt: skip
     done = sum(len(chunks[i]) for i in results)
     if progress:
         progress(done, values.size)
@@ -198,7 +206,7 @@ def bifurcation(
             "periods": periods,
             "keep": keep,
             "line": line,
-            "forcing_hz": 1.0 / forcing_period(base),
+            "forcing_hz": 1.0 / (forcing_period(base) if period is None else period),
             **provenance(model.metadata),
         },
     )
@@ -235,13 +243,19 @@ class _Members:
     affine: tuple[float, NonlinearSystem, dict[str, NDArray]] | None = None
 
     def one(self, v: float) -> NonlinearSystem:
-        s = self.ev.model_at([v]).nonlinear()
+        model = self.ev.model_at([v])
+        s = model.nonlinear()
         if self.T is not None:
+            rest = at_rest(model)
             try:
-                return s.reduced(self.T, elastic_names(self.T))[0]
+                return s.reduced(
+                    self.T,
+                    elastic_names(self.T),
+                    rest_stiffness=None if rest is None else rest.K,
+                )[0]
             except ReducerlabError:  # the value changed the rigid motion itself
                 pass
-        return to_system(s)
+        return to_system(model)
 
     def probe(self, lo: float, hi: float) -> None:
         """Detect affine dependence on the value over [lo, hi]."""
@@ -297,6 +311,7 @@ class _BifurcationChunk:
     line: int
     scale: float
     exponents: bool = False
+    period: float | None = None  # sampling period of systems without a periodic law
 
     def __call__(self, chunk: NDArray) -> NDArray:
         return self.integrate(chunk, self.members(chunk))
@@ -305,13 +320,13 @@ class _BifurcationChunk:
         y0 = static_states(systems)
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
-            labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0,
+            labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0, period=self.period,
         )  # fmt: skip
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
         if not self.exponents:
             return pts
         lam = lyapunov(systems, periods=self.periods, transient=self.periods - self.keep,
-                       steps_per_period=self.steps)  # fmt: skip
+                       steps_per_period=self.steps, period=self.period)  # fmt: skip
         return np.concatenate([pts, lam[:, None]], axis=1)
 
 
@@ -473,7 +488,11 @@ class ResponseResult(Result):
         a3.set_xlim(0, 4)
         a3.set_xlabel("frequency / forcing frequency")
         a3.set_ylabel("amplitude (um)")
-        a3.set_title(f"spectrum (DLF {ds.attrs['dynamic_load_factor']:.3f})", fontsize=9)
+        dlf = ds.attrs["dynamic_load_factor"]
+        a3.set_title(
+            f"spectrum (DLF {dlf:.3f})" if np.isfinite(dlf) else "spectrum (no mean load)",
+            fontsize=9,
+        )
         for ax in (a1, a2, a3):
             ax.grid(alpha=0.3)
         fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
@@ -512,7 +531,7 @@ def response(
             "response: the model has no mesh line: a nonlinear response needs at least "
             "one mesh (or cubic spring) element"
         )
-    s = to_system(flat)
+    s = to_system(model)
     if isinstance(line, bool) or not isinstance(line, int) or not 0 <= line < n_lines:
         raise ReducerlabError(
             f"response: line must be a mesh line index in 0..{n_lines - 1} "
@@ -530,7 +549,9 @@ def response(
     dvel = H[:, n:] @ g - e[:, 1]
     force = np.array([s.mesh_forces(ti, y[:n], y[n:])[line] for ti, y in zip(t, H, strict=True)])
     mean_force = float(np.mean(force))
-    dlf = float(np.max(np.abs(force)) / abs(mean_force)) if mean_force else float("inf")
+    # the dynamic load factor is defined against a mean load; without one (no torque on
+    # the model) it is undefined, recorded as NaN and reported as such
+    dlf = float(np.max(np.abs(force)) / abs(mean_force)) if mean_force else float("nan")
     P = res.poincare[0, :keep]
     tP = (periods - keep + np.arange(keep)) * res.period[0]
     eP = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in tP])

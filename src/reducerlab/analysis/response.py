@@ -54,7 +54,8 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
     s = model.nonlinear() if isinstance(model, Model) else model
     if not reduce_rigid:
         return s
-    T = rigid_reduction(s)
+    rest = at_rest(model) if isinstance(model, Model) else None
+    T = rigid_reduction(rest if rest is not None else s)
     if T is None:
         return s
     if T.shape[0] == 0:
@@ -62,13 +63,30 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
             f"the model's DOFs {s.dof_names} move only as rigid bodies (no support, "
             "coupling or mesh resists any motion): there is no vibration to integrate"
         )
-    return s.reduced(T, elastic_names(T))[0]
+    return s.reduced(T, elastic_names(T), rest_stiffness=None if rest is None else rest.K)[0]
+
+
+def at_rest(model: Model) -> NonlinearSystem | None:
+    """The flat system of ``model`` at zero speed, or None when it runs at zero speed.
+
+    Rigid-body motion is the motion that strains no element: the null space of the
+    stiffness *without* speed-dependent terms. The centripetal and gyroscopic terms,
+    linearised in a rotating frame, do not respect it (e.g. ``-m Omega^2`` on a
+    tangential translation that is a pure phase shift of the rotating assembly), so
+    they would turn a rigid mode into a slowly diverging one. As in
+    :func:`reducerlab.analysis.modal.modal`, the rigid motion is taken from the model
+    at rest and removed; the speed terms act on the elastic coordinates only.
+    """
+    if model.speed == 0.0:
+        return None
+    return model.with_speed(0.0).nonlinear()
 
 
 def rigid_reduction(s: NonlinearSystem) -> NDArray[np.float64] | None:
     """Rows ``T`` (n - r, n) of the relative coordinates ``u = T q`` that remove the rigid
     motion of ``s`` (the mass-weighted elastic modes of the mean stiffness), or None
-    when ``s`` has no rigid motion. Any ``T`` with the same null space serves another
+    when ``s`` has no rigid motion. For a model at speed pass its system at rest
+    (:func:`at_rest`). Any ``T`` with the same null space serves another
     system of the same topology (see :meth:`NonlinearSystem.reduced`)."""
     k_mean = s.mean_stiffness
     try:
@@ -669,6 +687,7 @@ def lyapunov(
     steps_per_period: int | None = None,
     d0: float = 1e-9,
     y0: NDArray[np.float64] | None = None,
+    period: float | None = None,
 ) -> NDArray[np.float64]:
     """Largest Lyapunov exponent (1/s) of each system, by two-trajectory renormalisation.
 
@@ -678,7 +697,8 @@ def lyapunov(
     by their reference amplitude, velocities by amplitude x frequency), logged and reset
     to ``d0`` along the current separation direction (Benettin's method; it needs no
     linearisation, so it works with the non-smooth backlash). The first ``transient``
-    periods are discarded.
+    periods are discarded. ``period`` (s) is the renormalisation period of systems
+    without a periodic law (as in :func:`ensemble`).
     """
     from .kernel import block_width, rk4_ensemble
 
@@ -686,7 +706,7 @@ def lyapunov(
         raise ReducerlabError("lyapunov: need 0 <= transient < periods")
     pairs = [s for s in systems for _ in range(2)]
     labels = None if len(systems) == 1 else [f"member {i // 2}" for i in range(len(pairs))]
-    prep = _prepare(pairs, steps_per_period, None, labels)
+    prep = _prepare(pairs, steps_per_period, period, labels)
     T = prep.period
     bw = block_width(len(pairs))
     E2, n = len(pairs), systems[0].n

@@ -12,6 +12,7 @@ failure into a :class:`~reducerlab.errors.ReducerlabError` naming the file and t
 
 from __future__ import annotations
 
+import datetime as _dt
 import hashlib
 import json
 import os
@@ -22,6 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import __version__
 from ..errors import ReducerlabError
 from ..io import atomic_path
 
@@ -94,14 +96,24 @@ def open_run(folder: Path, manifest: str, spec: dict[str, Any], what: str) -> st
     path = folder / manifest
     old = read_manifest(path)
     if old is None:
+        # the stamp (version, creation time) sits beside the key, not in it: a later
+        # version resumes a run when the specification is the same
+        stamp = {
+            "reducerlab_version": __version__,
+            "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        }
         with atomic_path(path) as tmp:
-            tmp.write_text(json.dumps({"key": key, **spec}, indent=1), encoding="utf-8")
+            tmp.write_text(json.dumps({"key": key, **stamp, **spec}, indent=1), encoding="utf-8")
     elif old["key"] != key:
         shown = old.get("axes", old.get("path"))
         detail = f" ({shown})" if shown is not None else ""
         raise ReducerlabError(
             f"{folder} holds a different {what}{detail}; choose another output folder or delete it"
         )
+    # temporary files of chunk writes cut short by a kill (their complete files were
+    # never renamed into place): nothing reads them, so they go
+    for stale in (folder / "chunks").glob(".chunk_*.partial.npz"):
+        stale.unlink(missing_ok=True)
     return key
 
 

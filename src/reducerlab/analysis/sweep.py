@@ -275,8 +275,10 @@ class _Evaluator:
         return np.array(Ms), np.array(Ks)
 
     def solve(self, points: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        """Eigenvalues (rigid modes set to exactly 0), shapes and weighted shapes."""
         M, K = self.matrices(points)
-        return eigh_batch(M, K)
+        lam, phi, y = eigh_batch(M, K)
+        return _rigid_clean(lam, phi, K), phi, y
 
 
 def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
@@ -535,9 +537,19 @@ def _si_of(design: Design, t: _Target, value: str) -> float:
     return float(_walk(new, t.keys))
 
 
-def _rigid_clean(lam: NDArray, rigid_tol: float = 1e-10) -> NDArray:
-    scale = np.maximum(np.max(np.abs(lam), axis=-1, keepdims=True), np.finfo(float).tiny)
-    return np.where(np.abs(lam) <= rigid_tol * scale, 0.0, lam)
+def _rigid_clean(lam: NDArray, phi: NDArray, K: NDArray, rigid_tol: float = 1e-10) -> NDArray:
+    """Eigenvalues with those of rigid modes set to exactly 0.
+
+    A mode is rigid when it strains no stiffness beyond round-off:
+    ``|phi^T K phi| <= rigid_tol |phi|^T |K| |phi|`` at its own point. Unlike a test
+    against the largest eigenvalue, it does not turn an elastic mode into a rigid one
+    when another part of the model is very light or very stiff (issue 13); an
+    eigenvalue below this bound is below what the eigen-solver resolves for that mode.
+    """
+    K = np.broadcast_to(K, phi.shape[:-2] + K.shape[-2:])
+    num = np.abs(np.einsum("...im,...ij,...jm->...m", phi, K, phi))
+    den = np.einsum("...im,...ij,...jm->...m", np.abs(phi), np.abs(K), np.abs(phi))
+    return np.where(num <= rigid_tol * den, 0.0, lam)
 
 
 def _assemble(
@@ -551,7 +563,6 @@ def _assemble(
     design: Design | None,
     vectorised: bool,
 ) -> SweepResult:
-    lam = _rigid_clean(lam)
     freq = np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
     dims = [f"p{i}" for i in range(len(axes))]
     shape = tuple(len(c) for c in columns)

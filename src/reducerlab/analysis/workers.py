@@ -95,6 +95,7 @@ def _terminate(pool: ProcessPoolExecutor) -> None:
     """Cancel the queued tasks and end the pool's processes now (running tasks are
     lost: their chunks were not written and are computed by the next run)."""
     procs = list((getattr(pool, "_processes", None) or {}).values())
+    manager = getattr(pool, "_executor_manager_thread", None)
     pool.shutdown(wait=False, cancel_futures=True)
     for p in procs:
         with contextlib.suppress(Exception):
@@ -105,6 +106,11 @@ def _terminate(pool: ProcessPoolExecutor) -> None:
             if p.is_alive():
                 p.kill()
                 p.join(1.0)
+    if manager is not None:
+        # let the pool's manager thread see its dead workers and close its pipes now:
+        # left running, it races the interpreter's exit hook of concurrent.futures
+        # ("OSError: Bad file descriptor" printed at exit)
+        manager.join(5.0)
 
 
 @contextlib.contextmanager
@@ -138,10 +144,10 @@ def worker_pool(workers: int, context: str | None = None) -> Iterator[ProcessPoo
     )
     try:
         yield pool
+        pool.shutdown(wait=True)
     except BaseException:
         _terminate(pool)
         raise
-    pool.shutdown(wait=True)
 
 
 @contextlib.contextmanager

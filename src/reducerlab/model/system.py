@@ -242,7 +242,11 @@ class NonlinearSystem:
         return self.load_matrix @ values if values.size else np.zeros(self.n)
 
     def reduced(
-        self, T: NDArray[np.float64], names: list[str]
+        self,
+        T: NDArray[np.float64],
+        names: list[str],
+        *,
+        rest_stiffness: NDArray[np.float64] | None = None,
     ) -> tuple[NonlinearSystem, NDArray[np.float64]]:
         """The same equations in relative coordinates ``u = T q`` without rigid motion.
 
@@ -254,6 +258,10 @@ class NonlinearSystem:
         = S^T F``: paper 004's Eq. 3-6 for any model (its relative coordinates
         ``X_DH, X_VH, X_VL`` are one choice of ``T``). Returns the reduced system and
         ``S``.
+
+        ``rest_stiffness``, for a system at speed, is its linear stiffness at zero speed:
+        the rigid modes must carry none of it, while the speed terms' action on them is
+        dropped (see :func:`reducerlab.analysis.response.at_rest`).
         """
         T = np.asarray(T, dtype=float)
         if T.ndim != 2 or T.shape[1] != self.n or len(names) != T.shape[0]:
@@ -269,7 +277,11 @@ class NonlinearSystem:
         _, sv, vt = np.linalg.svd(T)
         R = vt[np.sum(sv > 1e-12 * sv.max()) :].T
         for what, A, rows in (
-            ("the stiffness (supports, couplings) at", self.K, self.dof_names),
+            (
+                "the stiffness (supports, couplings) at",
+                self.K if rest_stiffness is None else np.asarray(rest_stiffness, float),
+                self.dof_names,
+            ),
             ("the damping (supports, couplings) at", self.C, self.dof_names),
             ("the mesh line(s)", self.G, self.line_names),
         ):
