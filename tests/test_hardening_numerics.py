@@ -259,3 +259,20 @@ def test_speed_terms_do_not_turn_rigid_motion_into_divergence():
     bif = bifurcation(design, axis, periods=20, keep=4, period=1e-3)
     assert np.all(np.isfinite(bif.data["poincare"].values))
     assert bif.data.attrs["forcing_hz"] == pytest.approx(1e3)
+
+
+@pytest.mark.parametrize("name", sorted(RIGID))
+def test_sweep_and_modal_agree_on_rigid_and_elastic_modes(name):
+    """A sweep decides rigid modes as modal does (element strain, at rest when the model
+    runs at a speed): at the design value it gives modal's frequencies, 0 Hz included
+    (the cycloid example's speed terms used to turn its rigid mode into -3.5 Hz)."""
+    from reducerlab.model.inspect import parameter_paths
+
+    model = build_model(load_design(example_dir() / f"{name}.toml"))
+    res = modal(model)
+    path, value = parameter_paths(model)[0]
+    for values in ((value, 1.01 * value, 1.02 * value), (value,)):  # batched and per point
+        sw = sweep(model, Axis(path, values), workers=1, track=False)
+        f = sw.data["frequency"].values[0]
+        assert np.sum(f == 0.0) == RIGID[name]
+        np.testing.assert_allclose(f, res.frequencies, rtol=1e-9, atol=1e-9)

@@ -111,8 +111,25 @@ def _energy_labels(
 MOTION_TOL = 1e-6
 
 
-def strain_ratio(model: Model, M: NDArray, phi: NDArray) -> NDArray[np.float64]:
+def element_blocks(model: Model) -> list[tuple[list[int], NDArray[np.float64]]]:
+    """``(dof indices, K_e)`` of every element with stiffness, at zero speed (mean mesh
+    stiffness included): what :func:`strain_ratio` tests a mode against."""
+    out = []
+    for e in model.elements:
+        idx, em = model.element_matrices(e, 0.0)
+        Ke = np.real(em.K)
+        if np.any(Ke):
+            out.append((list(idx), Ke))
+    return out
+
+
+def strain_ratio(
+    model: Model | Sequence[tuple[list[int], NDArray]], M: NDArray, phi: NDArray
+) -> NDArray[np.float64]:
     """Largest element strain ratio of each mode, for shapes ``phi`` (..., n, modes).
+
+    ``model`` is a model or its :func:`element_blocks`; a block's ``K_e`` may be a
+    stack (..., n_e, n_e) matching the leading axes of ``phi`` (a sweep's points).
 
     For every element ``e`` with stiffness (at zero speed, mean mesh stiffness
     included) that the mode moves (mass-weighted amplitude ``sqrt(M_ii) |phi_i|`` of
@@ -128,14 +145,11 @@ def strain_ratio(model: Model, M: NDArray, phi: NDArray) -> NDArray[np.float64]:
     w = np.abs(phi) * np.sqrt(np.abs(np.diagonal(M, axis1=-2, axis2=-1)))[..., :, None]
     wmax = w.max(axis=-2)
     ratio = np.zeros(phi.shape[:-2] + phi.shape[-1:])
-    for e in model.elements:
-        idx, em = model.element_matrices(e, 0.0)
-        Ke = np.real(em.K)
-        if not np.any(Ke):
-            continue
+    blocks = element_blocks(model) if isinstance(model, Model) else model
+    for idx, Ke in blocks:
         pe = phi[..., idx, :]
-        u = np.abs(np.einsum("...im,ij,...jm->...m", pe, Ke, pe))
-        a = np.einsum("...im,ij,...jm->...m", np.abs(pe), np.abs(Ke), np.abs(pe))
+        u = np.abs(np.einsum("...im,...ij,...jm->...m", pe, Ke, pe))
+        a = np.einsum("...im,...ij,...jm->...m", np.abs(pe), np.abs(Ke), np.abs(pe))
         moved = (w[..., idx, :].max(axis=-2) > MOTION_TOL * wmax) & (a > 0)
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.maximum(ratio, np.where(moved, u / np.where(moved, a, 1.0), 0.0))

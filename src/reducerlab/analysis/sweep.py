@@ -35,6 +35,7 @@ from ..errors import DesignError, ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
 from .batch import eigh_batch
+from .modal import element_blocks, strain_ratio
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes
 from .workers import check_workers, dask_client, worker_pool
@@ -232,6 +233,8 @@ class _Evaluator:
     targets: tuple[_Target, ...]
     affine: tuple[NDArray, NDArray, NDArray, NDArray] | None = None  # M0, K0, dM, dK
     anchor: NDArray | None = None
+    affine_rest: tuple[NDArray, NDArray] | None = None  # stiffness at rest: K0, dK
+    affine_blocks: list[tuple[list[int], NDArray, NDArray]] | None = None  # idx, Ke0, dKe
 
     def model_at(self, values: Sequence[Any]) -> Model:
         from ..drives import build_model, design_from_dict
@@ -258,47 +261,128 @@ class _Evaluator:
                 model = model.with_parameter(t.path, v)
         return model
 
-    def matrices(self, points: NDArray) -> tuple[NDArray, NDArray]:
-        """Stacked ``M, K`` (n_points, n, n) at parameter rows ``points`` (n_points, n_axes)."""
+    def matrices(self, points: NDArray) -> _Points:
+        """``M, K`` (n_points, n, n) at parameter rows ``points`` (n_points, n_axes), the
+        stiffness at rest (speed terms left out) where the points run at a speed, and
+        the element stiffness blocks that decide rigidity (as in
+        :func:`reducerlab.analysis.modal.modal`)."""
         if self.affine is not None:
             M0, K0, dM, dK = self.affine
             t = points - self.anchor  # (n_pts, n_axes)
             K = K0 + np.einsum("pa,aij->pij", t, dK)
-            if not np.any(dM):
-                return M0, K  # one mass matrix for the whole chunk: factorised once
-            return M0 + np.einsum("pa,aij->pij", t, dM), K
-        Ms, Ks = [], []
+            rest = None
+            if self.affine_rest is not None:
+                rest = self.affine_rest[0] + np.einsum("pa,aij->pij", t, self.affine_rest[1])
+            blocks = [  # elements the parameters do not touch keep one block
+                (idx, Ke + np.einsum("pa,aij->pij", t, dKe) if np.any(dKe) else Ke)
+                for idx, Ke, dKe in self.affine_blocks or []
+            ]
+            M = M0 if not np.any(dM) else M0 + np.einsum("pa,aij->pij", t, dM)
+            return _Points(M, K, rest, blocks)  # one M for a chunk: factorised once
+        Ms, Ks, Rs, Bs = [], [], [], []
         for row in points:
-            mats = self.model_at(list(row)).matrices()
+            model = self.model_at(list(row))
+            mats = model.matrices()
             Ms.append(mats.M)
             Ks.append(mats.K)
-        return np.array(Ms), np.array(Ks)
+            Rs.append(_rest_stiffness(model))
+            Bs.append(element_blocks(model))
+        rest = None
+        if any(r is not None for r in Rs):
+            rest = np.array([k if r is None else r for k, r in zip(Ks, Rs, strict=True)])
+        return _Points(np.array(Ms), np.array(Ks), rest, Bs)
 
     def solve(self, points: NDArray) -> tuple[NDArray, NDArray, NDArray]:
-        """Eigenvalues (rigid modes set to exactly 0), shapes and weighted shapes."""
-        M, K = self.matrices(points)
-        lam, phi, y = eigh_batch(M, K)
-        return _rigid_clean(lam, phi, K), phi, y
+        """Eigenvalues (rigid modes exactly 0), shapes and weighted shapes."""
+        return self.matrices(points).solve()
+
+
+#: Largest element strain ratio of a rigid mode (as ``modal``'s ``rigid_tol``).
+RIGID_TOL = 1e-10
+
+
+@dataclass
+class _Points:
+    """The matrices of a chunk of points and what decides their rigid modes."""
+
+    M: NDArray  # (n, n) shared, or (P, n, n)
+    K: NDArray  # (P, n, n)
+    rest: NDArray | None  # stiffness at rest (P, n, n), when the points run at a speed
+    blocks: list  # stacked element blocks [(idx, (P, ne, ne))], or per point [[(idx, Ke)]]
+
+    def ratio(self, phi: NDArray) -> NDArray:
+        """Largest element strain ratio of each mode (P, n)."""
+        stacked = not self.blocks or isinstance(self.blocks[0], tuple)
+        if stacked:
+            return strain_ratio(self.blocks, self.M, phi)
+        M = np.broadcast_to(self.M, phi.shape)
+        return np.stack(
+            [strain_ratio(b, m, f) for b, m, f in zip(self.blocks, M, phi, strict=True)]
+        )
+
+    def solve(self, rigid_tol: float = RIGID_TOL) -> tuple[NDArray, NDArray, NDArray]:
+        """``K phi = lambda M phi`` with rigid modes (no element strained) at exactly 0.
+
+        At a speed, the rigid modes are those of the stiffness at rest and the elastic
+        modes are solved on their mass-orthogonal complement, as in
+        :func:`reducerlab.analysis.modal.modal` (the speed terms, linearised in a
+        rotating frame, would make a rigid mode drift).
+        """
+        lam, phi, y = eigh_batch(self.M, self.K)
+        if self.rest is None or np.array_equal(self.rest, self.K):  # no speed term in K
+            return np.where(self.ratio(phi) <= rigid_tol, 0.0, lam), phi, y
+        _, phi0, y0 = eigh_batch(self.M, self.rest)
+        null = self.ratio(phi0) <= rigid_tol  # (P, n)
+        L = np.linalg.cholesky(0.5 * (self.M + np.swapaxes(self.M, -1, -2)))
+        L = np.broadcast_to(L, self.K.shape)
+        same = np.all(self.rest == self.K, axis=(-2, -1))  # points without speed terms
+        lam = np.where(same[:, None] & (self.ratio(phi) <= rigid_tol), 0.0, lam)
+        for p in np.nonzero(null.any(axis=1) & ~same)[0]:
+            N, V = y0[p][:, null[p]], y0[p][:, ~null[p]]  # orthonormal (mass-weighted)
+            A = np.linalg.solve(L[p], np.linalg.solve(L[p], self.K[p]).T)  # L^-1 K L^-T
+            lam_e, z = np.linalg.eigh(0.5 * (V.T @ A @ V + (V.T @ A @ V).T))
+            lam_p = np.concatenate([np.zeros(N.shape[1]), lam_e])
+            y_p = np.concatenate([N, V @ z], axis=1)
+            order = np.argsort(lam_p, kind="stable")
+            lam[p], y[p] = lam_p[order], y_p[:, order]
+            phi[p] = np.linalg.solve(L[p].T, y[p])
+        return lam, phi, y
+
+
+def _rest_stiffness(model: Model) -> NDArray | None:
+    """``K`` of ``model`` at zero speed, or None when it runs at zero speed."""
+    return None if model.speed == 0.0 else model.with_speed(0.0).matrices().K
 
 
 def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
     """Detect ``M, K`` affine in the swept values; store the batch form if so."""
     n_ax = len(lows)
-    base = ev.model_at(list(lows)).matrices()
-    dM, dK = [], []
+    base_model = ev.model_at(list(lows))
+    base = base_model.matrices()
+    base_rest = _rest_stiffness(base_model)
+    dM, dK, dR = [], [], []
+    ends: list[Model] = []
     for a in range(n_ax):
         p = lows.copy()
         span = highs[a] - lows[a]
         if span == 0:
             return False
         p[a] = highs[a]
-        m = ev.model_at(list(p)).matrices()
+        model = ev.model_at(list(p))
+        ends.append(model)
+        m = model.matrices()
         dM.append((m.M - base.M) / span)
         dK.append((m.K - base.K) / span)
+        rest = _rest_stiffness(model)
+        if (rest is None) != (base_rest is None):
+            return False  # the speed itself is swept through zero
+        if rest is not None:
+            dR.append((rest - base_rest) / span)
     dM_, dK_ = np.array(dM), np.array(dK)
     # probe: an interior point off the axes must be predicted exactly
     probe = lows + (highs - lows) * np.linspace(0.37, 0.61, n_ax)
-    m = ev.model_at(list(probe)).matrices()
+    model = ev.model_at(list(probe))
+    m = model.matrices()
     t = probe - lows
     pM = base.M + np.einsum("a,aij->ij", t, dM_)
     pK = base.K + np.einsum("a,aij->ij", t, dK_)
@@ -306,9 +390,48 @@ def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
     scale_K = max(np.abs(base.K).max(), np.abs(pK).max(), 1e-300)
     if np.abs(m.M - pM).max() > 1e-10 * scale_M or np.abs(m.K - pK).max() > 1e-10 * scale_K:
         return False
+    blocks = _affine_blocks(base_model, ends, lows, highs, model, probe)
+    if blocks is None:
+        return False
+    ev.affine_blocks = blocks
+    if base_rest is not None:
+        rest = _rest_stiffness(model)
+        pR = base_rest + np.einsum("a,aij->ij", t, np.array(dR))
+        if rest is None or np.abs(rest - pR).max() > 1e-10 * scale_K:
+            return False
+        ev.affine_rest = (base_rest, np.array(dR))
     ev.affine = (base.M, base.K, dM_, dK_)
     ev.anchor = lows.astype(float)
     return True
+
+
+def _affine_blocks(
+    base: Model,
+    ends: list[Model],
+    lows: NDArray,
+    highs: NDArray,
+    probe_model: Model,
+    probe: NDArray,
+) -> list[tuple[list[int], NDArray, NDArray]] | None:
+    """Element blocks ``K_e = K_e0 + t dK_e`` of an affine sweep (the rigid-mode test of
+    every point), checked at the probe point; None when they are not affine."""
+    b0 = element_blocks(base)
+    per_axis = [element_blocks(m) for m in ends]
+    bp = element_blocks(probe_model)
+    if any(len(b) != len(b0) for b in (*per_axis, bp)):
+        return None
+    out = []
+    for k, (idx, K0) in enumerate(b0):
+        if any(b[k][0] != idx for b in (*per_axis, bp)):
+            return None
+        dK = np.array(
+            [(b[k][1] - K0) / (h - lo) for b, h, lo in zip(per_axis, highs, lows, strict=True)]
+        )
+        want = K0 + np.einsum("a,aij->ij", probe - lows, dK)
+        if np.abs(bp[k][1] - want).max() > 1e-10 * max(np.abs(K0).max(), np.abs(want).max()):
+            return None
+        out.append((idx, K0, dK))
+    return out
 
 
 # ----------------------------------------------------------------------------- running
@@ -535,21 +658,6 @@ def _si_of(design: Design, t: _Target, value: str) -> float:
     except DesignError as exc:
         raise ReducerlabError(f"sweep {t.path!r}: value {value!r} rejected:\n{exc}") from None
     return float(_walk(new, t.keys))
-
-
-def _rigid_clean(lam: NDArray, phi: NDArray, K: NDArray, rigid_tol: float = 1e-10) -> NDArray:
-    """Eigenvalues with those of rigid modes set to exactly 0.
-
-    A mode is rigid when it strains no stiffness beyond round-off:
-    ``|phi^T K phi| <= rigid_tol |phi|^T |K| |phi|`` at its own point. Unlike a test
-    against the largest eigenvalue, it does not turn an elastic mode into a rigid one
-    when another part of the model is very light or very stiff (issue 13); an
-    eigenvalue below this bound is below what the eigen-solver resolves for that mode.
-    """
-    K = np.broadcast_to(K, phi.shape[:-2] + K.shape[-2:])
-    num = np.abs(np.einsum("...im,...ij,...jm->...m", phi, K, phi))
-    den = np.einsum("...im,...ij,...jm->...m", np.abs(phi), np.abs(K), np.abs(phi))
-    return np.where(num <= rigid_tol * den, 0.0, lam)
 
 
 def _assemble(
