@@ -5,7 +5,10 @@ bounds, --scheduler checks, response --period, stamped and reloadable result fil
 from __future__ import annotations
 
 import json
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -122,6 +125,87 @@ def test_io_helpers(tmp_path):
         files.path("../escape.txt")
 
 
+linux_proc = pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
+
+
+@linux_proc
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["modal", GEAR, "-o", "/proc/nope"],
+         "-o /proc/nope: cannot create it, /proc is not writable"),
+        (["modal", GEAR, "-o", "/proc"], "-o /proc: the directory is not writable"),
+        (["sweep", GEAR, "-p", "mesh.stiffness", "-v", "1e8,2e8", "-o", "/proc/nope"],
+         "-o /proc/nope: cannot create it, /proc is not writable"),
+        (["surface", str(example_dir() / "nutation_surface.toml"), "-e", "/proc/x.stl"],
+         "--export /proc/x.stl: cannot create it, /proc is not writable"),
+    ],
+)  # fmt: skip
+def test_an_unwritable_output_is_refused_before_any_work(args, message):
+    # root passes a permission check everywhere: writability is tested for real
+    r = runner.invoke(app, args)
+    assert r.exit_code == 2, r.output
+    assert message in r.output
+    assert "partial" not in r.output and "Errno" not in r.output and not r.stdout
+
+
+def test_a_failed_commit_names_the_output_not_the_staging_folder(tmp_path, monkeypatch):
+    import reducerlab.io as io
+
+    def full(src, dst):
+        raise OSError(28, "No space left on device", str(src))
+
+    monkeypatch.setattr(io.os, "replace", full)
+    out = tmp_path / "d"
+    with pytest.raises(ReducerlabError) as exc, OutputSet(out) as files:
+        files.path("a.txt").write_text("a")
+    assert str(exc.value) == f"-o {out / 'a.txt'}: cannot write it (No space left on device)"
+    with pytest.raises(ReducerlabError) as exc, io.atomic_path(tmp_path / "b.nc") as tmp:
+        tmp.write_text("b")
+    assert str(exc.value) == f"{tmp_path / 'b.nc'}: cannot write it (No space left on device)"
+    assert [p.name for p in tmp_path.iterdir()] == []
+
+
+@linux_proc
+def test_an_atomic_write_that_cannot_start_names_the_file():
+    from reducerlab.io import atomic_path
+
+    with (
+        pytest.raises(ReducerlabError, match=re.escape("/proc/x.nc: cannot write it")),
+        atomic_path("/proc/x.nc"),
+    ):
+        pass  # pragma: no cover - never entered
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def test_written_files_get_the_mode_of_a_plain_open(tmp_path):
+    from reducerlab.io import FILE_MODE, atomic_path
+
+    assert 0o666 & ~_umask() == FILE_MODE
+    with atomic_path(tmp_path / "a.txt") as tmp:
+        tmp.write_text("a")
+    with OutputSet(tmp_path / "set") as files:
+        files.path("b.txt").write_text("b")
+    plain = tmp_path / "plain.txt"
+    plain.write_text("c")
+    want = plain.stat().st_mode & 0o777
+    assert (tmp_path / "a.txt").stat().st_mode & 0o777 == want
+    assert (tmp_path / "set" / "b.txt").stat().st_mode & 0o777 == want
+
+
+def test_a_design_path_that_is_a_directory_or_a_device_says_so(tmp_path):
+    r = runner.invoke(app, ["modal", str(tmp_path)])
+    assert r.exit_code == 2 and f"{tmp_path}: is a directory" in r.output
+    r = runner.invoke(app, ["modal", "/dev/zero"])
+    assert r.exit_code == 2 and "/dev/zero: is not a regular file" in r.output
+    assert "no such design file" not in r.output
+
+
 # ------------------------------------------------------------------ verbatim messages
 def test_error_text_is_printed_verbatim(tmp_path):
     weird = tmp_path / "x[/b]:a:[bold]"
@@ -170,6 +254,12 @@ def test_error_text_is_printed_verbatim(tmp_path):
         (["campbell", GEAR, "--speeds", "lin:0:3000:100000000"],
          "--speeds: 'lin:0:3000:100000000' asks for 100000000 values; at most 100000"),
         (["check", GEAR, "--speed-range", "lin:0:3000:100000000"], "--speed-range:"),
+        (["campbell", GEAR, "--speeds", "lin:0:1e300:5"],
+         "--speeds: 2.5e+299 rpm is outside the range of speeds"),
+        (["campbell", GEAR, "--speeds", "-100,1000"],
+         "--speeds: -100 rpm is outside the range of speeds"),
+        (["check", GEAR, "--speed-range", "1000,1e9"],
+         "--speed-range: 1e+09 rpm is outside the range of speeds"),
         (["check", GEAR, "--margin", "nan"], "margin must be a fraction"),
         (["check", GEAR, "--margin", "-0.1"], "margin must be a fraction"),
         (["modal", GEAR, "--rigid-tol", "nan"], "'--rigid-tol'"),
@@ -214,7 +304,7 @@ def test_response_takes_the_forcing_period(tmp_path):
     design.write_text(text)
     args = ["response", str(design), *SHORT, "--history", "2", "-o", str(tmp_path / "r")]
     r = runner.invoke(app, args)
-    assert r.exit_code == 2 and "give the forcing period explicitly" in r.output
+    assert r.exit_code == 2 and "--period" in r.output and "--frequency" in r.output
     r = runner.invoke(app, [*args, "--period", "2 ms"])
     assert r.exit_code == 0, r.output
     from reducerlab.analysis.nonlinear import ResponseResult
@@ -263,14 +353,19 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
             with xr.open_dataset(nc) as ds:
                 kind = ds.attrs["result_kind"]
             res = classes[kind].load(nc)
+            assert type(Result.load(nc)) is classes[kind], nc  # the base class dispatches
             seen.add(kind)
             stamp = res.provenance
             assert stamp["reducerlab_version"] == __version__, nc
             assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\+00:00", stamp["created"]), nc
             assert stamp["design_hash"] == design.hash, nc
             assert stamp["design"] == json.loads(design.provenance["design"]), nc
+        for f in out.rglob("*"):  # results are readable by others, as with a plain open()
+            if f.is_file():
+                assert f.stat().st_mode & 0o777 == 0o666 & ~_umask(), f
         for js in out.glob("*.json"):
             if js.name in ("sweep.json", "bifurcation.json"):  # resume manifests
+                assert json.loads(js.read_text())["design_hash"] == design.hash, js
                 continue
             d = json.loads(js.read_text())
             assert d["reducerlab_version"] == __version__, js
@@ -299,6 +394,37 @@ def test_loading_a_garbage_result_file_names_the_file(tmp_path):
     xr.Dataset({"x": ("t", np.arange(3.0))}).to_netcdf(other)
     with pytest.raises(ReducerlabError, match=r"other\.nc: a netCDF file but not a reducerlab"):
         ModalResult.load(other)
+
+
+def test_result_load_dispatches_on_the_stored_kind(tmp_path):
+    from reducerlab.analysis.campbell import CampbellResult
+    from reducerlab.analysis.modal import ModalResult
+    from reducerlab.results import _KNOWN_KINDS
+
+    # every kind is known with its module, so Result.load finds it before an import
+    classes = _result_classes()
+    assert {k: c.__module__ for k, c in classes.items() if k != "result"} == _KNOWN_KINDS
+    r = runner.invoke(app, ["campbell", GEAR, "--speeds", "0,1000", "-o", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    nc = tmp_path / "campbell.nc"
+    assert isinstance(Result.load(nc), CampbellResult)
+    with pytest.raises(ReducerlabError, match="holds a 'campbell' result, not a 'modal' result"):
+        ModalResult.load(nc)
+    with xr.open_dataset(nc) as ds:
+        data = ds.load()
+    data.attrs["result_kind"] = "future"
+    data.to_netcdf(tmp_path / "future.nc")
+    with pytest.raises(ReducerlabError, match="holds a result of unknown kind 'future'"):
+        Result.load(tmp_path / "future.nc")
+    # in a fresh interpreter, without importing the analysis module first
+    code = (
+        "import sys; from reducerlab.results import Result; "
+        "print(type(Result.load(sys.argv[1])).__name__)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code, str(nc)], capture_output=True, text=True, check=True
+    )
+    assert out.stdout.strip() == "CampbellResult"
 
 
 def test_save_is_atomic(tmp_path, monkeypatch):

@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from reducerlab.design import read_toml
+from reducerlab.design import MAX_DESIGN_BYTES, read_toml
 from reducerlab.drives import design_from_dict, load_design
 from reducerlab.errors import DesignError, ModelError
 from reducerlab.examples import example_files
@@ -100,16 +100,148 @@ def test_angle_units_in_the_right_power_are_accepted(text, kind, si):
 
 @pytest.mark.parametrize(
     ("text", "kind"),
-    [
-        ("1.5e5 N*m", "torsional stiffness"),
-        ("1.5e5 N*m*rad", "torsional stiffness"),
-        ("2 N*m*s", "torsional damping"),
-    ],
+    [("1.5e5 N*m", "torsional stiffness"), ("2 N*m*s", "torsional damping")],
 )
 def test_a_missing_angle_unit_is_refused(text, kind):
     with pytest.raises(ValueError, match="needs an angle unit") as exc:
         parse_quantity(text, kind)
     assert repr(QUANTITIES[kind].example) in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "kind", "found", "expected"),
+    [
+        ("1.5e5 N*m*rad", "torsional stiffness", 1, -1),
+        ("1500 rpm*rad", "angular velocity", 2, 1),
+        ("3 rad^2/s", "angular velocity", 2, 1),
+        ("2 N*m*s/rad^2", "torsional damping", -2, -1),
+        ("25 deg^2", "angle", 2, 1),
+    ],
+)
+def test_an_angle_unit_in_the_wrong_power_says_found_and_expected(text, kind, found, expected):
+    with pytest.raises(ValueError) as exc:
+        parse_quantity(text, kind)
+    msg = str(exc.value)
+    assert f"to the power {found}, but" in msg and f"needs it to the power {expected}" in msg
+    assert "without an angle unit" not in msg
+
+
+@pytest.mark.parametrize(
+    ("text", "kind"),
+    [
+        ("60 N*m/rad", "torque"),
+        ("60 N*m*rad", "torque"),
+        ("1 kg*deg", "mass"),
+        ("1.25 kg/rad", "mass"),
+        ("3 mm/rad", "length"),
+        ("3 mm*deg", "length"),
+        ("2e8 N/m/rad", "stiffness"),
+        ("2 g*mm^2/rad", "moment of inertia"),
+        ("2 g*mm^2*rad^2", "moment of inertia"),
+        ("787 N*s/m*rad", "damping"),
+        ("100 N*rad", "force"),
+        ("2 ms*rad", "time"),
+        ("0.5 deg", "dimensionless"),
+        ("25 Hz*rad", "frequency"),
+    ],
+)
+def test_an_angle_unit_on_a_quantity_without_angle_is_refused(text, kind):
+    assert QUANTITIES[kind].angle_power == 0
+    with pytest.raises(ValueError, match=r"has an angle unit|angle-based units") as exc:
+        parse_quantity(text, kind)
+    assert repr(QUANTITIES[kind].example) in str(exc.value) or kind == "frequency"
+
+
+def test_every_kind_without_rad_in_its_unit_refuses_angle_units():
+    for spec in QUANTITIES.values():
+        assert spec.angle_power == spec.si_unit.count("rad") * (-1 if "/rad" in spec.si_unit else 1)
+
+
+def test_a_torque_per_radian_in_a_design_names_the_field():
+    data = _example("gear_pair.toml")
+    data["operating"]["torque"] = "60 N*m/rad"
+    (line,) = _problems(data)
+    assert line.startswith("f.toml: operating.torque = '60 N*m/rad': ")
+    assert "has an angle unit" in line
+
+
+# --- numbers: exactly a plain number, then a unit ------------------------------------------
+
+
+@pytest.mark.parametrize("text", ["1,25 kg", "1,250 kg", "1,000,000 g", "0,5"])
+def test_a_decimal_comma_or_thousands_separator_is_refused(text):
+    with pytest.raises(ValueError, match=re.escape("write 1.25, not 1,25")):
+        parse_quantity(text, "dimensionless" if " " not in text else "mass")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "1_000 kg",
+        "1 000 kg",
+        "1 000",
+        "½ kg",
+        "1½ kg",
+        "1e3e3 kg",
+        "1.5.3 kg",
+        "\u0661\u0660 kg",  # Arabic-Indic digits
+        "1\u0660 kg",
+        "\uff11 kg",  # a full-width digit
+        "1 kg 2",
+        "1 kg*2",
+        "1 kg/2",
+        "1 2 kg",
+        "+ 1 kg",
+    ],
+)
+def test_text_other_than_a_plain_number_and_a_unit_is_refused(text):
+    with pytest.raises(ValueError) as exc:
+        parse_quantity(text, "mass")
+    assert "642 g" in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "kind", "si"),
+    [
+        ("1.25 kg", "mass", 1.25),
+        ("-1.25e-3 N", "force", -1.25e-3),
+        (".5 kg", "mass", 0.5),
+        ("5. kg", "mass", 5.0),
+        ("642g", "mass", 0.642),
+        ("1500 1/min", "frequency", 25.0),
+        ("25 /s", "frequency", 25.0),
+        ("986900 g*mm^2", "moment of inertia", 986900e-9),
+        ("1E3 mm", "length", 1.0),
+        ("0.5", "dimensionless", 0.5),
+        ("+2 N*m", "torque", 2.0),
+    ],
+)
+def test_plain_numbers_with_units_are_still_read(text, kind, si):
+    assert parse_quantity(text, kind) == pytest.approx(si, rel=1e-12)
+
+
+def test_a_decimal_comma_in_a_design_names_the_field():
+    data = _example("gear_pair.toml")
+    data["pinion"]["mass"] = "1,25 kg"
+    (line,) = _problems(data)
+    assert line.startswith("f.toml: pinion.mass = '1,25 kg': ") and "not 1,25" in line
+
+
+# --- values shown in messages are cut -----------------------------------------------------
+
+
+def test_huge_values_are_not_echoed_in_full():
+    huge = "x" * 50_000_000
+    data = _example("gear_pair.toml")
+    data["pinion"]["colour"] = huge
+    data["pinion"]["mass"] = "1 " + huge
+    with pytest.raises(DesignError) as exc:
+        design_from_dict(data, "f.toml")
+    assert len(str(exc.value)) < 2000
+    assert all("..." in line for line in exc.value.problems)
+    with pytest.raises(ValueError) as exc2:
+        parse_quantity("1 " + huge, "mass")
+    assert len(str(exc2.value)) < 400
 
 
 @pytest.mark.parametrize("value", [1.5e5, 0.0])
@@ -145,6 +277,23 @@ def test_deep_nesting_is_a_design_error_naming_the_file(tmp_path, text):
     path = tmp_path / "deep.toml"
     path.write_text(text)
     with pytest.raises(DesignError, match=re.escape(str(path))):
+        read_toml(path)
+
+
+def test_a_directory_or_a_device_is_not_called_missing(tmp_path):
+    with pytest.raises(DesignError, match=re.escape(f"{tmp_path}: is a directory")):
+        read_toml(tmp_path)
+    with pytest.raises(DesignError, match="/dev/zero: is not a regular file"):
+        read_toml("/dev/zero")
+    with pytest.raises(DesignError, match="no such design file"):
+        read_toml(tmp_path / "missing.toml")
+
+
+def test_a_huge_design_file_is_refused_without_reading_it(tmp_path):
+    path = tmp_path / "huge.toml"
+    with path.open("wb") as f:  # sparse: 11 MB without writing them
+        f.truncate(MAX_DESIGN_BYTES + 1)
+    with pytest.raises(DesignError, match=re.escape(f"{path}: larger than 10 MB")):
         read_toml(path)
 
 

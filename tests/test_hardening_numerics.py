@@ -276,3 +276,67 @@ def test_sweep_and_modal_agree_on_rigid_and_elastic_modes(name):
         f = sw.data["frequency"].values[0]
         assert np.sum(f == 0.0) == RIGID[name]
         np.testing.assert_allclose(f, res.frequencies, rtol=1e-9, atol=1e-9)
+
+
+def _gear_pair(**changes: dict) -> object:
+    data = load_design(example_dir() / "gear_pair.toml").model_dump(mode="python")
+    for section, fields in changes.items():
+        node = data
+        for key in section.split("."):
+            node = node[key]
+        node.update(fields)
+    return design_from_dict(data, "variant.toml")
+
+
+def test_frequencies_below_the_eigen_solver_resolution_are_refused():
+    """A 1e-12 kg m^2 pinion on a 1e18 N/m mesh (both within the design ranges) puts
+    the highest frequency at 5.6e12 Hz: every other mode is below what double precision
+    resolves (the absolute eigenvalue error is ~eps x the largest). modal used to print
+    round-off as '-174 Hz divergent' and '1.27 Hz torsional'; a 1e-6 N/m bearing gave a
+    2.5e-6 Hz 'mode'. Both are refused, naming the DOF that sets the top frequency."""
+    stiff = _gear_pair(pinion={"moment_of_inertia": 1e-12}, mesh={"stiffness": 1e18})
+    with pytest.raises(ModelError, match=r"pinion\.rz.*no frequency below .* can be computed"):
+        modal(build_model(stiff))
+    with pytest.raises(ModelError, match=r"pinion\.rz.*no frequency below .* can be computed"):
+        campbell(build_model(stiff), [0.0, 10.0])
+    with pytest.raises(ModelError, match=r"pinion\.rz.*no frequency below .* can be computed"):
+        response(stiff, periods=4, keep=1, history=1)
+    soft = _gear_pair(**{"pinion.bearing": {"stiffness_x": 1e-6}})
+    with pytest.raises(ModelError, match=r"no frequency below .* can be computed"):
+        modal(build_model(soft))
+
+
+def test_stiff_runs_are_refused_before_they_start():
+    """A near-rigid part (highest frequency 1e8 Hz against a 625 Hz mesh) would need
+    millions of RK4 steps per period: the run used to start and grow to gigabytes; it is
+    refused at once, naming the frequency and the DOF, unless the steps are given."""
+    light = _gear_pair(pinion={"moment_of_inertia": 1e-12})
+    assert modal(build_model(light)).frequencies[1] == pytest.approx(1495.0, rel=1e-3)
+    with pytest.raises(ReducerlabError, match=r"1\.093e\+08 Hz.*pinion\.rz.*--steps"):
+        response(light, periods=4, keep=1, history=1)
+    rigid_mesh = _gear_pair(mesh={"stiffness": 1e18})
+    with pytest.raises(ReducerlabError, match=r"steps per forcing period \(at most 100000\)"):
+        response(rigid_mesh, periods=4, keep=1, history=1)
+
+
+def test_short_runs_from_the_command_line_need_no_keep_or_history(tmp_path):
+    """`response --periods 10` used to fail on the defaults of options the user never
+    gave ('--keep 100: must be at most --periods (10)'); the defaults now shrink."""
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+
+    design = str(example_dir() / "gear_pair.toml")
+    r = CliRunner().invoke(app, ["response", design, "--periods", "10", "-o", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "response.nc").exists()
+    r = CliRunner().invoke(app, ["response", design, "--periods", "10", "--keep", "11"])
+    assert r.exit_code == 2 and "--keep 11: must be at most --periods (10)" in r.output
+
+
+def test_a_sweep_into_unresolvable_values_stops_instead_of_reporting_round_off():
+    model = build_model(_gear_pair(pinion={"moment_of_inertia": 1e-12}))
+    ok = sweep(model, Axis("mesh.stiffness", (3.8e8, 4.0e8)), workers=1, track=False)
+    assert ok.data["frequency"].values[0, 1] == pytest.approx(1495.0, rel=1e-3)
+    with pytest.raises(ModelError, match=r"sweep: .*no frequency below .* can be computed"):
+        sweep(model, Axis("mesh.stiffness", (3.8e8, 1e18)), workers=1, track=False)

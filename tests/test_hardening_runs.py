@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -19,7 +20,7 @@ import numpy as np
 import pytest
 
 from reducerlab.analysis.nonlinear import bifurcation
-from reducerlab.analysis.runfolder import chunk_path, load_chunk, save_chunk
+from reducerlab.analysis.runfolder import chunk_path, load_chunk, open_run, save_chunk
 from reducerlab.analysis.sweep import Axis, parse_values, sweep
 from reducerlab.analysis.workers import max_workers
 from reducerlab.drives import load_design
@@ -380,3 +381,40 @@ def test_each_guard_alone_ends_an_orphaned_worker(guard):
     finally:
         if _alive(child):
             os.kill(child, signal.SIGKILL)
+
+
+# ----------------------------------------------------------------------------- run folders
+@pytest.mark.parametrize(
+    ("text", "why"),
+    [
+        ('{"run_key": 5}', "no 'key' field (a string)"),
+        ('{"key": 5}', "no 'key' field (a string)"),
+        ("[1, 2]", "a JSON list, not an object"),
+    ],
+)
+def test_a_manifest_without_its_key_says_which_field(tmp_path, text, why):
+    _sweep(tmp_path)
+    (tmp_path / "sweep.json").write_text(text)
+    with pytest.raises(ReducerlabError, match=re.escape(why)):
+        _sweep(tmp_path)
+
+
+def test_manifests_are_stamped_with_the_design_hash(tmp_path):
+    design_hash = load_design(GEAR_PAIR).hash
+    _sweep(tmp_path / "s")
+    _bif(tmp_path / "b")
+    for path in (tmp_path / "s" / "sweep.json", tmp_path / "b" / "bifurcation.json"):
+        manifest = json.loads(path.read_text())
+        expected = design_hash if path.name == "sweep.json" else load_design(KHV).hash
+        assert manifest["design_hash"] == expected and manifest["reducerlab_version"]
+    # the stamp is beside the key, not in it: the run resumes
+    _sweep(tmp_path / "s")
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
+def test_a_run_folder_that_cannot_be_created_names_the_folder():
+    folder = Path("/proc/reducerlab-no-such-run")
+    with pytest.raises(ReducerlabError, match=re.escape(f"{folder}: cannot create or write")):
+        open_run(folder, "sweep.json", {"design": None}, "sweep")
+    with pytest.raises(ReducerlabError, match=re.escape(f"{folder}: cannot create or write")):
+        _sweep(folder)

@@ -17,7 +17,7 @@ from reducerlab.model import Coupling, Dof, Inertia, Mesh, Model, Support
         (lambda: Dof("a", "q"), "kind must be one of"),
         (lambda: Dof("a", "u"), "needs a radius"),
         (lambda: Dof("a", "x", radius=0.1), "only kind 'u' takes a radius"),
-        (lambda: Inertia("a.x", -1.0), "value must be > 0"),
+        (lambda: Inertia("a.x", -1.0), "value must be a finite number > 0"),
         (lambda: Support("a.x", -5.0), "stiffness must be a finite number >= 0"),
         (lambda: Coupling({}, 1.0), "at least one coefficient"),
         (lambda: Mesh({"a.x": 1.0}, stiffness=0.0), "mean stiffness must be > 0"),

@@ -108,7 +108,7 @@ def test_kinematics_contact_only_for_nutation_drives():
         (lambda: PiecewisePolynomial(1.0, (), ((1.0,),)), "at least one piece"),
         (lambda: PiecewisePolynomial(1.0, (0.0,), ((1.0,), (1.0, 2.0))), "numbers"),
         (lambda: PiecewisePolynomial(1.0, (0.0, math.nan), ((1,), (2,))), "finite"),
-        (lambda: Inertia("a.x", "heavy"), "value must be > 0"),
+        (lambda: Inertia("a.x", "heavy"), "value must be a finite number > 0"),
         (lambda: Support("a.x", "stiff"), "finite number >= 0"),
         (lambda: Constant(None), "finite numbers"),
         (lambda: Dof("a", "u", radius=math.inf), "needs a radius > 0"),

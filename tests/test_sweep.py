@@ -263,3 +263,12 @@ def test_tied_parameters_move_together():
     np.testing.assert_allclose(res.data["frequency"].values[1], f2, rtol=1e-9)
     with pytest.raises(ReducerlabError, match="lists a parameter twice"):
         sweep(d, parse_values("mesh.stiffness+mesh.stiffness", "1e8,2e8"), workers=1)
+
+
+def test_a_range_count_that_is_not_a_whole_number_is_named():
+    from reducerlab.analysis.sweep import parse_values
+
+    with pytest.raises(ReducerlabError, match=r"N = '1e99' must be a whole number of points"):
+        parse_values("mesh.stiffness", "lin:1e8:2e9:1e99")
+    with pytest.raises(ReducerlabError, match=r"write lin:START:STOP:N with SI numbers"):
+        parse_values("mesh.stiffness", "lin:a:2e9:10")

@@ -360,10 +360,22 @@ def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | N
         return None
     import numpy as np
 
+    from .units import QUANTITIES
+
     axis = _axis(option, "speeds", spec, MAX_SPEEDS)
     if axis.relative or any(isinstance(v, str) for v in axis.values):
         raise ReducerlabError(f"{option} takes plain numbers in rpm, e.g. lin:0:3000:301")
-    return (np.asarray(axis.values, dtype=float) * 2 * np.pi / 60).tolist()
+    rpm = np.asarray(axis.values, dtype=float)
+    # the range of the speeds that design files may give (units.QUANTITIES), in rpm
+    kind = QUANTITIES["angular velocity"]
+    lo, hi = kind.lo * 60 / (2 * np.pi), kind.hi * 60 / (2 * np.pi)
+    for v in rpm:
+        if not (v == 0 or lo <= v <= hi):  # also refuses negative and non-finite values
+            raise ReducerlabError(
+                f"{option}: {v:g} rpm is outside the range of speeds: 0 or within "
+                f"[{lo:.3g}, {hi:.3g}] rpm"
+            )
+    return (rpm * 2 * np.pi / 60).tolist()
 
 
 _ADDRESS = re.compile(
@@ -560,8 +572,13 @@ def bifurcation(
         int, typer.Option(help="Mesh periods integrated.", min=1, max=MAX_PERIODS)
     ] = 600,
     keep: Annotated[
-        int, typer.Option(help="Last periods kept as Poincaré points (<= --periods).", min=1)
-    ] = 100,
+        int | None,
+        typer.Option(
+            help="Last periods kept as Poincaré points (<= --periods; default 100, at most "
+            "--periods).",
+            min=1,
+        ),
+    ] = None,
     steps: Annotated[
         int | None,
         typer.Option(
@@ -593,6 +610,7 @@ def bifurcation(
     from .drives import load_design
 
     with _user_errors():
+        keep = min(100, periods) if keep is None else keep
         _check_periods(periods, keep=keep)
         T = _forcing_period(period, frequency)
         files = OutputSet(output, "-o", report=_note)
@@ -671,10 +689,14 @@ def response(
     periods: Annotated[
         int, typer.Option(help="Forcing periods integrated.", min=1, max=MAX_PERIODS)
     ] = 600,
-    keep: Annotated[int, typer.Option(help="Poincaré points kept (<= --periods).", min=1)] = 100,
+    keep: Annotated[
+        int | None,
+        typer.Option(help="Poincaré points kept (<= --periods; default 100).", min=1),
+    ] = None,
     history: Annotated[
-        int, typer.Option(help="Periods of time history kept (<= --periods).", min=1)
-    ] = 20,
+        int | None,
+        typer.Option(help="Periods of time history kept (<= --periods; default 20).", min=1),
+    ] = None,
     steps: Annotated[
         int | None, typer.Option(help="RK4 steps per period.", min=MIN_STEPS, max=MAX_STEPS)
     ] = None,
@@ -689,6 +711,9 @@ def response(
     from .drives import load_design
 
     with _user_errors():
+        # defaults shrink to a short run; values the user gives are checked
+        keep = min(100, periods) if keep is None else keep
+        history = min(20, periods) if history is None else history
         _check_periods(periods, keep=keep, history=history)
         T = _forcing_period(period, frequency)
         files = OutputSet(output, "-o", report=_note)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import stat
 import tomllib
 import typing
 from collections.abc import Mapping
@@ -31,7 +32,7 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from .errors import DesignError
-from .units import QUANTITIES, parse_quantity
+from .units import QUANTITIES, parse_quantity, shown
 
 __all__ = [
     "Angle",
@@ -202,10 +203,14 @@ class Design(Spec):
 
     @property
     def provenance(self) -> dict[str, str]:
-        """``{"design": SI JSON, "design_hash": hash}``: the metadata that models and
-        results built from this design carry (one JSON dump serves both)."""
+        """``{"design": SI JSON, "design_hash": hash, "source": file}``: the metadata that
+        models and results built from this design carry (one JSON dump serves both; the
+        source, when known, lets an analysis's error name the file)."""
         text = self.model_dump_json()
-        return {"design": text, "design_hash": _digest(text)}
+        out = {"design": text, "design_hash": _digest(text)}
+        if self._source != "<design>":
+            out["source"] = self._source
+        return out
 
 
 def _digest(text: str) -> str:
@@ -214,18 +219,40 @@ def _digest(text: str) -> str:
 
 D = TypeVar("D", bound=BaseModel)
 
+#: Largest design file read, in bytes (a real design is a few kB).
+MAX_DESIGN_BYTES = 10 * 1024 * 1024
+
 
 def read_toml(path: str | Path) -> dict[str, Any]:
     """Read a TOML file, turning every failure into a :class:`DesignError`.
 
     A UTF-8 byte-order mark at the start is skipped; syntax errors, text that is not
-    UTF-8, unreadable files and nesting too deep for the parser name the file.
+    UTF-8, unreadable files, directories and other files that are not regular files
+    (devices, pipes), files larger than :data:`MAX_DESIGN_BYTES` and nesting too deep
+    for the parser name the file.
     """
     p = Path(path)
-    if not p.is_file():
-        raise DesignError(f"{p}: no such design file")
     try:
-        text = p.read_bytes().decode("utf-8")
+        st = p.stat()
+    except FileNotFoundError:
+        raise DesignError(f"{p}: no such design file") from None
+    except OSError as exc:
+        raise DesignError(f"{p}: cannot read the design file ({exc.strerror})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise DesignError(f"{p}: is a directory, not a design file")
+    if not stat.S_ISREG(st.st_mode):
+        raise DesignError(f"{p}: is not a regular file (a design file is a TOML text file)")
+    too_big = DesignError(
+        f"{p}: larger than {MAX_DESIGN_BYTES // 2**20} MB; a design file is a few kB of TOML"
+    )
+    if st.st_size > MAX_DESIGN_BYTES:
+        raise too_big
+    try:
+        with p.open("rb") as f:  # bounded read: the file may grow after stat()
+            raw = f.read(MAX_DESIGN_BYTES + 1)
+        if len(raw) > MAX_DESIGN_BYTES:
+            raise too_big
+        text = raw.decode("utf-8")
     except UnicodeDecodeError:
         raise DesignError(f"{p}: not a text file in UTF-8 (TOML must be UTF-8)") from None
     except OSError as exc:
@@ -363,11 +390,14 @@ def _split(path: str) -> tuple[Any, ...]:
 def _line(
     source: str, data: Mapping[str, Any], loc: tuple[Any, ...], rule: str, show: bool = True
 ) -> str:
-    """``FILE: field.path = VALUE: rule`` (the value when the file gives a scalar)."""
+    """``FILE: field.path = VALUE: rule`` (the value when the file gives a scalar, cut to
+    :data:`reducerlab.units.SHOW_CHARS` characters)."""
     path = ".".join(str(k) for k in loc) or "(design)"
     value = _raw_value(data, loc)
-    shown = "" if not show or value is None or isinstance(value, dict | list) else f" = {value!r}"
-    return f"{source}: {path}{shown}: {rule}"
+    text = (
+        "" if not show or value is None or isinstance(value, dict | list) else f" = {shown(value)}"
+    )
+    return f"{source}: {path}{text}: {rule}"
 
 
 def validate_design(model: type[D], data: Mapping[str, Any], source: str = "<design>") -> D:

@@ -13,7 +13,11 @@ One convention for every command of the command line and for the API's ``save``:
 - Existing files are replaced, never silently: every replaced file is reported
   (``replaced DIR/modal.nc``), every new one too (``wrote DIR/modal.json``).
 - Single files are written through a temporary name in the same folder and renamed
-  (:func:`atomic_path`), so a reader never sees a half-written file.
+  (:func:`atomic_path`), so a reader never sees a half-written file; the file gets the
+  permissions a plain ``open()`` would give it (``0o666`` less the umask).
+- Writability is tested for real, by creating and removing a temporary file (a check of
+  permission bits passes everywhere for root, and says nothing of ``/proc`` or a
+  read-only file system); failures name the output, never a temporary name.
 - Every JSON result file carries :func:`stamp`: package version, creation time, the
   design (SI JSON) and its hash, as the netCDF files do in their attributes.
 """
@@ -43,9 +47,33 @@ __all__ = [
 PROVENANCE_KEYS = ("reducerlab_version", "created", "design_hash")
 
 
+def _read_umask() -> int:
+    """The process's umask (set back at once: ``os.umask`` can only read it by setting)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+#: Permissions of every file written (:func:`atomic_path`): those a plain ``open()`` gives.
+FILE_MODE = 0o666 & ~_read_umask()
+
+
+def _probe(directory: Path) -> str | None:
+    """Create and remove a temporary file in ``directory``: None when that works, else
+    the reason (the system's error text)."""
+    try:
+        fd, name = tempfile.mkstemp(dir=directory, prefix=".reducerlab-probe-")
+    except OSError as exc:
+        return exc.strerror or type(exc).__name__
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(name)
+    return None
+
+
 def _writable_ancestor(path: Path, option: str) -> None:
     """Check that ``path`` (which does not exist) could be created: its nearest existing
-    ancestor is a writable directory."""
+    ancestor is a directory in which a file can be created."""
     parent = path.parent
     while not parent.exists():
         if parent == parent.parent:  # pragma: no cover - the root always exists
@@ -53,8 +81,11 @@ def _writable_ancestor(path: Path, option: str) -> None:
         parent = parent.parent
     if not parent.is_dir():
         raise ReducerlabError(f"{option} {path}: {parent} is a file, not a directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise ReducerlabError(f"{option} {path}: cannot create it, {parent} is not writable")
+    why = _probe(parent)
+    if why is not None:
+        raise ReducerlabError(
+            f"{option} {path}: cannot create it, {parent} is not writable ({why})"
+        )
 
 
 def prepare_output_dir(path: str | Path, option: str = "-o") -> Path:
@@ -84,8 +115,9 @@ def prepare_output_dir(path: str | Path, option: str = "-o") -> Path:
             raise ReducerlabError(
                 f"{option} {p}: is an existing file; {option} names an output directory"
             )
-        if not os.access(p, os.W_OK | os.X_OK):
-            raise ReducerlabError(f"{option} {p}: the directory is not writable")
+        why = _probe(p)
+        if why is not None:
+            raise ReducerlabError(f"{option} {p}: the directory is not writable ({why})")
     else:
         _writable_ancestor(p, option)
     return p
@@ -118,8 +150,9 @@ def prepare_output_file(path: str | Path, option: str, suffixes: Iterable[str]) 
     if p.is_dir():
         raise ReducerlabError(f"{option} {p}: is a directory; {option} names one file")
     if p.exists():
-        if not os.access(p, os.W_OK) or not os.access(p.parent, os.W_OK | os.X_OK):
-            raise ReducerlabError(f"{option} {p}: the file is not writable")
+        why = "read-only" if not os.access(p, os.W_OK) else _probe(p.parent)
+        if why is not None:
+            raise ReducerlabError(f"{option} {p}: the file is not writable ({why})")
     else:
         _writable_ancestor(p, option)
     return p
@@ -131,16 +164,31 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     ``path`` (atomic on one file system), otherwise delete it.
 
     The folder of ``path`` is created if needed. The temporary name keeps the suffix
-    (libraries that choose a format from it see the right one).
+    (libraries that choose a format from it see the right one). The file gets the
+    permissions of a plain ``open()`` (:data:`FILE_MODE`), not the owner-only ones of a
+    temporary file.
+
+    Raises
+    ------
+    ReducerlabError
+        Naming ``path`` (not the temporary name) when its folder or the file cannot be
+        created or renamed into place. Errors of the block itself pass unchanged.
     """
     p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.stem}.", suffix=f".partial{p.suffix}")
-    os.close(fd)
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.stem}.", suffix=f".partial{p.suffix}")
+        os.close(fd)
+    except OSError as exc:
+        raise ReducerlabError(f"{p}: cannot write it ({exc.strerror or exc})") from None
     tmp_path = Path(tmp)
     try:
         yield tmp_path
-        os.replace(tmp_path, p)
+        try:
+            os.chmod(tmp_path, FILE_MODE)
+            os.replace(tmp_path, p)
+        except OSError as exc:
+            raise ReducerlabError(f"{p}: cannot write it ({exc.strerror or exc})") from None
     finally:
         tmp_path.unlink(missing_ok=True)
 
@@ -194,7 +242,12 @@ class OutputSet:
         anchor = self.directory.resolve()
         while not anchor.is_dir():
             anchor = anchor.parent
-        self._stage = Path(tempfile.mkdtemp(dir=anchor, prefix=".reducerlab-partial-"))
+        try:
+            self._stage = Path(tempfile.mkdtemp(dir=anchor, prefix=".reducerlab-partial-"))
+        except OSError as exc:
+            raise ReducerlabError(
+                f"{self.option} {self.directory}: cannot write into it ({exc.strerror or exc})"
+            ) from None
         return self
 
     def path(self, name: str) -> Path:
@@ -232,11 +285,24 @@ class OutputSet:
                 raise ReducerlabError(
                     f"{self.option} {self.directory / name}: is a directory, not a file"
                 )
-        self.directory.mkdir(parents=True, exist_ok=True)
-        for name in self._names:
-            target = self.directory / name
-            replaced = target.exists()
-            os.replace(stage / name, target)
-            self.written.append(target)
-            if self.report is not None:
-                self.report(f"{'replaced' if replaced else 'wrote'} {target}")
+        target = self.directory
+        created = not self.directory.exists()
+        try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+            for name in self._names:
+                target = self.directory / name
+                replaced = target.exists()
+                os.chmod(stage / name, FILE_MODE)
+                os.replace(stage / name, target)
+                self.written.append(target)
+                if self.report is not None:
+                    self.report(f"{'replaced' if replaced else 'wrote'} {target}")
+        except OSError as exc:  # name the output, not the staging folder
+            if created and not self.written:
+                with contextlib.suppress(OSError):
+                    self.directory.rmdir()
+            done = ", ".join(w.name for w in self.written)
+            raise ReducerlabError(
+                f"{self.option} {target}: cannot write it ({exc.strerror or exc})"
+                + (f"; already written: {done}" if done else "")
+            ) from None

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime as _dt
+import importlib
 import json
 from pathlib import Path
 from typing import Any, ClassVar, TypeVar
@@ -33,13 +34,42 @@ def provenance(metadata: dict[str, Any] | None = None) -> dict[str, str]:
     return attrs
 
 
+#: Where each kind of result is defined, so that :meth:`Result.load` finds the class of a
+#: file whose module was not imported yet. Each class registers itself on definition
+#: (:meth:`Result.__init_subclass__`); this map only names the module to import.
+_KNOWN_KINDS: dict[str, str] = {
+    "modal": "reducerlab.analysis.modal",
+    "sensitivity": "reducerlab.analysis.modal",
+    "campbell": "reducerlab.analysis.campbell",
+    "sweep": "reducerlab.analysis.sweep",
+    "bifurcation": "reducerlab.analysis.nonlinear",
+    "response": "reducerlab.analysis.nonlinear",
+    "kinematics": "reducerlab.analysis.kinematics",
+}
+
+
 class Result:
     """A result holding an :class:`xarray.Dataset` (``.data``).
 
-    Subclasses set ``kind`` (stored in the file so :meth:`load` can check it).
+    Subclasses set ``kind`` (stored in the file so :meth:`load` can check it); each
+    subclass is registered by its kind, so that ``Result.load`` returns a result of the
+    class the file was saved from.
     """
 
     kind: ClassVar[str] = "result"
+    _registry: ClassVar[dict[str, type[Result]]] = {}
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if "kind" in cls.__dict__:  # a subclass that inherits its kind is no new kind
+            Result._registry[cls.kind] = cls
+
+    @classmethod
+    def _class_of(cls, kind: str) -> type[Result] | None:
+        """The registered class of results of ``kind`` (its module imported if needed)."""
+        if kind not in Result._registry and kind in _KNOWN_KINDS:
+            importlib.import_module(_KNOWN_KINDS[kind])
+        return Result._registry.get(kind)
 
     def __init__(self, data: xr.Dataset) -> None:
         self.data = data
@@ -78,11 +108,16 @@ class Result:
     def load(cls: type[R], path: str | Path) -> R:
         """Read a result written by :meth:`save`.
 
+        ``Result.load`` reads a result of any kind and returns it as its own class
+        (:class:`~reducerlab.analysis.modal.ModalResult`, ...); a subclass's ``load``
+        reads only results of its kind.
+
         Raises
         ------
         ReducerlabError
             Naming the file when it is missing, unreadable (not netCDF, truncated,
-            empty), not a reducerlab result, or a result of another kind.
+            empty), not a reducerlab result, a result of an unknown kind, or (for a
+            subclass) a result of another kind.
         """
         p = Path(path)
         if not p.is_file():
@@ -99,6 +134,14 @@ class Result:
             raise ReducerlabError(
                 f"{p}: a netCDF file but not a reducerlab result (no 'result_kind' attribute)"
             )
+        if cls is Result:
+            found = cls._class_of(str(kind))
+            if found is None:
+                raise ReducerlabError(
+                    f"{p}: holds a result of unknown kind {kind!r} (known: "
+                    f"{', '.join(sorted(_KNOWN_KINDS))})"
+                )
+            return found(data)  # type: ignore[return-value]
         if kind != cls.kind:
             raise ReducerlabError(f"{p}: holds a {kind!r} result, not a {cls.kind!r} result")
         return cls(data)

@@ -8,13 +8,19 @@ figures and design files.
 
 Three rules go beyond pint's dimension check (:func:`parse_quantity`):
 
-* a string must start with a number: ``"kg"`` is refused, not read as 1 kg;
-* angles are dimensionless to pint, so a quantity whose SI unit contains ``rad``
-  (angle, angular velocity, torsional stiffness and damping) must either be a plain
-  number (SI, radians) or carry an angle unit (rad, deg, rev, turn, rpm, rps, ...) in
-  the right power: ``"1500 1/min"`` or ``"25 Hz"`` for a speed, ``"1.5e5 N*m"`` for a
-  torsional stiffness are refused (pint would silently read them per radian, a factor
-  2 pi off for revolutions); conversely a frequency refuses angle units;
+* a string is exactly a plain number (ASCII digits, ``.`` as the decimal point, an
+  optional exponent: ``"1.25"``, ``"2.2e8"``) followed by a unit expression that holds
+  no number of its own (``"1/min"`` and exponents such as ``"mm^2"`` aside). ``"kg"`` is
+  refused, not read as 1 kg; so are a decimal comma or a thousands separator
+  (``"1,25 kg"``, which pint reads as 125 kg), digit groups (``"1 000 kg"``, read as
+  0 kg, ``"1_000 kg"``), fractions and digits of other scripts (``"½ kg"``);
+* angles are dimensionless to pint, so the power of the angle unit (rad, deg, rev,
+  turn, rpm, rps, ...) in a value with units must match the power of ``rad`` in its
+  kind's SI unit (:attr:`QuantityKind.angle_power`): ``"1500 1/min"`` or ``"25 Hz"``
+  for a speed, ``"1.5e5 N*m"`` for a torsional stiffness are refused (pint would
+  silently read them per radian, a factor 2 pi off for revolutions), and so is any
+  angle unit on a quantity without one (``"60 N*m/rad"`` for a torque, ``"1 kg*deg"``
+  for a mass, ``"25 Hz*rad"`` for a frequency, ``"0.5 deg"`` for a dimensionless number);
 * every value that is not zero must have a magnitude within its kind's representable
   range (:attr:`QuantityKind.lo`, :attr:`QuantityKind.hi`, in SI). The ranges hold every
   real drive with wide margin (from MEMS to ship and mill gearboxes) and keep the
@@ -33,7 +39,15 @@ from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
-__all__ = ["QUANTITIES", "QuantityKind", "parse_quantity", "registry"]
+__all__ = [
+    "MAX_CHARS",
+    "QUANTITIES",
+    "SHOW_CHARS",
+    "QuantityKind",
+    "parse_quantity",
+    "registry",
+    "shown",
+]
 
 
 @dataclass(frozen=True)
@@ -53,11 +67,11 @@ class QuantityKind:
         ``lo <= |value| <= hi``. Chosen per kind so that every real drive fits with
         several decades of margin on both sides and so that products of a few such
         values stay finite (see the table :data:`QUANTITIES`).
-    angle_power : int or None
-        Power of the angle unit (rad) in ``si_unit``, checked on the text of a value
-        with units because pint treats rad as dimensionless: 1 for an angle or an
-        angular velocity, -1 for a torsional stiffness or damping, 0 for a frequency
-        (angle units refused), None where no angle rule applies.
+    angle_power : int
+        Power of the angle unit (rad) in ``si_unit``, checked on the units of a value
+        because pint treats rad as dimensionless: 1 for an angle or an angular velocity,
+        -1 for a torsional stiffness or damping, 0 (the default: angle units refused)
+        for every kind without ``rad`` in its SI unit.
     """
 
     name: str
@@ -65,7 +79,7 @@ class QuantityKind:
     example: str
     lo: float
     hi: float
-    angle_power: int | None = None
+    angle_power: int = 0
 
 
 #: Every kind of quantity a design file may give. Ranges (nonzero magnitudes, SI):
@@ -105,14 +119,44 @@ QUANTITIES: dict[str, QuantityKind] = {
         QuantityKind("force", "N", "100 N", 1e-9, 1e10),
         QuantityKind("torque", "N*m", "50 N*m", 1e-9, 1e10),
         QuantityKind("angular velocity", "rad/s", "1500 rpm", 1e-9, 1e7, angle_power=1),
-        QuantityKind("frequency", "Hz", "7880 Hz", 1e-9, 1e9, angle_power=0),
+        QuantityKind("frequency", "Hz", "7880 Hz", 1e-9, 1e9),
         QuantityKind("time", "s", "2 ms", 1e-12, 1e9),
         QuantityKind("dimensionless", "", "0.5", 1e-12, 1e12),
     )
 }
 
-#: A numeric literal at the start of a quantity string (pint reads a bare unit as 1).
-_LEADING_NUMBER = re.compile(r"[+-]?(\d|\.\d|inf|nan)", re.IGNORECASE)
+#: The plain number at the start of a quantity string: ASCII digits, '.' as the decimal
+#: point, an optional exponent (or inf/nan, refused later as not finite).
+_NUMBER = re.compile(
+    r"[+-]?(?:(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf|nan)", re.IGNORECASE
+)
+#: A unit expression may start with '1/' ("1/min"); any other leading number is refused.
+_RECIPROCAL = re.compile(r"1\s*/")
+
+#: Longest quantity string read (a number and a unit expression are far shorter; pint's
+#: parser takes time quadratic in the length).
+MAX_CHARS = 200
+
+#: Longest text of a value shown in an error message (longer ones are cut, with '...').
+SHOW_CHARS = 60
+
+
+def shown(value: Any, limit: int = SHOW_CHARS) -> str:
+    """``repr(value)`` cut to about ``limit`` characters (with an ellipsis), for messages.
+
+    Parameters
+    ----------
+    value : object
+        The value to show (a design value, the text of a quantity).
+    limit : int
+        Longest repr shown in full.
+
+    Returns
+    -------
+    str
+    """
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[: limit - 4]}...{text[-1]}"
 
 
 @cache
@@ -129,44 +173,99 @@ def _article(name: str) -> str:
     return "an" if name[0] in "aeiou" else "a"
 
 
-def _angle_power(q: Any) -> int:
+def _angle_power(q: Any) -> float:
     """Power of radian in the root units of ``q`` (deg, rev, rpm, turn all reduce to it)."""
     _, root = registry().get_root_units(q.units)
-    return round(dict(root._units).get("radian", 0))
+    return float(dict(root._units).get("radian", 0))
 
 
-def _angle_rule(text: str, spec: QuantityKind) -> str:
-    """The message for a value whose angle unit is missing, extra or in the wrong power."""
-    if spec.angle_power == 0:
+def _angle_rule(text: str, spec: QuantityKind, found: float) -> str:
+    """The message for a value whose angle unit is missing, extra or in the wrong power.
+
+    ``found`` is the power of the angle unit in the value, ``spec.angle_power`` the one
+    expected.
+    """
+    a = _article(spec.name)
+    if spec.name == "frequency":
         return (
-            f"{text!r}: a frequency is in Hz (cycles per second); angle-based units are "
+            f"{shown(text)}: a frequency is in Hz (cycles per second); angle-based units are "
             "ambiguous here"
         )
-    if spec.name == "angular velocity":
+    if spec.name == "angular velocity" and found == 0:
         what = "Hz is" if "hz" in text.lower() else "a unit of 1/time without an angle unit is"
         return (
-            f"{text!r}: {what} ambiguous for an angular velocity (radians or revolutions "
+            f"{shown(text)}: {what} ambiguous for an angular velocity (radians or revolutions "
             "per unit time?); write 'rpm', 'rev/s' or 'rad/s'"
         )
-    a = _article(spec.name)
+    if spec.angle_power == 0:
+        unit = f"in {spec.si_unit}" if spec.si_unit else "a plain number"
+        return (
+            f"{shown(text)} has an angle unit (to the power {found:g}), but {a} {spec.name} "
+            f"has none (it is {unit}); write e.g. {spec.example!r}"
+        )
+    if found == 0:
+        return (
+            f"{shown(text)} needs an angle unit: {a} {spec.name} is in {spec.si_unit} (a "
+            f"plain number is read as SI); write e.g. {spec.example!r}"
+        )
     return (
-        f"{text!r} needs an angle unit: {a} {spec.name} is in {spec.si_unit} (a plain number "
-        f"is read as SI); write e.g. {spec.example!r}"
+        f"{shown(text)} has an angle unit to the power {found:g}, but {a} {spec.name} "
+        f"needs it to the power {spec.angle_power} ({spec.si_unit}); write e.g. "
+        f"{spec.example!r}"
     )
 
 
 def _in_range(value: Any, out: float, spec: QuantityKind) -> float:
     if not math.isfinite(out):
-        raise ValueError(f"expected a finite {spec.name}, got {value!r}")
+        raise ValueError(f"expected a finite {spec.name}, got {shown(value)}")
     if out != 0 and not spec.lo <= abs(out) <= spec.hi:
         unit = f" {spec.si_unit}" if spec.si_unit else ""
-        shown = f"{value!r}" if isinstance(value, str) else f"{out!r}{unit}"
+        text = shown(value) if isinstance(value, str) else f"{out!r}{unit}"
         conv = f" = {out!r}{unit}" if isinstance(value, str) else ""
         raise ValueError(
-            f"{shown}{conv} is outside the range of {_article(spec.name)} {spec.name}: "
+            f"{text}{conv} is outside the range of {_article(spec.name)} {spec.name}: "
             f"0 or a magnitude within [{spec.lo:g}, {spec.hi:g}]{unit}"
         )
     return out
+
+
+def _split_number(text: str, spec: QuantityKind) -> tuple[float, str]:
+    """Split ``text`` into its plain number and its unit expression (without a number).
+
+    Raises
+    ------
+    ValueError
+        When the text does not start with a plain number, uses a decimal comma or a
+        thousands separator, or has digits after the number that are not part of the
+        unit expression (digit groups, a second exponent, fractions).
+    """
+    a = _article(spec.name)
+    example = f"write e.g. {spec.example!r}"
+    if "," in text:
+        raise ValueError(
+            f"{shown(text)}: write 1.25, not 1,25 (no decimal commas or thousands "
+            f"separators); {example}"
+        )
+    m = _NUMBER.match(text)
+    if m is None:
+        raise ValueError(
+            f"{shown(text)}: a number is missing: expected {a} {spec.name} as a plain "
+            f"number (digits 0-9, '.' as the decimal point) followed by its unit; {example}"
+        )
+    number, rest = m.group(), text[m.end() :]
+    unit = rest.strip()
+    after = rest[:1]
+    if (
+        after in ("_", ".")
+        or after.isnumeric()
+        or (unit[:1].isnumeric() and not _RECIPROCAL.match(unit))
+    ):
+        raise ValueError(
+            f"{shown(text)}: not a plain number followed by a unit (digit groups such as "
+            f"'1 000' or '1_000', fractions and other digits are not read); {example}"
+        )
+    # "25 /s" is read as 25 per second, as pint reads the whole text
+    return float(number), f"1{unit}" if unit.startswith("/") else unit
 
 
 def parse_quantity(value: Any, kind: str) -> float:
@@ -175,7 +274,8 @@ def parse_quantity(value: Any, kind: str) -> float:
     Parameters
     ----------
     value : float, int or str
-        A plain number (taken as SI) or a string such as ``"642 g"``.
+        A plain number (taken as SI) or a string such as ``"642 g"``: exactly a plain
+        number (``[+-]digits[.digits][e[+-]digits]``) and a unit expression.
     kind : str
         A key of :data:`QUANTITIES` ("mass", "stiffness", ...).
 
@@ -188,8 +288,10 @@ def parse_quantity(value: Any, kind: str) -> float:
     ------
     ValueError
         With a message naming the expected kind and an example, if the value cannot be
-        parsed, has no number, is not finite, has the wrong dimension, lacks (or, for a
-        frequency, has) an angle unit, or lies outside the kind's representable range.
+        parsed, is not a plain number followed by a unit, is not finite, has the wrong
+        dimension, has an angle unit in another power than its kind's SI unit, or lies
+        outside the kind's representable range. Values are shown cut to
+        :data:`SHOW_CHARS` characters.
     """
     spec = QUANTITIES[kind]
     a = _article(spec.name)
@@ -199,7 +301,7 @@ def parse_quantity(value: Any, kind: str) -> float:
         try:
             out = float(value)
         except OverflowError:
-            raise ValueError(f"expected a finite {spec.name}, got {value!r}") from None
+            raise ValueError(f"expected a finite {spec.name}, got {shown(value)}") from None
         return _in_range(value, out, spec)
     if not isinstance(value, str):
         raise ValueError(
@@ -212,40 +314,48 @@ def parse_quantity(value: Any, kind: str) -> float:
     text = value.strip()
     if not text:
         raise ValueError(f"expected {a} {spec.name}, e.g. {spec.example!r}, got an empty string")
-    if not _LEADING_NUMBER.match(text):
+    if len(text) > MAX_CHARS:  # pint's parser takes time quadratic in the length
         raise ValueError(
-            f"{text!r}: a number is missing: expected {a} {spec.name} as a number followed "
-            f"by its unit, e.g. {spec.example!r}"
+            f"{shown(text)}: {len(text)} characters is too long for {a} {spec.name} (at most "
+            f"{MAX_CHARS}); write e.g. {spec.example!r}"
         )
-    if spec.name == "angular velocity" and "hz" in text.lower():  # before pint, for 'hz'
-        raise ValueError(_angle_rule(text, spec))
+    number, unit = _split_number(text, spec)
+    if spec.name == "angular velocity" and "hz" in unit.lower():  # before pint, for 'hz'
+        raise ValueError(_angle_rule(text, spec, 0))
     try:
-        q = ureg.Quantity(text)
+        u = ureg.Quantity(unit) if unit else ureg.Quantity(1, "")
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError) as exc:
         raise ValueError(
-            f"cannot read {text!r} as {a} {spec.name} ({exc}); write e.g. {spec.example!r}"
+            f"cannot read {shown(text)} as {a} {spec.name} ({exc}); write e.g. {spec.example!r}"
         ) from None
     except Exception as exc:  # tokenizer errors of pint are plain Python errors
         raise ValueError(
-            f"cannot read {text!r} as {a} {spec.name} ({type(exc).__name__}); "
+            f"cannot read {shown(text)} as {a} {spec.name} ({type(exc).__name__}); "
             f"write e.g. {spec.example!r}"
         ) from None
-    if not isinstance(q, ureg.Quantity):  # a bare number inside a string
-        q = ureg.Quantity(q, "")
+    if not isinstance(u, ureg.Quantity) or u.magnitude != 1:
+        # a number inside the unit expression: "kg 2", "kg/2", "1.5.3 kg"
+        raise ValueError(
+            f"{shown(text)}: not a plain number followed by a unit: the unit part "
+            f"{shown(unit)} holds a number of its own; write e.g. {spec.example!r}"
+        )
     try:
+        q = number * u
         out = float(q.to(spec.si_unit).magnitude)
     except pint.errors.DimensionalityError:
-        got = str(q.dimensionality) if str(q.dimensionality) else "dimensionless"
+        got = str(u.dimensionality) if str(u.dimensionality) else "dimensionless"
         want = ureg.Quantity(1, spec.si_unit).dimensionality
         want_s = str(want) if str(want) else "dimensionless"
         raise ValueError(
             f"wrong dimension: expected {a} {spec.name} [{want_s}], e.g. {spec.example!r}, "
-            f"but {text!r} is [{got}]"
+            f"but {shown(text)} is [{got}]"
         ) from None
     except (TypeError, ValueError, OverflowError, ArithmeticError):
         raise ValueError(
-            f"cannot read {text!r} as {a} {spec.name}; write e.g. {spec.example!r}"
+            f"cannot read {shown(text)} as {a} {spec.name}; write e.g. {spec.example!r}"
         ) from None
-    if spec.angle_power is not None and not q.unitless and _angle_power(q) != spec.angle_power:
-        raise ValueError(_angle_rule(text, spec))
+    if not u.unitless:
+        found = _angle_power(u)
+        if found != spec.angle_power:
+            raise ValueError(_angle_rule(text, spec, found))
     return _in_range(value, out, spec)

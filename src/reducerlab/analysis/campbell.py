@@ -20,12 +20,12 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from ..design import Design
-from ..errors import ModelError, ReducerlabError
+from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..model.laws import flat_period
 from ..results import Result, provenance
 from .batch import eigh_batch
-from .modal import strain_ratio
+from .modal import check_resolved, strain_ratio
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -43,6 +43,7 @@ TWO_PI = 2.0 * math.pi
 RPM = 60.0 / TWO_PI
 
 
+@names_source
 def excitation_orders(target: Design | Model, harmonics: int = 3) -> dict[str, float]:
     """Excitation frequencies as multiples ("orders") of the input rotation frequency.
 
@@ -105,7 +106,9 @@ def _frequencies(model: Model, speeds: NDArray, rigid_tol: float = 1e-10) -> NDA
             f"campbell: non-finite natural frequencies for model {model.name!r}; check for "
             "an extreme inertia or stiffness value"
         )
-    lam = np.where(strain_ratio(model, M, phi) <= rigid_tol, 0.0, lam)
+    rigid = strain_ratio(model, M, phi) <= rigid_tol
+    check_resolved(lam, rigid, M, np.array(Ks), model.dof_names, f"campbell of {model.name!r}")
+    lam = np.where(rigid, 0.0, lam)
     return np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
 
 
@@ -125,6 +128,7 @@ def operating_range(target: Design | Model) -> tuple[float, float]:
     return float(speed or 0.0), float(speed or 0.0)
 
 
+@names_source
 def campbell(
     target: Design | Model,
     speeds: Sequence[float] | NDArray | None = None,
@@ -242,6 +246,7 @@ class CampbellResult(Result):
         return plot_campbell(self)
 
 
+@names_source
 def resonance_check(
     target: Design | Model,
     *,

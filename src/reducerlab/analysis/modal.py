@@ -26,7 +26,7 @@ import scipy.linalg
 import xarray as xr
 from numpy.typing import NDArray
 
-from ..errors import ModelError, ReducerlabError
+from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..results import Result, provenance
 
@@ -156,6 +156,50 @@ def strain_ratio(
     return ratio
 
 
+#: An elastic eigenvalue within ``RESOLUTION`` units of round-off of the largest one
+#: (``|lambda| < RESOLUTION * eps * max|lambda|``, about 2.2e-12 of it) is below what a
+#: symmetric eigen-solver resolves: its absolute error is ``~ n eps max|lambda|``, so
+#: such a frequency would be wrong by more than ~1e-4 n relative, or its sign arbitrary.
+RESOLUTION = 1e4
+
+
+def check_resolved(
+    lam: NDArray, rigid: NDArray, M: NDArray, K: NDArray, names: Sequence[str], what: str
+) -> None:
+    """Raise :class:`ModelError` when an elastic mode lies below the eigen-solver's
+    resolution (:data:`RESOLUTION`): the stiffness and inertia values span more than
+    double precision can hold, and the low frequencies would be round-off (a stable
+    model reported "divergent", a rigid mode reported elastic). The message names the
+    DOF whose stiffness / inertia sets the highest frequency.
+
+    ``lam`` (..., n), ``rigid`` (..., n), ``M`` and ``K`` (..., n, n) may be stacks.
+    """
+    lam = np.asarray(lam, float)
+    top = np.max(np.abs(lam), axis=-1, keepdims=True)
+    floor = RESOLUTION * np.finfo(float).eps * top
+    bad = ~np.asarray(rigid, bool) & (np.abs(lam) < floor)
+    if not bad.any():
+        return
+    at = np.unravel_index(int(np.argmax(bad.reshape(-1, lam.shape[-1]).any(axis=1))),
+                          lam.shape[:-1])  # fmt: skip
+    Mp = np.broadcast_to(M, lam.shape[:-1] + M.shape[-2:])[at]
+    Kp = np.broadcast_to(K, lam.shape[:-1] + K.shape[-2:])[at]
+    ratio = np.abs(np.diag(Kp)) / np.abs(np.diag(Mp))
+    i = int(np.argmax(ratio))
+    f_top = math.sqrt(float(top[at][0])) / TWO_PI
+    f_floor = math.sqrt(float(floor[at][0])) / TWO_PI
+    low = [f"{math.copysign(math.sqrt(abs(v)), v) / TWO_PI:.3g} Hz" for v in lam[at][bad[at]]]
+    raise ModelError(
+        f"{what}: the stiffness and inertia values span more than double precision "
+        f"resolves: the highest natural frequency is {f_top:.4g} Hz (set by {names[i]}: "
+        f"stiffness / inertia = {ratio[i]:.3g} 1/s^2), so no frequency below "
+        f"{f_floor:.3g} Hz can be computed, yet {len(low)} elastic mode(s) lie there "
+        f"({', '.join(low)}: round-off, not results). Check the inertia of {names[i]} and "
+        "the stiffness acting on it for an extreme value (e.g. a near-zero inertia or a "
+        "near-rigid stiffness: a rigid joint is better modelled by merging the DOFs)"
+    )
+
+
 def _rigid_and_elastic(
     model: Model, M: NDArray, K: NDArray, rigid_tol: float
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
@@ -189,6 +233,7 @@ def _rigid_and_elastic(
     return lam_all[order], phi_all[:, order], rigid, drift
 
 
+@names_source
 def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
     """Natural frequencies, mode shapes and energy classification of a model.
 
@@ -215,6 +260,7 @@ def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
         raise ReducerlabError(f"rigid_tol must be a number in [0, 1), got {rigid_tol!r}")
     mats = model.matrices()
     lam, phi, rigid, drift = _rigid_and_elastic(model, mats.M, mats.K, rigid_tol)
+    check_resolved(lam, rigid, mats.M, mats.K, model.dof_names, f"modal of {model.name!r}")
     unstable = lam < 0
     freq = np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
     # sign: largest component positive
@@ -409,6 +455,7 @@ def eigenvalue_derivatives(
     return out
 
 
+@names_source
 def frequency_sensitivity(
     model: Model, parameters: Sequence[str], result: ModalResult | None = None
 ) -> SensitivityResult:

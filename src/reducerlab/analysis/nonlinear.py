@@ -16,9 +16,10 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..design import Design
-from ..errors import DivergenceError, ReducerlabError
+from ..errors import DivergenceError, ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
+from .modal import element_blocks
 from .response import (
     at_rest,
     check_stability,
@@ -48,6 +49,7 @@ __all__ = [
 ]
 
 
+@names_source
 def bifurcation(
     target: Design | Model,
     axis: Axis,
@@ -137,7 +139,9 @@ def bifurcation(
         else:
             todo.append(i)
     rest = at_rest(model)
-    members = _Members(ev, rigid_reduction(rest if rest is not None else base))
+    members = _Members(
+        ev, rigid_reduction(rest if rest is not None else base, element_blocks(model))
+    )
     if values.size > 8 and todo:
         members.probe(float(values.min()), float(values.max()))
     if todo:  # a divergent linear part at either end fails at once, before any chunk
@@ -499,6 +503,7 @@ class ResponseResult(Result):
         return fig
 
 
+@names_source
 def response(
     target: Design | Model,
     *,

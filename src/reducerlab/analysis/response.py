@@ -31,9 +31,11 @@ from ..errors import DivergenceError, ModelError, ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_period
 from ..model.system import describe_dofs
+from .modal import element_blocks
 
 __all__ = [
     "BOUND_FACTOR",
+    "MAX_STEPS",
     "Ensemble",
     "check_stability",
     "dimensionless",
@@ -55,7 +57,8 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
     if not reduce_rigid:
         return s
     rest = at_rest(model) if isinstance(model, Model) else None
-    T = rigid_reduction(rest if rest is not None else s)
+    blocks = element_blocks(model) if isinstance(model, Model) else None
+    T = rigid_reduction(rest if rest is not None else s, blocks)
     if T is None:
         return s
     if T.shape[0] == 0:
@@ -63,7 +66,8 @@ def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> Nonl
             f"the model's DOFs {s.dof_names} move only as rigid bodies (no support, "
             "coupling or mesh resists any motion): there is no vibration to integrate"
         )
-    return s.reduced(T, elastic_names(T), rest_stiffness=None if rest is None else rest.K)[0]
+    # T is made of the model's own rigid modes: no need to test them (see reduced)
+    return s.reduced(T, elastic_names(T), check=False)[0]
 
 
 def at_rest(model: Model) -> NonlinearSystem | None:
@@ -82,18 +86,33 @@ def at_rest(model: Model) -> NonlinearSystem | None:
     return model.with_speed(0.0).nonlinear()
 
 
-def rigid_reduction(s: NonlinearSystem) -> NDArray[np.float64] | None:
+def rigid_reduction(
+    s: NonlinearSystem, blocks: Sequence[tuple[list[int], NDArray]] | None = None
+) -> NDArray[np.float64] | None:
     """Rows ``T`` (n - r, n) of the relative coordinates ``u = T q`` that remove the rigid
     motion of ``s`` (the mass-weighted elastic modes of the mean stiffness), or None
     when ``s`` has no rigid motion. For a model at speed pass its system at rest
     (:func:`at_rest`). Any ``T`` with the same null space serves another
-    system of the same topology (see :meth:`NonlinearSystem.reduced`)."""
+    system of the same topology (see :meth:`NonlinearSystem.reduced`).
+
+    A mode is rigid when it strains no element (``blocks``: the model's
+    :func:`~reducerlab.analysis.modal.element_blocks`, the test of ``modal``) or, without
+    blocks, no stiffness beyond round-off (``|phi^T K phi| <= 1e-10 |phi|^T |K| |phi|``);
+    an elastic mode below the eigen-solver's resolution is an error
+    (:func:`~reducerlab.analysis.modal.check_resolved`)."""
+    from .modal import check_resolved, strain_ratio
+
     k_mean = s.mean_stiffness
     try:
         lam, V = scipy.linalg.eigh(k_mean, s.M)
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise ModelError(_mass_problem(s, exc)) from None
-    rigid = np.abs(lam) <= 1e-10 * max(np.abs(lam).max(), np.finfo(float).tiny)
+    if blocks is not None:
+        rigid = strain_ratio(blocks, s.M, V) <= 1e-10
+    else:
+        num = np.abs(np.einsum("im,ij,jm->m", V, k_mean, V))
+        rigid = num <= 1e-10 * np.einsum("im,ij,jm->m", np.abs(V), np.abs(k_mean), np.abs(V))
+    check_resolved(lam, rigid, s.M, k_mean, s.dof_names, "nonlinear run")
     if not rigid.any():
         return None
     return V[:, ~rigid].T @ s.M
@@ -268,7 +287,11 @@ def forcing_period(s: NonlinearSystem) -> float:
             period = flat_period(int(kind), p)
             if math.isfinite(period):
                 return period
-    raise ReducerlabError("the system has no periodic law: give the forcing period explicitly")
+    raise ReducerlabError(
+        "the model has no periodic law (constant mesh stiffness, no periodic error or "
+        "load), so there is no forcing period to sample: give one (API: period=...; "
+        "command line: --period '2 ms' or --frequency '500 Hz')"
+    )
 
 
 def _breaks(s: NonlinearSystem, T: float) -> NDArray[np.float64]:
@@ -348,6 +371,8 @@ def _prepare(
     N = steps_per_period or _steps_batch(systems, T)
     if not (isinstance(N, int) and N >= 4):
         raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
+    if steps_per_period is None and N > MAX_STEPS:
+        raise ReducerlabError(_too_many_steps(systems, T, N))
     for s, t in zip(systems, T, strict=True):
         _check_commensurate(s, t)
     brk = [_breaks(s, t) for s, t in zip(systems, T, strict=True)]
@@ -384,6 +409,28 @@ def _prepare(
     )  # fmt: skip
     periodic = all(_repeats_within(s, t) for s, t in zip(systems, T, strict=True))
     return _Prepared(arrays, T, offs, dts, periodic, N)
+
+
+#: Most RK4 steps per forcing period chosen automatically (the command line's bound on
+#: ``--steps`` too): more means a natural frequency over ~16000 x the forcing frequency,
+#: i.e. a near-rigid part that makes the run stiff (hours of integration, gigabytes).
+MAX_STEPS = 100_000
+
+
+def _too_many_steps(systems: Sequence[NonlinearSystem], T: NDArray, N: int) -> str:
+    """Message for a run whose highest natural frequency needs more than MAX_STEPS."""
+    s = systems[0]
+    lam, V = scipy.linalg.eigh(s.mean_stiffness, s.M)
+    top = describe_dofs(s.dominant_dofs(V[:, -1]))
+    f_top = math.sqrt(max(float(lam[-1]), 0.0)) / (2 * math.pi)
+    return (
+        f"the highest natural frequency, {f_top:.4g} Hz (a mode of {top}), is "
+        f"{f_top * float(T[0]):.3g} times the forcing frequency {1 / float(T[0]):.4g} Hz: an "
+        f"accurate explicit integration needs {N} steps per forcing period (at most "
+        f"{MAX_STEPS}). Such a frequency comes from a near-zero inertia or a near-rigid "
+        "stiffness on those DOFs: check their values (a rigid joint is better modelled by "
+        "merging the DOFs), or give steps_per_period (--steps) explicitly"
+    )
 
 
 def _steps_batch(systems: Sequence[NonlinearSystem], T: NDArray, accuracy: float = 0.25) -> int:

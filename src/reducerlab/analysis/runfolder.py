@@ -56,8 +56,10 @@ def read_manifest(path: Path) -> dict[str, Any] | None:
         return None
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
-        if not isinstance(data, dict) or not isinstance(data.get("key"), str):
-            raise ValueError("not a run manifest (no run key)")
+        if not isinstance(data, dict):
+            raise ValueError(f"not a run manifest: a JSON {type(data).__name__}, not an object")
+        if not isinstance(data.get("key"), str):
+            raise ValueError("not a run manifest: no 'key' field (a string)")
     except (OSError, ValueError) as exc:  # JSONDecodeError and UnicodeError are ValueErrors
         raise ReducerlabError(
             f"{path}: unreadable run manifest ({type(exc).__name__}: {exc}); delete it to "
@@ -77,7 +79,8 @@ def open_run(folder: Path, manifest: str, spec: dict[str, Any], what: str) -> st
     manifest : str
         The manifest's file name (``"sweep.json"``).
     spec : dict
-        JSON-ready specification of the run; its hash is the run key.
+        JSON-ready specification of the run; its hash is the run key. Its ``"design"``
+        entry, the design hash, is also written as ``"design_hash"`` in the stamp.
     what : str
         The kind of run, for messages (``"sweep"``, ``"bifurcation run"``).
 
@@ -89,31 +92,41 @@ def open_run(folder: Path, manifest: str, spec: dict[str, Any], what: str) -> st
     Raises
     ------
     ReducerlabError
-        When the folder holds another run, or its manifest is unreadable.
+        When the folder holds another run, its manifest is unreadable, or the folder or
+        its files cannot be created (naming the folder).
     """
     key = run_key(spec)
-    (folder / "chunks").mkdir(parents=True, exist_ok=True)
     path = folder / manifest
-    old = read_manifest(path)
-    if old is None:
-        # the stamp (version, creation time) sits beside the key, not in it: a later
-        # version resumes a run when the specification is the same
-        stamp = {
-            "reducerlab_version": __version__,
-            "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-        }
-        with atomic_path(path) as tmp:
-            tmp.write_text(json.dumps({"key": key, **stamp, **spec}, indent=1), encoding="utf-8")
-    elif old["key"] != key:
-        shown = old.get("axes", old.get("path"))
-        detail = f" ({shown})" if shown is not None else ""
+    try:
+        (folder / "chunks").mkdir(parents=True, exist_ok=True)
+        old = read_manifest(path)
+        if old is None:
+            # the stamp (version, creation time, design hash) sits beside the key, not
+            # in it: a later version resumes a run when the specification is the same
+            stamp = {
+                "reducerlab_version": __version__,
+                "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+                "design_hash": spec.get("design"),
+            }
+            text = json.dumps({"key": key, **stamp, **spec}, indent=1)
+            with atomic_path(path) as tmp:
+                tmp.write_text(text, encoding="utf-8")
+        elif old["key"] != key:
+            shown = old.get("axes", old.get("path"))
+            detail = f" ({shown})" if shown is not None else ""
+            raise ReducerlabError(
+                f"{folder} holds a different {what}{detail}; choose another output folder "
+                "or delete it"
+            )
+        # temporary files of chunk writes cut short by a kill (their complete files were
+        # never renamed into place): nothing reads them, so they go
+        for stale in (folder / "chunks").glob(".chunk_*.partial.npz"):
+            stale.unlink(missing_ok=True)
+    except OSError as exc:
         raise ReducerlabError(
-            f"{folder} holds a different {what}{detail}; choose another output folder or delete it"
-        )
-    # temporary files of chunk writes cut short by a kill (their complete files were
-    # never renamed into place): nothing reads them, so they go
-    for stale in (folder / "chunks").glob(".chunk_*.partial.npz"):
-        stale.unlink(missing_ok=True)
+            f"{folder}: cannot create or write the {what} folder ({exc.strerror or exc}); "
+            "choose another output folder"
+        ) from None
     return key
 
 

@@ -31,11 +31,11 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..design import Design
-from ..errors import DesignError, ReducerlabError
+from ..errors import DesignError, ReducerlabError, names_source
 from ..model import Model
 from ..results import Result, provenance
 from .batch import eigh_batch
-from .modal import element_blocks, strain_ratio
+from .modal import check_resolved, element_blocks, strain_ratio
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes
 from .workers import check_workers, dask_client, worker_pool
@@ -137,10 +137,17 @@ def parse_values(path: str, spec: str) -> Axis:
     if m:
         kind, a, b, n = m.groups()
         try:
-            a_, b_, n_ = float(a), float(b), int(n)
+            a_, b_ = float(a), float(b)
         except ValueError:
             raise ReducerlabError(
                 f"sweep {path!r}: {spec!r}: write {kind}:START:STOP:N with SI numbers"
+            ) from None
+        try:
+            n_ = int(n)
+        except ValueError:
+            raise ReducerlabError(
+                f"sweep {path!r}: {spec!r}: N = {n.strip()!r} must be a whole number of "
+                "points, e.g. 101"
             ) from None
         return Axis.linspace(path, a_, b_, n_) if kind == "lin" else Axis.logspace(path, a_, b_, n_)
     if s.startswith(("lin:", "log:")):
@@ -278,7 +285,7 @@ class _Evaluator:
                 for idx, Ke, dKe in self.affine_blocks or []
             ]
             M = M0 if not np.any(dM) else M0 + np.einsum("pa,aij->pij", t, dM)
-            return _Points(M, K, rest, blocks)  # one M for a chunk: factorised once
+            return _Points(M, K, rest, blocks, self.model.dof_names)  # one M: factorised once
         Ms, Ks, Rs, Bs = [], [], [], []
         for row in points:
             model = self.model_at(list(row))
@@ -290,7 +297,7 @@ class _Evaluator:
         rest = None
         if any(r is not None for r in Rs):
             rest = np.array([k if r is None else r for k, r in zip(Ks, Rs, strict=True)])
-        return _Points(np.array(Ms), np.array(Ks), rest, Bs)
+        return _Points(np.array(Ms), np.array(Ks), rest, Bs, self.model.dof_names)
 
     def solve(self, points: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         """Eigenvalues (rigid modes exactly 0), shapes and weighted shapes."""
@@ -309,6 +316,7 @@ class _Points:
     K: NDArray  # (P, n, n)
     rest: NDArray | None  # stiffness at rest (P, n, n), when the points run at a speed
     blocks: list  # stacked element blocks [(idx, (P, ne, ne))], or per point [[(idx, Ke)]]
+    names: list[str]  # DOF names, for messages
 
     def ratio(self, phi: NDArray) -> NDArray:
         """Largest element strain ratio of each mode (P, n)."""
@@ -328,6 +336,13 @@ class _Points:
         :func:`reducerlab.analysis.modal.modal` (the speed terms, linearised in a
         rotating frame, would make a rigid mode drift).
         """
+        lam, phi, y = self._solve(rigid_tol)
+        # rigid modes are exactly 0 (no elastic eigenvalue is); the others must lie
+        # above the eigen-solver's resolution at their point
+        check_resolved(lam, lam == 0.0, self.M, self.K, self.names, "sweep")
+        return lam, phi, y
+
+    def _solve(self, rigid_tol: float) -> tuple[NDArray, NDArray, NDArray]:
         lam, phi, y = eigh_batch(self.M, self.K)
         if self.rest is None or np.array_equal(self.rest, self.K):  # no speed term in K
             return np.where(self.ratio(phi) <= rigid_tol, 0.0, lam), phi, y
@@ -505,6 +520,7 @@ def _submit_all(
                 progress(1)
 
 
+@names_source
 def sweep(
     target: Design | Model,
     axes: Axis | Sequence[Axis],

@@ -161,7 +161,10 @@ class Inertia(Element):
             object.__setattr__(self, "name", f"inertia:{self.dof}")
         v = _number(self.value)
         if v is None or not (np.isfinite(v) and v > 0):
-            raise ModelError(f"{self.name}: value must be > 0, got {self.value!r}")
+            raise ModelError(
+                f"{self.name}: value must be a finite number > 0 (kg, or kg m^2 for a "
+                f"rotation), got {self.value!r}"
+            )
 
     @property
     def dofs(self) -> tuple[str, ...]:
