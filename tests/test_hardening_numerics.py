@@ -340,3 +340,16 @@ def test_a_sweep_into_unresolvable_values_stops_instead_of_reporting_round_off()
     assert ok.data["frequency"].values[0, 1] == pytest.approx(1495.0, rel=1e-3)
     with pytest.raises(ModelError, match=r"sweep: .*no frequency below .* can be computed"):
         sweep(model, Axis("mesh.stiffness", (3.8e8, 1e18)), workers=1, track=False)
+
+
+def test_campbell_solves_each_speed_as_modal_does():
+    """The cycloid example's rigid mode drifted to -6.8 Hz at 200 rad/s in the Campbell
+    diagram (speed terms on the rigid rotation) while modal reports it at 0 Hz; each
+    speed is now solved as modal solves the model at that speed."""
+    design = load_design(example_dir() / "cycloid_ball.toml")
+    speeds = [0.0, 100.0, 200.0]
+    f = campbell(design, speeds).data["frequency"].values
+    assert np.all(f[:, 0] == 0.0)
+    for w, row in zip(speeds, f, strict=True):
+        at = modal(build_model(design).with_speed(w)).frequencies
+        np.testing.assert_allclose(row, at, rtol=1e-9, atol=1e-9)

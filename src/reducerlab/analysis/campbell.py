@@ -24,8 +24,7 @@ from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..model.laws import flat_period
 from ..results import Result, provenance
-from .batch import eigh_batch
-from .modal import check_resolved, strain_ratio
+from .modal import element_blocks
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -86,17 +85,26 @@ def _model_of(target: Design | Model) -> Model:
 
 
 def _frequencies(model: Model, speeds: NDArray, rigid_tol: float = 1e-10) -> NDArray:
-    """Frequencies (Hz, speed, mode); rigid-body modes (no element strained, see
-    :func:`~reducerlab.analysis.modal.strain_ratio`) at exactly 0."""
+    """Frequencies (Hz, speed, mode), each speed solved as ``modal`` would: rigid-body
+    modes (no element strained at rest, see
+    :func:`~reducerlab.analysis.modal.strain_ratio`) at exactly 0 Hz, the elastic modes
+    on their complement where speed terms act."""
+    from .sweep import PointModes
+
     Ms, Ks = [], []
     for w in speeds:
         m = model.with_speed(float(w)).matrices()  # checked: finite, in solver range
         Ms.append(m.M)
         Ks.append(m.K)
-    M = np.array(Ms)
+    K = np.array(Ks)
+    rest = np.broadcast_to(model.with_speed(0.0).matrices().K, K.shape)
+    modes = PointModes(np.array(Ms), K, rest, element_blocks(model), model.dof_names,
+                       f"campbell of {model.name!r}")  # fmt: skip
     try:
-        lam, phi, _ = eigh_batch(M, np.array(Ks))
+        lam, _, _ = modes.solve(rigid_tol)
     except (np.linalg.LinAlgError, ValueError) as exc:
+        if isinstance(exc, ReducerlabError):
+            raise
         raise ModelError(
             f"campbell: the eigen-solver failed for model {model.name!r} ({exc}); check "
             "for an extreme inertia or stiffness value"
@@ -106,9 +114,6 @@ def _frequencies(model: Model, speeds: NDArray, rigid_tol: float = 1e-10) -> NDA
             f"campbell: non-finite natural frequencies for model {model.name!r}; check for "
             "an extreme inertia or stiffness value"
         )
-    rigid = strain_ratio(model, M, phi) <= rigid_tol
-    check_resolved(lam, rigid, M, np.array(Ks), model.dof_names, f"campbell of {model.name!r}")
-    lam = np.where(rigid, 0.0, lam)
     return np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
 
 

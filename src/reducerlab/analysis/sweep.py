@@ -268,7 +268,7 @@ class _Evaluator:
                 model = model.with_parameter(t.path, v)
         return model
 
-    def matrices(self, points: NDArray) -> _Points:
+    def matrices(self, points: NDArray) -> PointModes:
         """``M, K`` (n_points, n, n) at parameter rows ``points`` (n_points, n_axes), the
         stiffness at rest (speed terms left out) where the points run at a speed, and
         the element stiffness blocks that decide rigidity (as in
@@ -285,7 +285,7 @@ class _Evaluator:
                 for idx, Ke, dKe in self.affine_blocks or []
             ]
             M = M0 if not np.any(dM) else M0 + np.einsum("pa,aij->pij", t, dM)
-            return _Points(M, K, rest, blocks, self.model.dof_names)  # one M: factorised once
+            return PointModes(M, K, rest, blocks, self.model.dof_names)  # one M: factorised once
         Ms, Ks, Rs, Bs = [], [], [], []
         for row in points:
             model = self.model_at(list(row))
@@ -297,7 +297,7 @@ class _Evaluator:
         rest = None
         if any(r is not None for r in Rs):
             rest = np.array([k if r is None else r for k, r in zip(Ks, Rs, strict=True)])
-        return _Points(np.array(Ms), np.array(Ks), rest, Bs, self.model.dof_names)
+        return PointModes(np.array(Ms), np.array(Ks), rest, Bs, self.model.dof_names)
 
     def solve(self, points: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         """Eigenvalues (rigid modes exactly 0), shapes and weighted shapes."""
@@ -309,14 +309,17 @@ RIGID_TOL = 1e-10
 
 
 @dataclass
-class _Points:
-    """The matrices of a chunk of points and what decides their rigid modes."""
+class PointModes:
+    """Modes of a stack of points (sweep points, Campbell speeds): their matrices and
+    what decides their rigid modes, solved as :func:`reducerlab.analysis.modal.modal`
+    would solve each point."""
 
     M: NDArray  # (n, n) shared, or (P, n, n)
     K: NDArray  # (P, n, n)
     rest: NDArray | None  # stiffness at rest (P, n, n), when the points run at a speed
     blocks: list  # stacked element blocks [(idx, (P, ne, ne))], or per point [[(idx, Ke)]]
     names: list[str]  # DOF names, for messages
+    what: str = "sweep"  # the analysis, for messages
 
     def ratio(self, phi: NDArray) -> NDArray:
         """Largest element strain ratio of each mode (P, n)."""
@@ -339,7 +342,7 @@ class _Points:
         lam, phi, y = self._solve(rigid_tol)
         # rigid modes are exactly 0 (no elastic eigenvalue is); the others must lie
         # above the eigen-solver's resolution at their point
-        check_resolved(lam, lam == 0.0, self.M, self.K, self.names, "sweep")
+        check_resolved(lam, lam == 0.0, self.M, self.K, self.names, self.what)
         return lam, phi, y
 
     def _solve(self, rigid_tol: float) -> tuple[NDArray, NDArray, NDArray]:
