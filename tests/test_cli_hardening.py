@@ -159,7 +159,10 @@ def test_a_failed_commit_names_the_output_not_the_staging_folder(tmp_path, monke
     out = tmp_path / "d"
     with pytest.raises(ReducerlabError) as exc, OutputSet(out) as files:
         files.path("a.txt").write_text("a")
-    assert str(exc.value) == f"-o {out / 'a.txt'}: cannot write it (No space left on device)"
+    assert str(exc.value) == (
+        f"-o {out / 'a.txt'}: cannot write it (No space left on device); the previous "
+        "outputs are unchanged"
+    )
     with pytest.raises(ReducerlabError) as exc, io.atomic_path(tmp_path / "b.nc") as tmp:
         tmp.write_text("b")
     assert str(exc.value) == f"{tmp_path / 'b.nc'}: cannot write it (No space left on device)"
@@ -443,3 +446,36 @@ def test_save_is_atomic(tmp_path, monkeypatch):
     with pytest.raises(OSError, match="interrupted"):
         res.save(p)
     assert p.read_bytes() == old and [f.name for f in tmp_path.iterdir()] == ["m.nc"]
+
+
+def test_a_set_that_fails_halfway_is_rolled_back(tmp_path, monkeypatch):
+    """If moving the files of a set into place fails after some were moved (a full disk,
+    a file system error), the ones already moved are put back: the previous set is
+    untouched, not half old and half new."""
+    import reducerlab.io as rio
+
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "a.txt").write_text("old a")
+    (out / "b.txt").write_text("old b")
+    real = os.replace
+    calls = {"n": 0}
+
+    def flaky(src, dst):
+        if Path(dst).parent == out:
+            calls["n"] += 1
+            if calls["n"] == 2:
+                raise OSError(28, "No space left on device")
+        return real(src, dst)
+
+    monkeypatch.setattr(rio.os, "replace", flaky)
+    with (
+        pytest.raises(ReducerlabError, match=r"b\.txt: cannot write it .*previous outputs"),
+        rio.OutputSet(out, "-o") as files,
+    ):
+        files.path("a.txt").write_text("new a")
+        files.path("b.txt").write_text("new b")
+        files.path("c.txt").write_text("new c")
+    assert (out / "a.txt").read_text() == "old a"
+    assert (out / "b.txt").read_text() == "old b"
+    assert sorted(p.name for p in out.iterdir()) == ["a.txt", "b.txt"]

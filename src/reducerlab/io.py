@@ -287,22 +287,36 @@ class OutputSet:
                 )
         target = self.directory
         created = not self.directory.exists()
+        moved: list[tuple[Path, Path | None]] = []  # (target, backup of the old file)
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
             for name in self._names:
                 target = self.directory / name
-                replaced = target.exists()
+                backup = None
+                if target.exists():  # kept until the whole set is in place
+                    backup = stage / f".old.{name}"
+                    try:
+                        os.link(target, backup)
+                    except OSError:  # a file system without hard links
+                        shutil.copy2(target, backup)
                 os.chmod(stage / name, FILE_MODE)
                 os.replace(stage / name, target)
-                self.written.append(target)
-                if self.report is not None:
-                    self.report(f"{'replaced' if replaced else 'wrote'} {target}")
-        except OSError as exc:  # name the output, not the staging folder
-            if created and not self.written:
+                moved.append((target, backup))
+        except OSError as exc:  # put the previous set back; name the output, not the stage
+            for done, backup in reversed(moved):
+                with contextlib.suppress(OSError):
+                    if backup is None:
+                        done.unlink()
+                    else:
+                        os.replace(backup, done)
+            if created:
                 with contextlib.suppress(OSError):
                     self.directory.rmdir()
-            done = ", ".join(w.name for w in self.written)
             raise ReducerlabError(
-                f"{self.option} {target}: cannot write it ({exc.strerror or exc})"
-                + (f"; already written: {done}" if done else "")
+                f"{self.option} {target}: cannot write it ({exc.strerror or exc}); the "
+                "previous outputs are unchanged"
             ) from None
+        for done, backup in moved:
+            self.written.append(done)
+            if self.report is not None:
+                self.report(f"{'replaced' if backup is not None else 'wrote'} {done}")
