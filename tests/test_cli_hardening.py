@@ -374,6 +374,17 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
             assert d["reducerlab_version"] == __version__, js
             assert d["design_hash"] == design.hash and d["created"], js
             assert d["design"] == json.loads(design.provenance["design"]), js
+        pngs = list(out.glob("*.png"))
+        assert pngs, name
+        for png in pngs:  # figures carry the stamp as PNG text chunks
+            from PIL import Image
+
+            with Image.open(png) as im:
+                text = dict(im.text)
+            assert text["reducerlab_version"] == __version__, png
+            assert text["created"] and text["design_hash"], png
+            if name != "khv closed-graph":  # that one reads the gears table only
+                assert text["design_hash"] == design.hash, png
     assert seen == {
         "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response"
     }  # fmt: skip

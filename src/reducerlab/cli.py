@@ -38,7 +38,7 @@ from rich.text import Text
 from . import __version__
 from .analysis.workers import max_workers
 from .errors import ReducerlabError
-from .io import OutputSet, atomic_path, prepare_output_dir, prepare_output_file
+from .io import OutputSet, atomic_path, png_metadata, prepare_output_dir, prepare_output_file
 
 app = typer.Typer(
     name="reducerlab",
@@ -165,10 +165,15 @@ def _user_errors() -> Iterator[None]:
         _fail(exc)
 
 
+def _savefig(fig: Any, path: Path, attrs: dict[str, Any], dpi: int = 120) -> None:
+    """Save a figure as PNG stamped with its provenance (version, time, design, hash)."""
+    fig.savefig(path, dpi=dpi, format="png", metadata=png_metadata(dict(attrs)))
+
+
 def _add_with_figure(result, files: OutputSet, stem: str) -> None:
     """Add ``STEM.nc`` and the result's figure ``STEM.png`` to an open output set."""
     result.save(files.path(f"{stem}.nc"))
-    result.plot().savefig(files.path(f"{stem}.png"), dpi=120)
+    _savefig(result.plot(), files.path(f"{stem}.png"), result.data.attrs)
 
 
 def _save_with_figure(result, files: OutputSet, stem: str) -> None:
@@ -194,8 +199,8 @@ def _add_modal(result, files: OutputSet) -> None:
     result.save(files.path("modal.nc"))
     _write_json(result, files.path("modal.json"))
     files.path("modal.txt").write_text(result.table() + "\n")
-    result.plot_shapes().savefig(files.path("mode_shapes.png"), dpi=120)
-    result.plot_energy().savefig(files.path("energy.png"), dpi=120)
+    _savefig(result.plot_shapes(), files.path("mode_shapes.png"), result.data.attrs)
+    _savefig(result.plot_energy(), files.path("energy.png"), result.data.attrs)
 
 
 def _print_modal(result) -> None:
@@ -299,7 +304,7 @@ def _add_kinematics(result, files: OutputSet) -> None:
     result.save(files.path("kinematics.nc"))
     _write_json(result, files.path("kinematics.json"))
     if "omega" in result.data:
-        result.plot().savefig(files.path("angular_velocity.png"), dpi=120)
+        _savefig(result.plot(), files.path("angular_velocity.png"), result.data.attrs)
 
 
 def _run_kinematics(design):
@@ -483,7 +488,7 @@ def sweep(
             )
         _note(f"{'replaced' if nc_existed else 'wrote'} {output / 'sweep.nc'}")
         with files:
-            result.plot().savefig(files.path("sweep.png"), dpi=120)
+            _savefig(result.plot(), files.path("sweep.png"), result.data.attrs)
     if fmt is Format.json:
         ds = result.data
         typer.echo(
@@ -833,7 +838,10 @@ def surface(
             if png is not None:
                 from .plot.surface import plot_tooth
 
-                _write_file(png, lambda tmp: plot_tooth(solid).savefig(tmp, dpi=130))
+                _write_file(
+                    png,
+                    lambda tmp: _savefig(plot_tooth(solid), tmp, d.provenance, 130),
+                )
         closed = mesh.open_edges() == 0
     typer.echo(
         f"gear {gear}: {bevel.kind}, z = {bevel.teeth}, pitch cone "
@@ -876,7 +884,7 @@ def khv_closed_graph(
         pair = gears.pair()
         fig = plot_closed_graph(pair, gears.shift_line if gears.x2 is None else None)
         with files:
-            fig.savefig(files.path("closed-graph.png"), dpi=120)
+            _savefig(fig, files.path("closed-graph.png"), {"design": json.dumps(data, default=str)})
     for c in pair.conditions():
         flag = "ok  " if c.ok else "FAIL"
         typer.echo(f"{flag} {c.name:<28} margin {c.margin:+.4g}   ({c.rule})")
@@ -924,7 +932,7 @@ def khv_stiffness(
                  f"mean {law.mean / 1e8:.3f}e8 N/m"] = law  # fmt: skip
             typer.echo(f"x1 = {v:g}: k_C = {dv.pitch_stiffness():.4g} N/m, mean {law.mean:.4g} N/m")
         with files:
-            plot_mesh_stiffness(laws).savefig(files.path("mesh-stiffness.png"), dpi=120)
+            _savefig(plot_mesh_stiffness(laws), files.path("mesh-stiffness.png"), d.provenance)
 
 
 @app.command()

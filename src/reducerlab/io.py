@@ -25,6 +25,8 @@ One convention for every command of the command line and for the API's ``save``:
 from __future__ import annotations
 
 import contextlib
+import datetime as _dt
+import hashlib
 import json
 import os
 import shutil
@@ -39,6 +41,7 @@ from .errors import ReducerlabError
 __all__ = [
     "OutputSet",
     "atomic_path",
+    "png_metadata",
     "prepare_output_dir",
     "prepare_output_file",
     "stamp",
@@ -202,6 +205,24 @@ def stamp(attrs: dict[str, Any]) -> dict[str, Any]:
     out: dict[str, Any] = {k: attrs.get(k) for k in PROVENANCE_KEYS}
     design = attrs.get("design")
     out["design"] = json.loads(design) if isinstance(design, str) and design else design
+    return out
+
+
+def png_metadata(attrs: dict[str, Any]) -> dict[str, str]:
+    """The provenance of a figure as PNG text chunks (``Software``, ``reducerlab_version``,
+    ``created``, ``design_hash``, ``design``), from a result's attributes or a design's
+    provenance; read back with e.g. ``PIL.Image.open(path).text``."""
+    from . import __version__
+
+    out = {"Software": f"reducerlab {__version__}"}
+    for key in (*PROVENANCE_KEYS, "design"):
+        value = attrs.get(key)
+        if isinstance(value, str) and value:
+            out[key] = value
+    if "design" in out and "design_hash" not in out:
+        out["design_hash"] = hashlib.sha256(out["design"].encode()).hexdigest()[:16]
+    out.setdefault("reducerlab_version", __version__)
+    out.setdefault("created", _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"))
     return out
 
 
