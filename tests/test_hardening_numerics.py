@@ -353,3 +353,17 @@ def test_campbell_solves_each_speed_as_modal_does():
     for w, row in zip(speeds, f, strict=True):
         at = modal(build_model(design).with_speed(w)).frequencies
         np.testing.assert_allclose(row, at, rtol=1e-9, atol=1e-9)
+
+
+def test_round_off_of_an_unloaded_model_is_not_a_load_factor_or_a_spectrum():
+    """The double-sided nutation example has no torque: its mesh force is round-off
+    (~1e-15 N) and the 'dynamic load factor' was reported as 2.77 with spectral peaks at
+    '15x, 13.5x'; a force below the line stiffness x 1 pm is no load, a deflection
+    varying by less than 1 pm no spectrum."""
+    design = load_design(example_dir() / "nutation_double_sided.toml")
+    res = response(design, periods=20, keep=5, history=2)
+    assert math.isnan(res.data.attrs["dynamic_load_factor"])
+    assert res.peaks(5) == []
+    loaded = response(load_design(example_dir() / "gear_pair.toml"), periods=20, keep=5,
+                      history=2)  # fmt: skip
+    assert loaded.data.attrs["dynamic_load_factor"] > 1.0 and loaded.peaks(3)

@@ -193,7 +193,7 @@ def check_resolved(
         f"{what}: the stiffness and inertia values span more than double precision "
         f"resolves: the highest natural frequency is {f_top:.4g} Hz (set by {names[i]}: "
         f"stiffness / inertia = {ratio[i]:.3g} 1/s^2), so no frequency below "
-        f"{f_floor:.3g} Hz can be computed, yet {len(low)} elastic mode(s) lie there "
+        f"{f_floor:.3g} Hz can be computed, yet {len(low)} mode(s) lie there "
         f"({', '.join(low)}: round-off, not results). Check the inertia of {names[i]} and "
         "the stiffness acting on it for an extreme value (e.g. a near-zero inertia or a "
         "near-rigid stiffness: a rigid joint is better modelled by merging the DOFs)"

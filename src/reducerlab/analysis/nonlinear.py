@@ -447,6 +447,13 @@ def spectrum_peaks(
     return [(float(f[i] / f_ref), float(amp[i])) for i in peaks[:count]]
 
 
+#: Mesh deflections below 1 pm (1e-12 m) are round-off for a gear mesh: a millionth of
+#: the micron-scale transmission errors and deflections of real gears. A response whose
+#: deflection varies less has no spectrum, and one whose mean mesh force is below the
+#: line's stiffness times this has no mean load (no dynamic load factor).
+NOISE_M = 1e-12
+
+
 class ResponseResult(Result):
     """Steady response of one design: time histories of the mesh deflection (dynamic
     transmission error along the line of action), its velocity and the mesh force over
@@ -463,8 +470,11 @@ class ResponseResult(Result):
 
     def peaks(self, count: int = 6) -> list[tuple[float, float]]:
         """Largest spectral peaks of the mesh deflection, as multiples of the forcing
-        frequency (paper 004 Fig. 8 labels)."""
+        frequency (paper 004 Fig. 8 labels); none when the deflection varies by less than
+        :data:`NOISE_M` (1 pm: round-off of a model that nothing excites)."""
         x, dt = self._uniform()
+        if np.ptp(x) <= NOISE_M:
+            return []
         return spectrum_peaks(x, dt, self.data.attrs["forcing_hz"], count)
 
     def plot(self) -> Figure:
@@ -521,7 +531,7 @@ def response(
     ``period`` (s) is the forcing (sampling) period; by default the period of the
     model's first periodic law (a model without one needs it)."""
     from ..drives import build_model
-    from ..model.laws import evaluate_flat
+    from ..model.laws import evaluate_flat, flat_mean
     from .response import to_system
 
     model = build_model(target) if isinstance(target, Design) else target
@@ -554,9 +564,14 @@ def response(
     dvel = H[:, n:] @ g - e[:, 1]
     force = np.array([s.mesh_forces(ti, y[:n], y[n:])[line] for ti, y in zip(t, H, strict=True)])
     mean_force = float(np.mean(force))
-    # the dynamic load factor is defined against a mean load; without one (no torque on
-    # the model) it is undefined, recorded as NaN and reported as such
-    dlf = float(np.max(np.abs(force)) / abs(mean_force)) if mean_force else float("nan")
+    # The dynamic load factor is defined against a mean load. Without one (no torque on
+    # the model) the force is round-off (1e-15 N), and a ratio of round-off would pass
+    # for a result: a mean force below the line's mean stiffness times 1 pm (NOISE_M,
+    # a millionth of a micron-scale transmission error) counts as none, and the factor
+    # is undefined (NaN), reported as such.
+    k_line = abs(flat_mean(int(s.k_kind[line]), s.k_params[line]))
+    loaded = abs(mean_force) > k_line * NOISE_M
+    dlf = float(np.max(np.abs(force)) / abs(mean_force)) if loaded else float("nan")
     P = res.poincare[0, :keep]
     tP = (periods - keep + np.arange(keep)) * res.period[0]
     eP = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in tP])
@@ -581,7 +596,7 @@ def response(
             "mesh_force": ("time", force, {"units": "N", "long_name": "dynamic mesh force"}),
             "dynamic_load": (
                 "time",
-                force / mean_force if mean_force else np.full_like(force, np.nan),
+                force / mean_force if loaded else np.full_like(force, np.nan),
                 {"units": "1", "long_name": "mesh force / mean mesh force"},
             ),
             "poincare_delta": ("point", P[:, :n] @ g - eP[:, 0], {"units": "m"}),
