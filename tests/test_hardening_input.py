@@ -347,9 +347,11 @@ def test_absurd_values_in_designs_name_file_field_value_and_range(example, path,
 
 
 def test_every_bundled_example_still_loads():
-    for path in EXAMPLES.values():
-        if path.suffix == ".toml":
-            load_design(path)
+    tomls = [p for p in EXAMPLES.values() if p.suffix == ".toml"]
+    assert tomls
+    for path in tomls:
+        design = load_design(path)
+        assert design.source == str(path) and len(design.hash) == 16
 
 
 @pytest.mark.parametrize("value", [math.inf, math.nan, 1e300, -1e300, 1e-300])

@@ -27,11 +27,10 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any, NoReturn
+from typing import TYPE_CHECKING, Annotated, Any, NoReturn
 
 import typer
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 from rich.text import Text
 
@@ -39,6 +38,9 @@ from . import __version__
 from .analysis.workers import max_workers
 from .errors import ReducerlabError
 from .io import OutputSet, atomic_path, png_metadata, prepare_output_dir, prepare_output_file
+
+if TYPE_CHECKING:
+    from rich.progress import Progress
 
 app = typer.Typer(
     name="reducerlab",
@@ -100,6 +102,8 @@ def _fail(exc: Exception) -> NoReturn:
 
 def _progress() -> Progress:
     """A transient progress bar on stderr; task descriptions are shown verbatim."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
     return Progress(
         TextColumn("{task.description}", markup=False),
         BarColumn(),
@@ -119,26 +123,11 @@ def _busy(description: str) -> Iterator[Callable[[int, int], None]]:
         yield lambda done, total: progress.update(task, completed=done, total=total)
 
 
-def _finite(lo: float | None = None, hi: float | None = None, *, lo_open: bool = False,
-            hi_open: bool = False) -> Callable[[float | None], float | None]:  # fmt: skip
-    """Typer callback: a float option must be finite and within [lo, hi] (or open ends)."""
-
-    def check(value: float | None) -> float | None:
-        if value is None:
-            return value
-        ok = math.isfinite(value)
-        if ok and lo is not None:
-            ok = value > lo if lo_open else value >= lo
-        if ok and hi is not None:
-            ok = value < hi if hi_open else value <= hi
-        if not ok:
-            low = "-inf" if lo is None else f"{lo:g}"
-            high = "inf" if hi is None else f"{hi:g}"
-            rng = f"{'(' if lo_open else '['}{low}, {high}{')' if hi_open else ']'}"
-            raise typer.BadParameter(f"must be a finite number in {rng}; got {value!r}")
-        return value
-
-    return check
+def _rigid_tol(value: float) -> float:
+    """Typer callback: ``--rigid-tol`` must be a finite number in [0, 1)."""
+    if not 0 <= value < 1:  # also false for NaN
+        raise typer.BadParameter(f"must be a finite number in [0, 1); got {value!r}")
+    return value
 
 
 def _outputs(output: Path | None) -> OutputSet | None:
@@ -146,13 +135,12 @@ def _outputs(output: Path | None) -> OutputSet | None:
     return None if output is None else OutputSet(output, "-o", report=_note)
 
 
-def _write_file(path: Path, write: Callable[[Path], Any]) -> Path:
+def _write_file(path: Path, write: Callable[[Path], Any]) -> None:
     """Write one file atomically with ``write(temporary_path)`` and report it."""
     replaced = path.exists()
     with atomic_path(path) as tmp:
         write(tmp)
     _note(f"{'replaced' if replaced else 'wrote'} {path}")
-    return path
 
 
 @contextmanager
@@ -167,7 +155,7 @@ def _user_errors() -> Iterator[None]:
 
 def _savefig(fig: Any, path: Path, attrs: dict[str, Any], dpi: int = 120) -> None:
     """Save a figure as PNG stamped with its provenance (version, time, design, hash)."""
-    fig.savefig(path, dpi=dpi, format="png", metadata=png_metadata(dict(attrs)))
+    fig.savefig(path, dpi=dpi, format="png", metadata=png_metadata(attrs))
 
 
 def _add_with_figure(result, files: OutputSet, stem: str) -> None:
@@ -226,7 +214,7 @@ def modal(
         float,
         typer.Option(
             help="Relative eigenvalue below which a mode is rigid (0 Hz), in [0, 1).",
-            callback=_finite(0.0, 1.0, hi_open=True),
+            callback=_rigid_tol,
         ),
     ] = 1e-10,
 ) -> None:
@@ -365,6 +353,7 @@ def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | N
         return None
     import numpy as np
 
+    from .analysis.campbell import RPM
     from .units import QUANTITIES
 
     axis = _axis(option, "speeds", spec, MAX_SPEEDS)
@@ -373,14 +362,14 @@ def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | N
     rpm = np.asarray(axis.values, dtype=float)
     # the range of the speeds that design files may give (units.QUANTITIES), in rpm
     kind = QUANTITIES["angular velocity"]
-    lo, hi = kind.lo * 60 / (2 * np.pi), kind.hi * 60 / (2 * np.pi)
-    for v in rpm:
-        if not (v == 0 or lo <= v <= hi):  # also refuses negative and non-finite values
-            raise ReducerlabError(
-                f"{option}: {v:g} rpm is outside the range of speeds: 0 or within "
-                f"[{lo:.3g}, {hi:.3g}] rpm"
-            )
-    return (rpm * 2 * np.pi / 60).tolist()
+    lo, hi = kind.lo * RPM, kind.hi * RPM
+    bad = rpm[~((rpm == 0) | ((rpm >= lo) & (rpm <= hi)))]  # also negative, non-finite
+    if bad.size:
+        raise ReducerlabError(
+            f"{option}: {bad[0]:g} rpm is outside the range of speeds: 0 or within "
+            f"[{lo:.3g}, {hi:.3g}] rpm"
+        )
+    return (rpm / RPM).tolist()
 
 
 _ADDRESS = re.compile(
@@ -949,13 +938,13 @@ def demo(
 
     with _user_errors():
         prepare_output_dir(output)
-    files = example_files()
-    if not files:
+    examples = example_files()
+    if not examples:
         _fail(ReducerlabError("no bundled examples found"))
     summary = []
     with _progress() as progress:
-        task = progress.add_task("examples", total=len(files))
-        for path in files:
+        task = progress.add_task("examples", total=len(examples))
+        for path in examples:
             progress.update(task, description=f"{path.name}")
             with _user_errors(), OutputSet(output / path.stem, "-o", report=_note) as files:
                 design = load_design(path)

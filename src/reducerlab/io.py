@@ -231,8 +231,8 @@ class OutputSet:
 
     Use as a context manager: :meth:`path` gives the (staged) path of each file to
     write; when the block ends without an exception every staged file is moved into
-    ``directory`` (replacing older files, reported) and :attr:`written` lists the final
-    paths; on an exception nothing in ``directory`` changes.
+    ``directory`` (replacing older files, reported); on an exception nothing in
+    ``directory`` changes.
 
     Parameters
     ----------
@@ -253,7 +253,6 @@ class OutputSet:
         self.directory = prepare_output_dir(directory, option)
         self.option = option
         self.report = report
-        self.written: list[Path] = []
         self._names: list[str] = []
         self._stage: Path | None = None
 
@@ -338,6 +337,5 @@ class OutputSet:
                 "previous outputs are unchanged"
             ) from None
         for done, backup in moved:
-            self.written.append(done)
             if self.report is not None:
                 self.report(f"{'replaced' if backup is not None else 'wrote'} {done}")

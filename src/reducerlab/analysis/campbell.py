@@ -24,7 +24,7 @@ from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..model.laws import flat_period
 from ..results import Result, provenance
-from .modal import element_blocks
+from .modal import RIGID_TOL, element_blocks, rest_stiffness
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -84,7 +84,7 @@ def _model_of(target: Design | Model) -> Model:
     raise ReducerlabError(f"campbell: target must be a Design or a Model, got {type(target)}")
 
 
-def _frequencies(model: Model, speeds: NDArray, rigid_tol: float = 1e-10) -> NDArray:
+def _frequencies(model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL) -> NDArray:
     """Frequencies (Hz, speed, mode), each speed solved as ``modal`` would: rigid-body
     modes (no element strained at rest, see
     :func:`~reducerlab.analysis.modal.strain_ratio`) at exactly 0 Hz, the elastic modes
@@ -97,7 +97,8 @@ def _frequencies(model: Model, speeds: NDArray, rigid_tol: float = 1e-10) -> NDA
         Ms.append(m.M)
         Ks.append(m.K)
     K = np.array(Ks)
-    rest = np.broadcast_to(model.with_speed(0.0).matrices().K, K.shape)
+    rest = rest_stiffness(model)
+    rest = np.broadcast_to(K[0] if rest is None else rest, K.shape)
     modes = PointModes(np.array(Ms), K, rest, element_blocks(model), model.dof_names,
                        f"campbell of {model.name!r}")  # fmt: skip
     try:

@@ -111,6 +111,17 @@ def _energy_labels(
 MOTION_TOL = 1e-6
 
 
+#: Largest element strain ratio of a rigid-body mode (the default ``rigid_tol`` of every
+#: analysis that tells rigid from elastic modes).
+RIGID_TOL = 1e-10
+
+
+def rest_stiffness(model: Model) -> NDArray[np.float64] | None:
+    """``K`` of ``model`` at zero speed (speed terms left out), or None when it runs at
+    zero speed: rigid-body modes are those of the model at rest."""
+    return None if model.speed == 0.0 else model.with_speed(0.0).matrices().K
+
+
 def element_blocks(model: Model) -> list[tuple[list[int], NDArray[np.float64]]]:
     """``(dof indices, K_e)`` of every element with stiffness, at zero speed (mean mesh
     stiffness included): what :func:`strain_ratio` tests a mode against."""
@@ -214,14 +225,17 @@ def _rigid_and_elastic(
     do to each rigid mode (``phi^T K phi``) is returned as ``drift`` (rad^2/s^2).
     """
     lam, phi = _solve(M, K, model)
-    if model.speed == 0.0:
-        rigid = strain_ratio(model, M, phi) <= rigid_tol
+    blocks = element_blocks(model)  # once: both strain tests below use them
+    K0 = rest_stiffness(model)
+    if K0 is None:
+        rigid = strain_ratio(blocks, M, phi) <= rigid_tol
         return np.where(rigid, 0.0, lam), phi, rigid, np.zeros(int(rigid.sum()))
-    K0 = model.with_speed(0.0).matrices().K
     _, phi0 = _solve(M, K0, model)
-    null = strain_ratio(model, M, phi0) <= rigid_tol
+    null = strain_ratio(blocks, M, phi0) <= rigid_tol
     if not null.any() or np.array_equal(K0, K):
-        rigid = strain_ratio(model, M, phi) <= rigid_tol if null.any() else np.zeros(lam.size, bool)
+        rigid = (
+            strain_ratio(blocks, M, phi) <= rigid_tol if null.any() else np.zeros(lam.size, bool)
+        )
         return np.where(rigid, 0.0, lam), phi, rigid, np.zeros(int(rigid.sum()))
     N, V = phi0[:, null], phi0[:, ~null]  # M-orthonormal bases
     drift = np.einsum("im,ij,jm->m", N, K, N)
@@ -234,7 +248,7 @@ def _rigid_and_elastic(
 
 
 @names_source
-def modal(model: Model, *, rigid_tol: float = 1e-10) -> ModalResult:
+def modal(model: Model, *, rigid_tol: float = RIGID_TOL) -> ModalResult:
     """Natural frequencies, mode shapes and energy classification of a model.
 
     Parameters

@@ -259,7 +259,7 @@ class _Members:
                 )[0]
             except ReducerlabError:  # the value changed the rigid motion itself
                 pass
-        return to_system(model)
+        return to_system(model, flat=s)
 
     def probe(self, lo: float, hi: float) -> None:
         """Detect affine dependence on the value over [lo, hi]."""
@@ -546,7 +546,7 @@ def response(
             "response: the model has no mesh line: a nonlinear response needs at least "
             "one mesh (or cubic spring) element"
         )
-    s = to_system(model)
+    s = to_system(model, flat=flat)
     if isinstance(line, bool) or not isinstance(line, int) or not 0 <= line < n_lines:
         raise ReducerlabError(
             f"response: line must be a mesh line index in 0..{n_lines - 1} "

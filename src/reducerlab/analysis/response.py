@@ -51,9 +51,16 @@ __all__ = [
 ]
 
 
-def to_system(model: Model | NonlinearSystem, reduce_rigid: bool = True) -> NonlinearSystem:
-    """The flat system to integrate, rigid motion removed unless ``reduce_rigid=False``."""
-    s = model.nonlinear() if isinstance(model, Model) else model
+def to_system(
+    model: Model | NonlinearSystem,
+    reduce_rigid: bool = True,
+    *,
+    flat: NonlinearSystem | None = None,
+) -> NonlinearSystem:
+    """The flat system to integrate, rigid motion removed unless ``reduce_rigid=False``.
+
+    ``flat`` is ``model.nonlinear()`` when the caller has built it already."""
+    s = model if not isinstance(model, Model) else flat or model.nonlinear()
     if not reduce_rigid:
         return s
     rest = at_rest(model) if isinstance(model, Model) else None
@@ -100,7 +107,7 @@ def rigid_reduction(
     blocks, no stiffness beyond round-off (``|phi^T K phi| <= 1e-10 |phi|^T |K| |phi|``);
     an elastic mode below the eigen-solver's resolution is an error
     (:func:`~reducerlab.analysis.modal.check_resolved`)."""
-    from .modal import check_resolved, strain_ratio
+    from .modal import RIGID_TOL, check_resolved, strain_ratio
 
     k_mean = s.mean_stiffness
     try:
@@ -108,10 +115,10 @@ def rigid_reduction(
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise ModelError(_mass_problem(s, exc)) from None
     if blocks is not None:
-        rigid = strain_ratio(blocks, s.M, V) <= 1e-10
+        rigid = strain_ratio(blocks, s.M, V) <= RIGID_TOL
     else:
         num = np.abs(np.einsum("im,ij,jm->m", V, k_mean, V))
-        rigid = num <= 1e-10 * np.einsum("im,ij,jm->m", np.abs(V), np.abs(k_mean), np.abs(V))
+        rigid = num <= RIGID_TOL * np.einsum("im,ij,jm->m", np.abs(V), np.abs(k_mean), np.abs(V))
     check_resolved(lam, rigid, s.M, k_mean, s.dof_names, "nonlinear run")
     if not rigid.any():
         return None

@@ -35,7 +35,7 @@ from ..errors import DesignError, ReducerlabError, names_source
 from ..model import Model
 from ..results import Result, provenance
 from .batch import eigh_batch
-from .modal import check_resolved, element_blocks, strain_ratio
+from .modal import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes
 from .workers import check_workers, dask_client, worker_pool
@@ -292,7 +292,7 @@ class _Evaluator:
             mats = model.matrices()
             Ms.append(mats.M)
             Ks.append(mats.K)
-            Rs.append(_rest_stiffness(model))
+            Rs.append(rest_stiffness(model))
             Bs.append(element_blocks(model))
         rest = None
         if any(r is not None for r in Rs):
@@ -302,10 +302,6 @@ class _Evaluator:
     def solve(self, points: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         """Eigenvalues (rigid modes exactly 0), shapes and weighted shapes."""
         return self.matrices(points).solve()
-
-
-#: Largest element strain ratio of a rigid mode (as ``modal``'s ``rigid_tol``).
-RIGID_TOL = 1e-10
 
 
 @dataclass
@@ -354,7 +350,8 @@ class PointModes:
         L = np.linalg.cholesky(0.5 * (self.M + np.swapaxes(self.M, -1, -2)))
         L = np.broadcast_to(L, self.K.shape)
         same = np.all(self.rest == self.K, axis=(-2, -1))  # points without speed terms
-        lam = np.where(same[:, None] & (self.ratio(phi) <= rigid_tol), 0.0, lam)
+        if same.any():
+            lam = np.where(same[:, None] & (self.ratio(phi) <= rigid_tol), 0.0, lam)
         for p in np.nonzero(null.any(axis=1) & ~same)[0]:
             N, V = y0[p][:, null[p]], y0[p][:, ~null[p]]  # orthonormal (mass-weighted)
             A = np.linalg.solve(L[p], np.linalg.solve(L[p], self.K[p]).T)  # L^-1 K L^-T
@@ -367,17 +364,12 @@ class PointModes:
         return lam, phi, y
 
 
-def _rest_stiffness(model: Model) -> NDArray | None:
-    """``K`` of ``model`` at zero speed, or None when it runs at zero speed."""
-    return None if model.speed == 0.0 else model.with_speed(0.0).matrices().K
-
-
 def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
     """Detect ``M, K`` affine in the swept values; store the batch form if so."""
     n_ax = len(lows)
     base_model = ev.model_at(list(lows))
     base = base_model.matrices()
-    base_rest = _rest_stiffness(base_model)
+    base_rest = rest_stiffness(base_model)
     dM, dK, dR = [], [], []
     ends: list[Model] = []
     for a in range(n_ax):
@@ -391,7 +383,7 @@ def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
         m = model.matrices()
         dM.append((m.M - base.M) / span)
         dK.append((m.K - base.K) / span)
-        rest = _rest_stiffness(model)
+        rest = rest_stiffness(model)
         if (rest is None) != (base_rest is None):
             return False  # the speed itself is swept through zero
         if rest is not None:
@@ -411,13 +403,13 @@ def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
     blocks = _affine_blocks(base_model, ends, lows, highs, model, probe)
     if blocks is None:
         return False
-    ev.affine_blocks = blocks
     if base_rest is not None:
-        rest = _rest_stiffness(model)
+        rest = rest_stiffness(model)
         pR = base_rest + np.einsum("a,aij->ij", t, np.array(dR))
         if rest is None or np.abs(rest - pR).max() > 1e-10 * scale_K:
             return False
         ev.affine_rest = (base_rest, np.array(dR))
+    ev.affine_blocks = blocks  # set with the rest, once every probe passed
     ev.affine = (base.M, base.K, dM_, dK_)
     ev.anchor = lows.astype(float)
     return True

@@ -19,11 +19,14 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ReducerlabError
+
+if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor
 
 __all__ = ["check_workers", "dask_client", "max_workers", "worker_pool"]
 
@@ -69,8 +72,8 @@ def _set_pdeathsig() -> bool:
 
 def _watch_parent(parent: int) -> None:
     """Exit this process at once when its parent process is gone (re-parented)."""
-    stop = threading.Event()
-    while not stop.wait(_WATCHDOG_INTERVAL):
+    while True:
+        time.sleep(_WATCHDOG_INTERVAL)
         if os.getppid() != parent:
             os._exit(1)
 
@@ -136,6 +139,7 @@ def worker_pool(workers: int, context: str | None = None) -> Iterator[ProcessPoo
         once when the block raises (including ``KeyboardInterrupt`` and ``SystemExit``).
     """
     import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
 
     ctx = multiprocessing.get_context(context)
     direct = ctx.get_start_method() != "forkserver"

@@ -278,21 +278,36 @@ class NonlinearSystem:
         Minv_Tt = np.linalg.solve(self.M, T.T)
         W = np.linalg.inv(T @ Minv_Tt)
         S = Minv_Tt @ W
+        if check:
+            self._check_rigid_free(T, names, rest_stiffness)
+        red = replace(
+            self,
+            dof_names=list(names),
+            M=S.T @ self.M @ S,
+            C=S.T @ self.C @ S,
+            K=S.T @ self.K @ S,
+            G=self.G @ S,
+            load_matrix=S.T @ self.load_matrix,
+            origin=Origin(names0, S0 @ S, M0),
+        )
+        return red, S
+
+    def _check_rigid_free(
+        self,
+        T: NDArray[np.float64],
+        names: list[str],
+        rest_stiffness: NDArray[np.float64] | None,
+    ) -> None:
+        """Raise when a rigid mode of ``T`` (its null space) carries stiffness, damping
+        or a mesh line: the relative coordinates leave an elastic motion undescribed."""
         # rigid modes: null space of T; they must carry no stiffness, damping or mesh
         _, sv, vt = np.linalg.svd(T)
         R = vt[np.sum(sv > 1e-12 * sv.max()) :].T
+        K = self.K if rest_stiffness is None else np.asarray(rest_stiffness, float)
         for what, A, rows in (
-            ()
-            if not check
-            else (
-                (
-                    "the stiffness (supports, couplings) at",
-                    self.K if rest_stiffness is None else np.asarray(rest_stiffness, float),
-                    self.dof_names,
-                ),
-                ("the damping (supports, couplings) at", self.C, self.dof_names),
-                ("the mesh line(s)", self.G, self.line_names),
-            )
+            ("the stiffness (supports, couplings) at", K, self.dof_names),
+            ("the damping (supports, couplings) at", self.C, self.dof_names),
+            ("the mesh line(s)", self.G, self.line_names),
         ):
             if not (R.size and A.size):
                 continue
@@ -307,17 +322,6 @@ class NonlinearSystem:
                     "coordinate that measures that motion (every elastic deformation "
                     "must be described), or remove the stiffness that holds it"
                 )
-        red = replace(
-            self,
-            dof_names=list(names),
-            M=S.T @ self.M @ S,
-            C=S.T @ self.C @ S,
-            K=S.T @ self.K @ S,
-            G=self.G @ S,
-            load_matrix=S.T @ self.load_matrix,
-            origin=Origin(names0, S0 @ S, M0),
-        )
-        return red, S
 
     def rhs(self, t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
         """State derivative ``[q', q'']`` for ``y = [q, q']`` (plain numpy reference)."""
