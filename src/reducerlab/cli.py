@@ -328,20 +328,12 @@ def kinematics(
     typer.echo(result.to_json() if fmt is Format.json else result.table())
 
 
-_RANGE_COUNT = re.compile(r"\s*(?:lin|log):[^:]*:[^:]*:\s*([0-9]+)\s*")
-
-
 def _axis(option: str, path: str, spec: str, limit: int):
     """Parse a value specification (:func:`~reducerlab.analysis.sweep.parse_values`),
-    refusing more than ``limit`` values before any of them is generated."""
+    refusing more than ``limit`` values (a range before any of them is generated)."""
     from .analysis.sweep import parse_values
 
-    m = _RANGE_COUNT.fullmatch(spec)
-    if m and int(m.group(1)) > limit:
-        raise ReducerlabError(
-            f"{option}: {spec!r} asks for {int(m.group(1))} values; at most {limit} are allowed"
-        )
-    axis = parse_values(path, spec)
+    axis = parse_values(path, spec, limit=limit, option=option)
     if len(axis.values) > limit:
         raise ReducerlabError(f"{option}: {len(axis.values)} values; at most {limit} are allowed")
     return axis

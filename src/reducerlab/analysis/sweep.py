@@ -123,12 +123,16 @@ def _check_range(path: str, start: Any, stop: Any, num: Any) -> None:
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 
 
-def parse_values(path: str, spec: str) -> Axis:
+def parse_values(
+    path: str, spec: str, *, limit: int | None = None, option: str | None = None
+) -> Axis:
     """Parse a command-line value specification.
 
     ``"1e8,2e8,3e8"`` (a list; items may carry units: ``"2e8 N/m, 3e8 N/m"``),
     ``"lin:START:STOP:N"``, ``"log:START:STOP:N"`` (SI numbers), or
-    ``"rel:1.5,2,2.5"`` / ``"150%,200%,250%"`` (factors of the design value).
+    ``"rel:1.5,2,2.5"`` / ``"150%,200%,250%"`` (factors of the design value). With
+    ``limit``, a range of more than ``limit`` values is refused before any is made
+    (the message names ``option``, the command-line option, when given).
     """
     if not isinstance(spec, str) or not spec.strip():
         raise ReducerlabError(f"sweep {path!r}: empty value specification")
@@ -149,6 +153,11 @@ def parse_values(path: str, spec: str) -> Axis:
                 f"sweep {path!r}: {spec!r}: N = {n.strip()!r} must be a whole number of "
                 "points, e.g. 101"
             ) from None
+        if limit is not None and n_ > limit:
+            raise ReducerlabError(
+                f"{option or f'sweep {path!r}'}: {spec!r} asks for {n_} values; at most "
+                f"{limit} are allowed"
+            )
         return Axis.linspace(path, a_, b_, n_) if kind == "lin" else Axis.logspace(path, a_, b_, n_)
     if s.startswith(("lin:", "log:")):
         raise ReducerlabError(f"sweep {path!r}: {spec!r}: write lin:START:STOP:N or log:...")

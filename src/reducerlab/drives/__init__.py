@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..design import Design, read_toml, validate_design
-from ..errors import DesignError, ReducerlabError
+from ..errors import DesignError, names_source
 from ..kinematics import DriveKinematics
 from ..model import Model
 from . import cycloid_ball, gear_pair, khv, kinematic, lumped, nutation
@@ -113,17 +113,7 @@ def has_model(design: Design) -> bool:
     return _entry(design).build is not None
 
 
-def _from_source(design: Design, exc: ReducerlabError) -> DesignError:
-    """``exc`` with the design's file named in front, as every design error does
-    (``FILE: field: rule``): builders check rules between fields that the schema cannot
-    see, and know the fields but not the file."""
-    source = design.source
-    text = str(exc)
-    if source in text:
-        return exc
-    return DesignError(f"{source}: {text}")
-
-
+@names_source
 def build_model(design: Design) -> Model:
     """Turn a validated design into its generic :class:`~reducerlab.model.Model`.
 
@@ -139,12 +129,10 @@ def build_model(design: Design) -> Model:
             f"{design.source}: design type {design.type!r} describes kinematics only and "
             "has no dynamic model; use 'reducerlab kinematics'"
         )
-    try:
-        return build(design)
-    except ReducerlabError as exc:
-        raise _from_source(design, exc) from None
+    return build(design)
 
 
+@names_source
 def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
     """The drive kinematics of a design and its input speed (rad/s).
 
@@ -165,7 +153,4 @@ def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
             f"{design.source}: input_speed = 0: member speeds and mesh frequencies need a "
             "non-zero input speed (e.g. input_speed = '1500 rpm')"
         )
-    try:
-        return method(), speed
-    except ReducerlabError as exc:
-        raise _from_source(design, exc) from None
+    return method(), speed
