@@ -11,7 +11,6 @@ line per problem: ``FILE: field.path = VALUE: rule``.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import stat
 import tomllib
@@ -32,6 +31,7 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from .errors import DesignError
+from .io import digest
 from .units import QUANTITIES, parse_quantity, shown
 
 __all__ = [
@@ -199,7 +199,7 @@ class Design(Spec):
     @property
     def hash(self) -> str:
         """SHA-256 of the design's SI content (hex, 16 characters)."""
-        return _digest(self.model_dump_json())
+        return digest(self.model_dump_json())
 
     @property
     def provenance(self) -> dict[str, str]:
@@ -207,14 +207,10 @@ class Design(Spec):
         models and results built from this design carry (one JSON dump serves both; the
         source, when known, lets an analysis's error name the file)."""
         text = self.model_dump_json()
-        out = {"design": text, "design_hash": _digest(text)}
+        out = {"design": text, "design_hash": digest(text)}
         if self._source != "<design>":
             out["source"] = self._source
         return out
-
-
-def _digest(text: str) -> str:
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 D = TypeVar("D", bound=BaseModel)

@@ -36,11 +36,14 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from . import __version__
 from .errors import ReducerlabError
 
 __all__ = [
     "OutputSet",
     "atomic_path",
+    "base_stamp",
+    "digest",
     "png_metadata",
     "prepare_output_dir",
     "prepare_output_file",
@@ -208,22 +211,32 @@ def stamp(attrs: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def digest(text: str) -> str:
+    """SHA-256 of ``text`` (hex, 16 characters): the hash of a design's JSON."""
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def base_stamp() -> dict[str, str]:
+    """``{"reducerlab_version", "created"}``: the stamp of every file written (results,
+    figures, run manifests), created now (UTC, to the second)."""
+    return {
+        "reducerlab_version": __version__,
+        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+    }
+
+
 def png_metadata(attrs: dict[str, Any]) -> dict[str, str]:
     """The provenance of a figure as PNG text chunks (``Software``, ``reducerlab_version``,
     ``created``, ``design_hash``, ``design``), from a result's attributes or a design's
     provenance; read back with e.g. ``PIL.Image.open(path).text``."""
-    from . import __version__
-
     out = {"Software": f"reducerlab {__version__}"}
     for key in (*PROVENANCE_KEYS, "design"):
         value = attrs.get(key)
         if isinstance(value, str) and value:
             out[key] = value
     if "design" in out and "design_hash" not in out:
-        out["design_hash"] = hashlib.sha256(out["design"].encode()).hexdigest()[:16]
-    out.setdefault("reducerlab_version", __version__)
-    out.setdefault("created", _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"))
-    return out
+        out["design_hash"] = digest(out["design"])
+    return {**base_stamp(), **out}
 
 
 class OutputSet:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import datetime as _dt
 import importlib
 import json
 from pathlib import Path
@@ -10,9 +9,8 @@ from typing import Any, ClassVar, TypeVar
 
 import xarray as xr
 
-from . import __version__
 from .errors import ReducerlabError
-from .io import atomic_path, stamp
+from .io import atomic_path, base_stamp, stamp
 
 __all__ = ["Result", "provenance"]
 
@@ -22,10 +20,7 @@ R = TypeVar("R", bound="Result")
 def provenance(metadata: dict[str, Any] | None = None) -> dict[str, str]:
     """Attributes recorded in every result: package version, time, design and its hash."""
     meta = dict(metadata or {})
-    attrs = {
-        "reducerlab_version": __version__,
-        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-    }
+    attrs = base_stamp()
     design = meta.pop("design", None)
     if design is not None:
         attrs["design"] = design if isinstance(design, str) else json.dumps(design)

@@ -12,7 +12,6 @@ failure into a :class:`~reducerlab.errors.ReducerlabError` naming the file and t
 
 from __future__ import annotations
 
-import datetime as _dt
 import hashlib
 import json
 import os
@@ -23,9 +22,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .. import __version__
 from ..errors import ReducerlabError
-from ..io import atomic_path
+from ..io import atomic_path, base_stamp
 
 __all__ = [
     "chunk_path",
@@ -103,11 +101,7 @@ def open_run(folder: Path, manifest: str, spec: dict[str, Any], what: str) -> st
         if old is None:
             # the stamp (version, creation time, design hash) sits beside the key, not
             # in it: a later version resumes a run when the specification is the same
-            stamp = {
-                "reducerlab_version": __version__,
-                "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-                "design_hash": spec.get("design"),
-            }
+            stamp = {**base_stamp(), "design_hash": spec.get("design")}
             text = json.dumps({"key": key, **stamp, **spec}, indent=1)
             with atomic_path(path) as tmp:
                 tmp.write_text(text, encoding="utf-8")
