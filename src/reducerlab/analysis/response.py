@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from ..errors import DivergenceError, ModelError, ReducerlabError
 from ..model import Model, NonlinearSystem
-from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_period
+from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_peak, flat_period
 from ..model.system import describe_dofs
 from .modal import element_blocks
 
@@ -148,17 +148,6 @@ def _mass_problem(s: NonlinearSystem, exc: Exception | None = None) -> str:
     )
 
 
-def _law_peak(kind: int, p: NDArray[np.float64]) -> float:
-    """An upper bound of ``|law(t)|`` over all times."""
-    if kind == LAW_FOURIER:
-        n = int(p[2])
-        return float(abs(p[0]) + np.abs(p[3 : 3 + n]).sum())
-    if kind == LAW_PIECEWISE:
-        n, m = int(p[2]), int(p[3])
-        return float(np.abs(p[4 + n : 4 + n + n * m]).reshape(n, m).sum(axis=1).max())
-    return float(abs(p[0]))
-
-
 #: Default state bound of :func:`ensemble`: a state component beyond ``BOUND_FACTOR``
 #: times the displacement scale of its member (see :func:`state_bounds`) stops the run.
 BOUND_FACTOR = 1e6
@@ -194,7 +183,7 @@ def state_bounds(
     B = np.stack([s.load_matrix for s in systems])
     out = np.full((E, 2 * n), math.inf)
     for e, s in enumerate(systems):
-        f_peak = np.array([_law_peak(int(k), p) for k, p in zip(s.f_kind, s.f_params,
+        f_peak = np.array([flat_peak(int(k), p) for k, p in zip(s.f_kind, s.f_params,
                                                                   strict=True)])  # fmt: skip
         d = 0.0
         if f_peak.size and np.any(f_peak):
@@ -205,7 +194,7 @@ def state_bounds(
         for m in range(s.G.shape[0]):
             g = float(np.abs(s.G[m]).max())
             if g > 0:
-                clear = s.half_backlash[m] + _law_peak(int(s.e_kind[m]), s.e_params[m])
+                clear = s.half_backlash[m] + flat_peak(int(s.e_kind[m]), s.e_params[m])
                 d = max(d, float(clear) / g)
         if not (d > 0 and math.isfinite(d)):
             continue
@@ -221,6 +210,13 @@ def state_bounds(
 #: Relative size of ``phi^T K phi`` against ``|phi|^T |K| |phi|`` below which a negative
 #: eigenvalue is round-off of a rigid-body mode, not a divergent mode.
 STRAIN_TOL = 1e-9
+
+
+def _member(labels: Sequence[str] | None, e: int, count: int) -> str:
+    """`` for LABEL`` naming member ``e`` in a message (its label, else its index when
+    there are several members, else nothing)."""
+    label = labels[e] if labels is not None else (f"member {e}" if count > 1 else "")
+    return f" for {label}" if label else ""
 
 
 def check_stability(
@@ -267,8 +263,7 @@ def check_stability(
     e = int(bad[0])
     j = int(np.argmin(np.where(divergent[e], lam[e], np.inf)))
     s = systems[e]
-    label = labels[e] if labels is not None else (f"member {e}" if len(systems) > 1 else "")
-    where = f" for {label}" if label else ""
+    where = _member(labels, e, len(systems))
     rate = math.sqrt(-float(lam[e, j]))
     dofs = describe_dofs(s.dominant_dofs(phi[e, :, j]))
     raise DivergenceError(
@@ -618,8 +613,7 @@ def _raise_diverged(
         part = np.eye(n)[i % n]  # the coordinate that failed
     dofs = describe_dofs(s.dominant_dofs(part))
     kind = "displacement" if i < n else "velocity"
-    label = labels[e] if labels is not None else (f"member {e}" if len(systems) > 1 else "")
-    where = f" for {label}" if label else ""
+    where = _member(labels, e, len(systems))
     bound = float(bounds[e, i])
     why = (
         f"left its bound ({bound:.3g} in the system's coordinates, see "

@@ -31,6 +31,7 @@ __all__ = [
     "dead_zone",
     "evaluate_flat",
     "flat_mean",
+    "flat_peak",
     "flat_period",
 ]
 
@@ -386,6 +387,19 @@ def flat_mean(kind: int, params: NDArray[np.float64]) -> float:
         q = np.arange(1, deg + 1)
         return float(np.sum(c * (edges[1:, None] ** q - edges[:-1, None] ** q) / q))
     return float(params[0])
+
+
+def flat_peak(kind: int, params: NDArray[np.float64]) -> float:
+    """An upper bound of ``|law(t)|`` over all times of a flat law (its unit): the mean
+    plus the harmonic amplitudes of a Fourier law, the largest sum of coefficient
+    magnitudes of a piecewise polynomial (``|c(s)| <= sum |c_q|`` for ``s`` in [0, 1])."""
+    if kind == LAW_FOURIER:
+        n = int(params[2])
+        return float(abs(params[0]) + np.abs(params[3 : 3 + n]).sum())
+    if kind == LAW_PIECEWISE:
+        n, m = int(params[2]), int(params[3])
+        return float(np.abs(params[4 + n : 4 + n + n * m]).reshape(n, m).sum(axis=1).max())
+    return float(abs(params[0]))
 
 
 def dead_zone(delta: ArrayLike, half_width: float) -> NDArray[np.float64]:
