@@ -221,17 +221,18 @@ def _member(labels: Sequence[str] | None, e: int, count: int) -> str:
 
 def check_stability(
     systems: Sequence[NonlinearSystem], labels: Sequence[str] | None = None
-) -> None:
+) -> NDArray[np.float64]:
     """Raise :class:`DivergenceError` when the linear part of a member has a divergent
     mode: a negative eigenvalue of ``K_mean phi = lambda M phi`` (mean mesh stiffness)
     whose strain energy is not round-off (``|phi^T K phi| > 1e-9 |phi|^T |K| |phi|``,
     robust to rigid-body modes) and that no hardening cubic line confines
     (``sum_m k3_m (G_m phi)^4 > 0``, the double well of a Duffing oscillator). The message
     names the member, the eigenvalue and the physical DOFs that dominate the mode.
-    Members are checked together (batched Cholesky and ``eigh``).
+    Members are checked together (batched Cholesky and ``eigh``). Returns the largest
+    eigenvalue of each member (rad^2/s^2), from which the step is chosen.
     """
     if not systems:
-        return
+        return np.empty(0)
     K = np.stack([s.mean_stiffness for s in systems])
     M = np.stack([s.M for s in systems])
     try:
@@ -246,7 +247,7 @@ def check_stability(
     A = np.linalg.solve(Lc, np.swapaxes(np.linalg.solve(Lc, K), 1, 2))
     lam, Y = np.linalg.eigh(0.5 * (A + np.swapaxes(A, 1, 2)))
     if not np.any(lam < 0):
-        return
+        return lam[:, -1]
     phi = np.linalg.solve(np.swapaxes(Lc, 1, 2), Y)
     num = np.einsum("eim,eij,ejm->em", phi, K, phi)
     den = np.einsum("eim,eij,ejm->em", np.abs(phi), np.abs(K), np.abs(phi))
@@ -259,7 +260,7 @@ def check_stability(
     divergent = (lam < 0) & (np.abs(num) > STRAIN_TOL * den) & ~(quartic > 1e-9 * quartic_abs)
     bad = np.nonzero(divergent.any(axis=1))[0]
     if not bad.size:
-        return
+        return lam[:, -1]
     e = int(bad[0])
     j = int(np.argmin(np.where(divergent[e], lam[e], np.inf)))
     s = systems[e]
@@ -362,7 +363,7 @@ def _prepare(
     """Check an ensemble (structure, linear stability: :func:`check_stability`) and
     stack its arrays for the kernel (member axis first)."""
     _check_structure(systems)
-    check_stability(systems, labels)
+    lam_max = check_stability(systems, labels)
     if period is not None and not (isinstance(period, int | float) and period > 0):
         raise ReducerlabError(f"period must be > 0 s, got {period!r}")
     from .kernel import step_grid
@@ -370,7 +371,7 @@ def _prepare(
     E = len(systems)
     T = np.array([period if period is not None else forcing_period(s) for s in systems])
     Minv = np.linalg.inv(np.stack([s.M for s in systems]))  # M is positive definite (above)
-    N = steps_per_period or _steps_batch(systems, T)
+    N = steps_per_period or _steps_batch(systems, T, lam_max=lam_max)
     if not (isinstance(N, int) and N >= 4):
         raise ReducerlabError(f"steps_per_period must be an integer >= 4, got {N!r}")
     if steps_per_period is None and N > MAX_STEPS:
@@ -435,12 +436,21 @@ def _too_many_steps(systems: Sequence[NonlinearSystem], T: NDArray, N: int) -> s
     )
 
 
-def _steps_batch(systems: Sequence[NonlinearSystem], T: NDArray, accuracy: float = 0.25) -> int:
-    """:func:`steps_for` of every member at once (batched eigenvalues), the largest."""
-    K = np.stack([s.mean_stiffness for s in systems])
-    Lc = np.linalg.cholesky(np.stack([s.M for s in systems]))
-    A = np.linalg.solve(Lc, np.swapaxes(np.linalg.solve(Lc, K), 1, 2))
-    lam = np.linalg.eigvalsh(0.5 * (A + np.swapaxes(A, 1, 2))).max(axis=1)
+def _steps_batch(
+    systems: Sequence[NonlinearSystem],
+    T: NDArray,
+    accuracy: float = 0.25,
+    lam_max: NDArray[np.float64] | None = None,
+) -> int:
+    """:func:`steps_for` of every member at once (batched eigenvalues), the largest;
+    ``lam_max``: the members' largest eigenvalues when already known
+    (:func:`check_stability` returns them)."""
+    lam = lam_max
+    if lam is None:
+        K = np.stack([s.mean_stiffness for s in systems])
+        Lc = np.linalg.cholesky(np.stack([s.M for s in systems]))
+        A = np.linalg.solve(Lc, np.swapaxes(np.linalg.solve(Lc, K), 1, 2))
+        lam = np.linalg.eigvalsh(0.5 * (A + np.swapaxes(A, 1, 2))).max(axis=1)
     w = np.sqrt(np.maximum(lam, 0.0))
     return max(32, int(np.ceil(np.max(np.asarray(T) * w) / accuracy)))
 
