@@ -327,6 +327,7 @@ def test_response_takes_the_forcing_period(tmp_path):
 
 # ------------------------------------------------------------------ stamps and reload
 def _result_classes() -> dict[str, type[Result]]:
+    import reducerlab.analysis.body_modal
     import reducerlab.analysis.campbell
     import reducerlab.analysis.kinematics
     import reducerlab.analysis.modal

@@ -40,6 +40,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "bifurcation": "reducerlab.analysis.nonlinear",
     "response": "reducerlab.analysis.nonlinear",
     "kinematics": "reducerlab.analysis.kinematics",
+    "body-modal": "reducerlab.analysis.body_modal",
 }
 
 

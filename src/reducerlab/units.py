@@ -101,6 +101,8 @@ class QuantityKind:
 #: frequency                 1e-9 .. 1e9     Hz
 #: time                      1e-12 .. 1e9    1 ps .. 30 years
 #: dimensionless             1e-12 .. 1e12
+#: pressure                  1e-3 .. 1e13    Pa: moduli up to 10 TPa (diamond is 1.2 TPa)
+#: density                   1e-3 .. 1e6     kg/m^3: gases .. 50x osmium
 #: ========================  ==============  ==============================================
 #:
 #: With these bounds ``k / m <= 1e27 s^-2``, ``J omega^2 <= 1e23 N m`` and
@@ -122,6 +124,8 @@ QUANTITIES: dict[str, QuantityKind] = {
         QuantityKind("frequency", "Hz", "7880 Hz", 1e-9, 1e9),
         QuantityKind("time", "s", "2 ms", 1e-12, 1e9),
         QuantityKind("dimensionless", "", "0.5", 1e-12, 1e12),
+        QuantityKind("pressure", "Pa", "206 GPa", 1e-3, 1e13),
+        QuantityKind("density", "kg/m**3", "7850 kg/m^3", 1e-3, 1e6),
     )
 }
 

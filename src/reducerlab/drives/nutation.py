@@ -75,6 +75,48 @@ def contact_normal(delta: float, beta: float, alpha_n: float, nutation: float = 
     return (x * c + z * s, math.cos(beta) * math.cos(alpha_n), -x * s + z * c)
 
 
+class BlankSpec(Spec):
+    """Blank features of one gear for its finite-element body (``[gearN.blank]``).
+
+    Paper 000 does not give its blanks; ``docs/assumptions.md`` records the defaults.
+
+    Attributes
+    ----------
+    rim : float, optional
+        Rim thickness beyond the root cone (m); default ``surface.rim`` or ``2 m_n``.
+    bore : float, optional
+        Bore diameter (m). Without it the body is the rim ring alone (no web).
+    web : float, optional
+        Web thickness along the axis (m); default ``1.5 rim``.
+    hub : float, optional
+        Hub outer diameter (m); default ``1.6 bore``.
+    hub_length : float, optional
+        Hub length along the axis (m); default ``max(2 web, face_width)``.
+    """
+
+    rim: Length | None = None
+    bore: Length | None = None
+    web: Length | None = None
+    hub: Length | None = None
+    hub_length: Length | None = None
+
+    @model_validator(mode="after")
+    def _needs_bore(self) -> BlankSpec:
+        given = [n for n in ("web", "hub", "hub_length") if getattr(self, n) is not None]
+        if given and self.bore is None:
+            raise field_rules((given[0], "a web or hub needs a bore: give bore too"))
+        return self
+
+
+class MaterialSpec(Spec):
+    """Isotropic linear elastic material of the gear bodies (``[material]``); default
+    paper 000 §4's structural steel (E = 206 GPa, nu = 0.29, rho = 7850 kg/m^3)."""
+
+    youngs_modulus: quantity("pressure", gt=0) = 206e9  # type: ignore[valid-type]
+    poisson_ratio: float = Field(0.29, gt=-1.0, lt=0.5)
+    density: quantity("density", gt=0) = 7850.0  # type: ignore[valid-type]
+
+
 class Bevel(Spec):
     """One spiral bevel gear (paper 000 Table 1)."""
 
@@ -84,6 +126,7 @@ class Bevel(Spec):
     J_y: MomentOfInertia
     J_z: MomentOfInertia
     mean_radius: Length
+    blank: BlankSpec | None = None
 
 
 class Support3(Spec):
@@ -179,6 +222,7 @@ class NutationDesign(Design):
     mesh1: MeshSpec
     mesh2: MeshSpec | None = None
     surface: SurfaceSpec | None = None
+    material: MaterialSpec = Field(default_factory=MaterialSpec)
 
     @model_validator(mode="after")
     def _geometry(self) -> NutationDesign:

@@ -1,0 +1,378 @@
+"""Finite-element modes of the gear bodies of a nutation design (paper 000 §4, Table 4).
+
+``body_modal(design, gear)`` meshes the gear generated from the design's ``[surface]``
+table (:func:`reducerlab.fe.gear_mesh.mesh_gear`, blank from ``[gearN.blank]``),
+assembles quadratic tetrahedra of the design's ``[material]`` and solves for the first
+elastic modes, free-free (rigid modes removed) or with the bore or the mounting face
+fixed. Each mode is named by :mod:`reducerlab.fe.modetypes`. With ``convergence`` the
+same gear is also solved on a mesh 1.5 times coarser and every mode states its
+frequency change from that mesh to the result's: an upper estimate of the result's own
+discretisation error (the error falls with the element size).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError, names_source
+from ..results import Result, provenance
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ..fe.gear_mesh import GearBodyMesh
+
+__all__ = ["BOUNDARIES", "BodyModalResult", "body_modal", "gear_blank"]
+
+#: Boundary conditions of the gear body.
+BOUNDARIES = ("free", "bore", "face")
+Boundary = Literal["free", "bore", "face"]
+#: Coarsening of the mesh the convergence estimate compares with.
+COARSER = 1.5
+Stage = Callable[[str], None]
+
+
+class BodyModalResult(Result):
+    """Natural frequencies (Hz) and mode types of one gear body.
+
+    ``data`` has dimension ``mode`` (1..count) with ``frequency`` (Hz), ``type``
+    (paper 000's names), ``nodal_diameters``, ``nodal_circles``, the ``axial``,
+    ``radial`` and ``tangential`` shares of the modal displacement, ``family`` (repeated
+    roots share one), ``coarse_frequency`` and ``change`` (relative change from the
+    coarser mesh, NaN without the convergence run). ``mesh`` and ``shapes`` (the mode
+    shapes at the mesh points, (n, 3, modes), m per unit modal mass) are kept in memory
+    for renders and VTU export; they are not written to the netCDF file.
+    """
+
+    kind: ClassVar[str] = "body-modal"
+
+    def __init__(
+        self, data: xr.Dataset, mesh: GearBodyMesh | None = None, shapes: Any = None
+    ) -> None:
+        super().__init__(data)
+        self.mesh = mesh
+        self.shapes = shapes
+
+    @property
+    def frequencies(self) -> NDArray[np.float64]:
+        """Natural frequencies (Hz), ascending."""
+        return np.asarray(self.data["frequency"].values, dtype=float)
+
+    @property
+    def types(self) -> list[str]:
+        """Mode type of each mode."""
+        return [str(t) for t in self.data["type"].values]
+
+    @property
+    def max_change(self) -> float:
+        """Largest relative frequency change from the coarser mesh (NaN without it)."""
+        ch = np.asarray(self.data["change"].values, dtype=float)
+        return float(np.max(np.abs(ch))) if np.all(np.isfinite(ch)) else math.nan
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: one row a mode, mesh and convergence attributes."""
+        ds = self.data
+        rows = []
+        for i in range(ds.sizes["mode"]):
+            row = {
+                "mode": int(ds["mode"].values[i]),
+                "frequency_hz": float(ds["frequency"].values[i]),
+                "type": str(ds["type"].values[i]),
+                "nodal_diameters": int(ds["nodal_diameters"].values[i]),
+                "nodal_circles": int(ds["nodal_circles"].values[i]),
+                "family": int(ds["family"].values[i]),
+            }
+            ch = float(ds["change"].values[i])
+            row["change_from_coarser"] = None if math.isnan(ch) else ch
+            rows.append(row)
+        keys = ("gear", "teeth", "gear_kind", "boundary", "tooth_size_mm", "body_size_mm",
+                "tetrahedra", "dofs", "mass_kg", "seconds")  # fmt: skip
+        out = {k: _plain(ds.attrs[k]) for k in keys if k in ds.attrs}
+        out["max_change_from_coarser"] = None if math.isnan(self.max_change) else self.max_change
+        out["modes"] = rows
+        return out
+
+    def table(self) -> str:
+        """Plain-text table of the modes."""
+        a = self.data.attrs
+        lines = [
+            f"Gear {a.get('gear')} body ({a.get('gear_kind')}, z = {a.get('teeth')}), "
+            f"{a.get('boundary')}: {a.get('tetrahedra')} quadratic tetrahedra, "
+            f"{a.get('dofs')} DOFs, mass {1e3 * float(a.get('mass_kg', math.nan)):.1f} g",
+            "mode  frequency (Hz)  type              n  circles  change from coarser",
+        ]
+        for r in self.to_dict()["modes"]:
+            ch = r["change_from_coarser"]
+            lines.append(
+                f"{r['mode']:>4}  {r['frequency_hz']:>14.1f}  {r['type']:<16}  "
+                f"{r['nodal_diameters']:>2}  {r['nodal_circles']:>7}  "
+                + ("-" if ch is None else f"{100 * ch:+.2f} %")
+            )
+        return "\n".join(lines)
+
+    def figure(self) -> Figure:
+        """Mode-shape renders of all modes in one figure (needs the in-memory mesh)."""
+        from ..plot.body import plot_body_modes_grid
+
+        mesh, shapes = self._shapes()
+        a = self.data.attrs
+        labels = [f"{t} (n = {n})" for t, n in zip(self.types,
+                  self.data["nodal_diameters"].values, strict=True)]  # fmt: skip
+        return plot_body_modes_grid(
+            mesh.points, mesh.tets[:, :4], shapes, self.frequencies, labels,
+            f"Gear {a.get('gear')} body modes ({a.get('boundary')})",
+        )  # fmt: skip
+
+    def _shapes(self) -> tuple[GearBodyMesh, Any]:
+        if self.mesh is None or self.shapes is None:
+            raise ReducerlabError(
+                "body modal result: the mesh and mode shapes are kept only in the session "
+                "that computed them (not in the netCDF file): run body_modal again"
+            )
+        return self.mesh, self.shapes
+
+
+def _plain(v: Any) -> Any:
+    return v.item() if hasattr(v, "item") else v
+
+
+def gear_blank(design: Any, gear: int) -> tuple[float, Any]:
+    """Rim thickness (m) and :class:`~reducerlab.fe.gear_mesh.BlankFeatures` of ``gear``
+    from the design (``[gearN.blank]``, defaults in ``docs/assumptions.md``)."""
+    from ..fe.gear_mesh import BlankFeatures
+
+    spec = getattr(design, f"gear{gear}").blank
+    crown, _ = design.tooth_generation(gear)
+    m_n = crown.profile.module
+    rim = design.surface.rim if design.surface.rim is not None else 2.0 * m_n
+    if spec is None:
+        return rim, BlankFeatures()
+    rim = spec.rim if spec.rim is not None else rim
+    if spec.bore is None:
+        return rim, BlankFeatures()
+    dflt = BlankFeatures.default(spec.bore, rim, design.surface.face_width)
+    return rim, BlankFeatures(
+        spec.bore,
+        spec.web if spec.web is not None else dflt.web,
+        spec.hub if spec.hub is not None else dflt.hub,
+        spec.hub_length if spec.hub_length is not None else dflt.hub_length,
+    )
+
+
+def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[np.int64] | None:
+    """DOFs held at zero: all DOFs on the bore or on the mounting face."""
+    if boundary == "free":
+        return None
+    scale = float(np.max(np.abs(mesh.points)))
+    tol = 1e-6 * scale
+    if boundary == "bore":
+        if mesh.bore_radius is not None:
+            rb = mesh.bore_radius
+
+            def on(x: Any) -> Any:
+                return np.abs(np.hypot(x[0], x[1]) - rb) < tol
+        else:  # the rim ring: its body cone is the seat
+            from ..geometry.solid import cone_coordinates
+
+            delta, body = mesh.gear.cone_angle, mesh.blank.body
+
+            def on(x: Any) -> Any:
+                h = cone_coordinates(np.moveaxis(x, 0, -1), delta)[1]
+                return np.abs(h - body) < tol
+    else:
+        zf = mesh.mount_z
+
+        def on(x: Any) -> Any:
+            return np.abs(x[2] - zf) < tol
+
+    dofs = basis.get_dofs(on).all()
+    if len(dofs) == 0:
+        raise ReducerlabError(
+            f"boundary {boundary!r}: no mesh nodes lie on the "
+            f"{'bore' if boundary == 'bore' else 'mounting face'}: the fixed set is empty"
+        )
+    return np.asarray(dofs, dtype=np.int64)
+
+
+def _solve(
+    mesh: GearBodyMesh, material: Any, count: int, boundary: Boundary, stage: Stage
+) -> tuple[NDArray[np.float64], NDArray[np.float64], dict[str, Any], Any]:
+    """Frequencies (Hz), shapes at the mesh points (n, 3, count), info, basis."""
+    from ..errors import ModelError
+    from ..fe import assemble, body_modes
+
+    stage(f"assembling {len(mesh.tets)} quadratic tetrahedra")
+    skm = mesh.skfem()
+    K, M, basis = assemble(skm, material, order=2)
+    fixed = _fixed_dofs(basis, mesh, boundary)
+    stage(f"solving {K.shape[0]} DOFs (shift-invert Lanczos)")
+    try:
+        modes = body_modes(K, M, count, fixed=fixed)
+    except ModelError as exc:
+        if fixed is not None:
+            raise ReducerlabError(
+                f"boundary {boundary!r}: the eigen-solution failed with this fixed set ({exc})"
+            ) from None
+        raise
+    if fixed is None and modes.rigid != 6:
+        raise ReducerlabError(
+            f"free-free gear body: found {modes.rigid} rigid-body modes instead of 6 (a "
+            "disconnected or badly shaped mesh)"
+        )
+    if fixed is not None and modes.rigid:
+        raise ReducerlabError(
+            f"boundary {boundary!r}: the fixed set leaves {modes.rigid} rigid-body "
+            "mode(s) (a singular support)"
+        )
+    # displacement at the corner nodes and at the mid-edge nodes of the mesh points
+    shapes = _at_points(basis, skm, mesh, modes.shapes)
+    info = {"dofs": int(K.shape[0]), "mass_kg": _translation_mass(basis, M)}
+    return modes.frequencies, shapes, info, basis
+
+
+def _translation_mass(basis: Any, M: Any) -> float:
+    """Mass of the body (kg): ``e^T M e`` for the unit translation along x."""
+    e = np.zeros(M.shape[0])
+    e[basis.nodal_dofs[0]] = 1.0
+    e[basis.edge_dofs[0]] = 1.0
+    return float(e @ (M @ e))
+
+
+def _at_points(basis: Any, skm: Any, mesh: GearBodyMesh, shapes: Any) -> NDArray[np.float64]:
+    """Mode shapes (n_points, 3, modes) at ``mesh.points`` from the P2 DOFs.
+
+    scikit-fem numbers the tetrahedra's corners first, in ascending order of their
+    index in ``mesh.points``, and the mid-edge nodes by its own edge list
+    (``skm.edges``); each mid-edge node of ``mesh.tets`` is matched to its edge by the
+    edge's two corners.
+    """
+    n = len(mesh.points)
+    out = np.zeros((n, 3, shapes.shape[1]))
+    corners = np.unique(mesh.tets[:, :4])
+    for c in range(3):
+        out[corners, c] = shapes[basis.nodal_dofs[c]]
+    local = np.searchsorted(corners, mesh.tets[:, :4])  # scikit-fem vertex numbers
+    pairs = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))  # VTK order of columns 4..9
+    a = np.concatenate([local[:, i] for i, _ in pairs])
+    b = np.concatenate([local[:, j] for _, j in pairs])
+    node = np.concatenate([mesh.tets[:, 4 + k] for k in range(6)])
+    nv = len(corners)
+    key = np.minimum(a, b) * nv + np.maximum(a, b)
+    e = np.sort(skm.edges, axis=0)
+    ekey = e[0] * nv + e[1]
+    order = np.argsort(ekey)
+    pos = np.searchsorted(ekey[order], key)
+    if np.any(pos >= len(ekey)) or np.any(ekey[order][np.minimum(pos, len(ekey) - 1)] != key):
+        raise ReducerlabError("body modal: an edge of the mesh is missing from the FE basis")
+    edge = order[pos]
+    for c in range(3):
+        out[node, c] = shapes[basis.edge_dofs[c][edge]]
+    return out
+
+
+@names_source
+def body_modal(
+    design: Any,
+    gear: int,
+    *,
+    count: int = 10,
+    boundary: Boundary = "free",
+    sizes: Any = None,
+    convergence: bool = True,
+    stage: Stage | None = None,
+) -> BodyModalResult:
+    """Natural frequencies and mode types of gear ``gear`` of a nutation design.
+
+    Parameters
+    ----------
+    design : NutationDesign
+        With a ``[surface]`` table.
+    gear : int
+        1..4 (double-sided) or 1..2.
+    count : int
+        Elastic modes (1..50); paper 000 gives ten.
+    boundary : {"free", "bore", "face"}
+        Free-free (six rigid modes found and removed), the bore fixed (the rim ring's
+        seat without a bore) or the mounting face fixed.
+    sizes : MeshSizes, optional
+        Default :meth:`~reducerlab.fe.gear_mesh.MeshSizes.default`.
+    convergence : bool
+        Also solve on a mesh ``1.5`` times coarser and state the change per mode.
+    stage : callable, optional
+        ``stage(description)`` at each stage (progress display).
+    """
+    from ..fe import Material
+    from ..fe.gear_mesh import MeshSizes, mesh_gear
+    from ..fe.modetypes import classify_modes
+
+    if getattr(design, "surface", "missing") == "missing":
+        raise ReducerlabError(
+            f"body modal: type = {getattr(design, 'type', '?')!r}: gear bodies need a nutation "
+            "design with a [surface] table"
+        )
+    if design.surface is None:
+        raise ReducerlabError(
+            "body modal: the design has no [surface] table (profile, face_width): the gear "
+            "solid cannot be generated; see examples/nutation_double_sided.toml"
+        )
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 50:
+        raise ReducerlabError(f"count: must be an integer in [1, 50], got {count!r}")
+    if boundary not in BOUNDARIES:
+        raise ReducerlabError(f"boundary: must be one of {BOUNDARIES}, got {boundary!r}")
+    n_gears = 4 if design.sides == "double" else 2
+    if isinstance(gear, bool) or gear not in range(1, n_gears + 1):
+        raise ReducerlabError(
+            f"gear: must be 1..{n_gears} for a {design.sides}-sided drive, got {gear!r}"
+        )
+    say = stage or (lambda _s: None)
+    t0 = time.perf_counter()
+    crown, bevel = design.tooth_generation(gear)
+    rim, features = gear_blank(design, gear)
+    mat = design.material
+    material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
+    sizes = MeshSizes.default(crown.profile.module) if sizes is None else sizes
+    coarse_f = np.full(count, math.nan)
+    if convergence:
+        say("coarser mesh (convergence check)")
+        coarse = mesh_gear(crown, bevel, rim=rim, features=features,
+                           sizes=sizes.refined(COARSER), stage=say)  # fmt: skip
+        coarse_f = _solve(coarse, material, count, boundary, say)[0]
+    mesh = mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say)
+    freq, shapes, info, _ = _solve(mesh, material, count, boundary, say)
+    say("classifying the modes")
+    types = classify_modes(mesh.points, shapes, freq)
+    change = freq / coarse_f - 1.0 if convergence else coarse_f
+    shares = {k: np.array([t.shares[k] for t in types]) for k in ("axial", "radial", "tangential")}
+    ds = xr.Dataset(
+        {
+            "frequency": ("mode", freq, {"units": "Hz"}),
+            "type": ("mode", np.array([t.name for t in types], dtype=object)),
+            "nodal_diameters": ("mode", np.array([t.nodal_diameters for t in types])),
+            "nodal_circles": ("mode", np.array([t.nodal_circles for t in types])),
+            "family": ("mode", np.array([t.family for t in types])),
+            "axial": ("mode", shares["axial"]),
+            "radial": ("mode", shares["radial"]),
+            "tangential": ("mode", shares["tangential"]),
+            "coarse_frequency": ("mode", coarse_f, {"units": "Hz"}),
+            "change": ("mode", change),
+        },
+        coords={"mode": np.arange(1, len(freq) + 1)},
+        attrs={"title": f"Gear {gear} body modes", **provenance(design.provenance)},
+    )
+    ds.attrs.update(
+        gear=int(gear), teeth=int(bevel.teeth), gear_kind=bevel.kind, boundary=boundary,
+        tooth_size_mm=sizes.tooth * 1e3, body_size_mm=sizes.body * 1e3,
+        tetrahedra=len(mesh.tets), dofs=info["dofs"], mass_kg=info["mass_kg"],
+        seconds=time.perf_counter() - t0,
+        material=f"E = {mat.youngs_modulus:.6g} Pa, nu = {mat.poisson_ratio:.4g}, "
+        f"rho = {mat.density:.6g} kg/m^3",
+        blank=repr(features), rim_m=rim,
+    )  # fmt: skip
+    return BodyModalResult(ds, mesh, shapes)

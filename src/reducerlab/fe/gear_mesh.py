@@ -1,0 +1,537 @@
+"""Quality tetrahedral meshes of generated bevel gears (issue 14, paper 000 §4).
+
+The gear is rebuilt as an OpenCASCADE solid inside gmsh and meshed by gmsh's
+tetrahedral mesher; nothing is tessellated by hand:
+
+1. **Tooth space.** One tooth space is a loft (``addThruSections``) through closed
+   wires on the transverse sections ``L = const``: flank ``B`` of tooth 0 (tip to root),
+   the space bottom, flank ``A`` of tooth 1 (root to tip), each an interpolating spline
+   through the enveloped points of :func:`~reducerlab.geometry.solid.build_gear_solid`,
+   closed above the face cone. The sections reach ``ext`` beyond the toe and the heel
+   (the crown gear is widened by ``2 ext``) so that the cut passes cleanly through the
+   end faces.
+2. **Sector.** The blank ring (front/back cones, face cone, body cone ``rim`` beyond the
+   root, :func:`~reducerlab.geometry.solid.default_blank`) is revolved over one angular
+   pitch ``2 pi / z``; the three tooth spaces that can meet it are cut away; the blank
+   features (web, hub, bore: :class:`BlankFeatures`) are fused on.
+3. **Periodic mesh.** The two side walls of the sector are made periodic (the second is
+   the first turned by one pitch), the sector is meshed with a size field (``tooth``
+   size in the tooth band, growing to ``body`` size one tooth depth below the root), and
+   the ``z`` rotated copies are joined on their matching walls: a conforming mesh of the
+   whole gear, every tooth meshed identically.
+
+Lengths are metres at the interface (gmsh works in millimetres inside).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import math
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError
+from ..geometry.bevel_surface import BevelGear
+from ..geometry.solid import Blank, build_gear_solid, cone_coordinates, default_blank
+from ..geometry.spiral import CrownGear
+
+__all__ = [
+    "BlankFeatures",
+    "GearBodyMesh",
+    "MeshError",
+    "MeshSizes",
+    "mesh_gear",
+]
+
+Array = NDArray[np.float64]
+Stage = Callable[[str], None]
+MM = 1e3  # gmsh works in mm
+#: gmsh's 10-node tetrahedron numbers its last two edges (2-3, 1-3) the other way round
+#: from VTK/meshio/scikit-fem (1-3, 2-3).
+GMSH_TO_VTK = np.array([0, 1, 2, 3, 4, 5, 6, 7, 9, 8])
+
+
+class MeshError(ReducerlabError):
+    """The gear body cannot be meshed (unmeshable solid, mesh too coarse, ...)."""
+
+
+@dataclass(frozen=True)
+class BlankFeatures:
+    """Web, hub and bore of a gear blank (m); none of them: the rim ring alone.
+
+    Paper 000 does not give its blanks (``docs/assumptions.md``). The web is a plate
+    perpendicular to the gear axis at the heel (large) end: under the rim for an external
+    gear, behind the heel, clear of the tooth ends, for an internal gear. The hub is a
+    cylinder around the bore, centred on the web.
+
+    Attributes
+    ----------
+    bore : float or None
+        Bore diameter (m). None: no web, the rim ring is the whole body.
+    web : float
+        Web thickness along the axis (m).
+    hub : float
+        Hub outer diameter (m), > ``bore``.
+    hub_length : float
+        Hub length along the axis (m), >= ``web``.
+    """
+
+    bore: float | None = None
+    web: float = 0.0
+    hub: float = 0.0
+    hub_length: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.bore is None:
+            return
+        for name in ("bore", "web", "hub", "hub_length"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise MeshError(f"blank.{name}: must be a length > 0, got {v!r}")
+        if not self.hub > self.bore:
+            raise MeshError(
+                f"blank.hub: the hub diameter {self.hub * 1e3:.5g} mm must exceed the bore "
+                f"{self.bore * 1e3:.5g} mm"
+            )
+        if not self.hub_length >= self.web:
+            raise MeshError(
+                f"blank.hub_length: {self.hub_length * 1e3:.5g} mm must be >= the web "
+                f"thickness {self.web * 1e3:.5g} mm"
+            )
+
+    @classmethod
+    def default(cls, bore: float | None, rim: float, face_width: float) -> BlankFeatures:
+        """Web ``1.5 rim`` thick, hub ``1.6 bore`` across and ``max(2 web, b)`` long
+        (proportions of forged gear blanks; ``docs/assumptions.md``)."""
+        if bore is None:
+            return cls()
+        web = 1.5 * rim
+        return cls(bore, web, 1.6 * bore, max(2 * web, face_width))
+
+
+@dataclass(frozen=True)
+class MeshSizes:
+    """Target element sizes (m): ``tooth`` in the tooth band, ``body`` in the blank."""
+
+    tooth: float
+    body: float
+
+    def __post_init__(self) -> None:
+        for name in ("tooth", "body"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise MeshError(f"mesh size {name}: must be a length > 0, got {v!r}")
+
+    @classmethod
+    def default(cls, module: float, level: int = 0) -> MeshSizes:
+        """The default mesh, ``tooth = 0.6 m_n``, ``body = 1.5 m_n``, halved ``level``
+        times (the convergence study refines it once, ``level = 1``)."""
+        f = 0.5**level
+        return cls(0.6 * module * f, 1.5 * module * f)
+
+    def refined(self, factor: float = 0.5) -> MeshSizes:
+        """Both sizes times ``factor``."""
+        return MeshSizes(self.tooth * factor, self.body * factor)
+
+
+@dataclass(frozen=True)
+class GearBodyMesh:
+    """A conforming quadratic tetrahedral mesh of a whole gear.
+
+    Attributes
+    ----------
+    points : ndarray (n, 3)
+        Vertices (m), gear frame (apex at the origin, axis ``z``).
+    tets : ndarray (m, 10)
+        Quadratic tetrahedra (corners, then the mid-edge nodes of edges 0-1, 1-2, 0-2,
+        0-3, 1-3, 2-3: VTK/meshio order), positively oriented; the mid-edge nodes lie on
+        the curved surfaces.
+    gear : BevelGear
+    blank : Blank
+        The ring's cones (cone distances and heights, m).
+    features : BlankFeatures
+    sizes : MeshSizes
+    bore_radius : float or None
+        Radius of the bore (m) when the blank has one.
+    mount_z : float
+        Axial position (m) of the mounting face: the web's outer face, or the heel end of
+        the ring without a web.
+    sector_tets : int
+        Tetrahedra per tooth sector.
+    """
+
+    points: Array
+    tets: NDArray[np.int64]
+    gear: BevelGear
+    blank: Blank
+    features: BlankFeatures
+    sizes: MeshSizes
+    bore_radius: float | None
+    mount_z: float
+    sector_tets: int
+
+    @property
+    def volume(self) -> float:
+        """Volume of the straight-sided tetrahedra (m^3; the curved mesh holds a little
+        more)."""
+        p = self.points[self.tets[:, :4]]
+        d = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+        return float(d.sum() / 6.0)
+
+    @property
+    def corners(self) -> NDArray[np.int64]:
+        """Indices of the points that are tetrahedron corners (not mid-edge nodes)."""
+        return np.unique(self.tets[:, :4])
+
+    def skfem(self) -> Any:
+        """The mesh as a :class:`skfem.MeshTet2` (quadratic, curved geometry)."""
+        import meshio
+        from skfem.io.meshio import from_meshio
+
+        return from_meshio(meshio.Mesh(self.points, [("tetra10", self.tets)]))
+
+
+@contextlib.contextmanager
+def _gmsh_session() -> Iterator[Any]:
+    import gmsh
+
+    if gmsh.isInitialized():  # pragma: no cover - a caller's own gmsh session
+        raise MeshError("gmsh is already initialised by the caller: finalise it first")
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.Verbosity", 1)
+        yield gmsh
+    finally:
+        gmsh.finalize()
+
+
+def _rot(p: Array, a: float) -> Array:
+    c, s = math.cos(a), math.sin(a)
+    return np.stack([c * p[..., 0] - s * p[..., 1], s * p[..., 0] + c * p[..., 1], p[..., 2]], -1)
+
+
+def _rz(L: float, h: float, delta: float) -> tuple[float, float]:
+    """``(r, z)`` of cone coordinates ``(L, h)``."""
+    s, c = math.sin(delta), math.cos(delta)
+    return L * s + h * c, L * c - h * s
+
+
+def _space_wires(occ: Any, crown: CrownGear, gear: BevelGear, rim: float, ext: float) -> list:
+    """Closed wires (mm) of one tooth space on the sections of the widened gear."""
+    wide = dataclasses.replace(crown, face_width=crown.face_width + 2 * ext)
+    n_face = max(7, math.ceil(wide.face_width / crown.profile.module * 2.5) | 1)
+    solid = build_gear_solid(wide, gear, n_profile=21, n_face=n_face, n_land=2, n_space=9, rim=rim)
+    bl = default_blank(crown, gear, rim)
+    delta = gear.cone_angle
+    out_sign = 1.0 if gear.kind == "external" else -1.0
+    above = bl.face + out_sign * 0.75 * crown.profile.module
+    A, B, sp = solid.parts["A"], solid.parts["B"], solid.parts["space"]
+    wires = []
+    for j in range(solid.loop.shape[0]):
+        path = np.concatenate(
+            [solid.loop[j, B], solid.loop[j, sp], _rot(solid.loop[j, A], -solid.pitch_angle)]
+        )
+        L, _, psi = cone_coordinates(path, delta)
+        psi = np.unwrap(psi)
+        Lj = float(np.mean(L))
+        top = np.linspace(psi[-1], psi[0], 7)
+        r, z = _rz(Lj, above, delta)
+        cap = np.stack([r * np.cos(top), r * np.sin(top), np.full_like(top, z)], -1)
+        tags = [occ.addPoint(*q) for q in path * MM]
+        cap_tags = [occ.addPoint(*q) for q in cap * MM]
+        curves = [
+            occ.addSpline(tags),
+            occ.addLine(tags[-1], cap_tags[0]),
+            occ.addSpline(cap_tags),
+            occ.addLine(cap_tags[-1], tags[0]),
+        ]
+        wires.append(occ.addWire(curves))
+    return wires
+
+
+def _revolve_polygon(occ: Any, rz: list[tuple[float, float]], phi0: float, angle: float) -> list:
+    """Volume tags of a meridional polygon (m) revolved from ``phi0`` over ``angle``."""
+    c, s = math.cos(phi0), math.sin(phi0)
+    pts = [occ.addPoint(r * c * MM, r * s * MM, z * MM) for r, z in rz]
+    lines = [occ.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+    face = occ.addPlaneSurface([occ.addCurveLoop(lines)])
+    return [e for e in occ.revolve([(2, face)], 0, 0, 0, 0, 0, 1, angle) if e[0] == 3]
+
+
+def _feature_polygons(
+    gear: BevelGear, bl: Blank, f: BlankFeatures, module: float
+) -> tuple[list[list[tuple[float, float]]], float]:
+    """Meridional polygons ``(r, z)`` of the web and hub, and the mounting-face ``z``."""
+    delta = gear.cone_angle
+    s, c = math.sin(delta), math.cos(delta)
+    mid = 0.5 * (bl.root + bl.body)  # mid-rim cone: the web overlaps the rim there
+    if f.bore is None:
+        z_heel = max(_rz(bl.back, bl.body, delta)[1], _rz(bl.back, bl.face, delta)[1])
+        return [], z_heel
+    rb, rh = 0.5 * f.bore, 0.5 * f.hub
+    if gear.kind == "external":
+        z1 = _rz(bl.back, mid, delta)[1]
+        z0 = z1 - f.web
+        if z0 < _rz(bl.front, mid, delta)[1]:
+            raise MeshError(
+                f"blank.web: {f.web * 1e3:.5g} mm is thicker than the rim reaches along the axis"
+            )
+
+        def r_mid(z: float) -> float:  # r on the mid-rim cone at height z
+            return (mid + z * s) / c
+
+        r_in = _rz(bl.back, bl.body, delta)[0]
+        if not rh < min(r_mid(z0), r_in) - 0.5 * module:
+            raise MeshError(
+                f"blank.hub: {f.hub * 1e3:.5g} mm across does not fit inside the rim "
+                f"(inner diameter {2 * r_in * 1e3:.5g} mm)"
+            )
+        web = [(rb, z0), (r_mid(z0), z0), (r_mid(z1), z1), (rb, z1)]
+        zc = z0
+    else:
+        A = _rz(bl.back, bl.root, delta)
+        B = _rz(bl.back, bl.body, delta)
+        z_tip = _rz(bl.back, bl.face, delta)[1]
+        z0 = z_tip + 0.5 * module  # clear of the teeth's heel ends
+        z1 = z0 + f.web
+        r_tip = _rz(bl.back, bl.face, delta)[0]
+        if not rh < r_tip - 0.5 * module:
+            raise MeshError(
+                f"blank.hub: {f.hub * 1e3:.5g} mm across does not fit inside the teeth "
+                f"(tip diameter {2 * r_tip * 1e3:.5g} mm at the heel)"
+            )
+        a_in = _rz(bl.back - 0.5 * module, bl.root, delta)
+        b_in = _rz(bl.back - 0.5 * module, bl.body, delta)
+        web = [a_in, b_in, (B[0], z1), (rb, z1), (rb, z0), (A[0], z0)]
+        zc = z1
+    z_mid = 0.5 * (web[0][1] + zc) if gear.kind == "external" else 0.5 * (z0 + z1)
+    hub = [
+        (rb, z_mid - 0.5 * f.hub_length),
+        (rh, z_mid - 0.5 * f.hub_length),
+        (rh, z_mid + 0.5 * f.hub_length),
+        (rb, z_mid + 0.5 * f.hub_length),
+    ]
+    mount = (
+        (z_mid + 0.5 * f.hub_length) if gear.kind == "internal" else (z_mid - 0.5 * f.hub_length)
+    )
+    return [web, hub], mount
+
+
+def _side_surfaces(gmsh: Any, phi: float, tol: float) -> list[int]:
+    """Boundary surfaces of the model lying in the half-plane at azimuth ``phi``."""
+    n = np.array([-math.sin(phi), math.cos(phi), 0.0])
+    e = np.array([math.cos(phi), math.sin(phi), 0.0])
+    out = []
+    for _, tag in gmsh.model.getEntities(2):
+        cm = np.array(gmsh.model.occ.getCenterOfMass(2, tag))
+        if abs(cm @ n) < tol and cm @ e > 0:
+            # and its points all lie on it (sample the parametric domain)
+            b = gmsh.model.getParametrizationBounds(2, tag)
+            uv = np.array([[u, v] for u in np.linspace(b[0][0], b[1][0], 4)
+                           for v in np.linspace(b[0][1], b[1][1], 4)]).ravel()  # fmt: skip
+            xyz = np.asarray(gmsh.model.getValue(2, tag, uv)).reshape(-1, 3)
+            if np.all(np.abs(xyz @ n) < tol):
+                out.append(tag)
+    return out
+
+
+def mesh_gear(
+    crown: CrownGear,
+    gear: BevelGear,
+    *,
+    rim: float | None = None,
+    features: BlankFeatures | None = None,
+    sizes: MeshSizes | None = None,
+    stage: Stage | None = None,
+    threads: int = 2,
+) -> GearBodyMesh:
+    """Tetrahedral mesh of the whole gear generated by ``crown`` (module docstring).
+
+    Parameters
+    ----------
+    crown, gear :
+        From :meth:`NutationDesign.tooth_generation`.
+    rim : float, optional
+        Rim thickness beyond the root cone (m); default ``2 m_n``.
+    features : BlankFeatures, optional
+        Web, hub and bore; default none (the rim ring).
+    sizes : MeshSizes, optional
+        Element sizes; default :meth:`MeshSizes.default`.
+    stage : callable, optional
+        ``stage(description)`` when a stage starts (progress display).
+    threads : int
+        gmsh threads.
+
+    Raises
+    ------
+    MeshError
+        A mesh too coarse to resolve a tooth, a blank feature that does not fit, or a
+        solid the CAD kernel or the mesher cannot build.
+    """
+    m_n = crown.profile.module
+    rim = 2.0 * m_n if rim is None else float(rim)
+    features = BlankFeatures() if features is None else features
+    sizes = MeshSizes.default(m_n) if sizes is None else sizes
+    bl = default_blank(crown, gear, rim)
+    depth = abs(bl.face - bl.root)
+    if sizes.tooth > 0.5 * depth:
+        raise MeshError(
+            f"mesh size: the tooth size {sizes.tooth * 1e3:.4g} mm does not resolve a tooth "
+            f"{depth * 1e3:.4g} mm deep: it must be at most half the tooth depth"
+        )
+    if sizes.body < sizes.tooth:
+        raise MeshError(
+            f"mesh size: the body size {sizes.body * 1e3:.4g} mm must be >= the tooth size "
+            f"{sizes.tooth * 1e3:.4g} mm"
+        )
+    z = gear.teeth
+    pitch = 2 * math.pi / z
+    delta = gear.cone_angle
+    say = stage or (lambda _s: None)
+    polys, mount_z = _feature_polygons(gear, bl, features, m_n)
+    with _gmsh_session() as gmsh:
+        occ = gmsh.model.occ
+        gmsh.option.setNumber("Geometry.OCCParallel", 1)
+        gmsh.option.setNumber("General.NumThreads", threads)
+        say("tooth space")
+        ext = min(1.0e-3, 0.1 * crown.face_width)
+        try:
+            wires = _space_wires(occ, crown, gear, rim, ext)
+            space = occ.addThruSections(wires, makeSolid=True, makeRuled=False)
+        except Exception as exc:  # gmsh raises plain Exception
+            raise MeshError(f"gear body: the tooth space loft failed ({exc})") from None
+        occ.synchronize()
+        # the sector: one pitch of the ring, walls through the middle of the teeth
+        cm = np.array(occ.getCenterOfMass(3, space[0][1]))
+        phi0 = math.atan2(cm[1], cm[0]) + 0.5 * pitch
+        say("sector solid")
+        ring = [
+            (bl.front, bl.body), (bl.back, bl.body), (bl.back, bl.face), (bl.front, bl.face),
+        ]  # fmt: skip
+        sector = _revolve_polygon(occ, [_rz(L, h, delta) for L, h in ring], phi0 - pitch, pitch)
+        tools = list(space)
+        for k in (-1, 1):
+            c = occ.copy(space)
+            occ.rotate(c, 0, 0, 0, 0, 0, 1, k * pitch)
+            tools += c
+        try:
+            cut, _ = occ.cut(sector, tools)
+            if polys:
+                parts = [v for p in polys for v in _revolve_polygon(occ, p, phi0 - pitch, pitch)]
+                cut, _ = occ.fuse(cut, parts)
+            occ.synchronize()
+        except Exception as exc:
+            raise MeshError(
+                f"gear body: the CAD kernel could not build the sector ({exc})"
+            ) from None
+        vols = gmsh.model.getEntities(3)
+        if len(vols) != 1:
+            raise MeshError(
+                f"gear body: the sector solid came out as {len(vols)} pieces (the blank "
+                "features do not join the rim?)"
+            )
+        volume = occ.getMass(3, vols[0][1]) / MM**3
+        if not volume > 0:
+            raise MeshError("gear body: the sector solid has no volume")
+        tol = 1e-6 * bl.back * MM
+        slaves = _side_surfaces(gmsh, phi0, tol)
+        masters = _side_surfaces(gmsh, phi0 - pitch, tol)
+        if not slaves or len(slaves) != len(masters):
+            raise MeshError("gear body: the sector walls could not be matched for a periodic mesh")
+        c, s = math.cos(pitch), math.sin(pitch)
+        affine = [c, -s, 0, 0, s, c, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+        gmsh.model.mesh.setPeriodic(2, slaves, masters, affine)
+        # size field: tooth size in the tooth band, growing to the body size one tooth
+        # depth further into the blank
+        sign = 1.0 if gear.kind == "external" else -1.0
+        h_expr = f"(Sqrt(x*x+y*y)*{math.cos(delta)!r} - z*{math.sin(delta)!r})"
+        d_expr = f"Max(0, {sign!r}*({bl.root * MM!r} - {h_expr}))/{depth * MM!r}"
+        field = gmsh.model.mesh.field
+        fid = field.add("MathEval")
+        a, b = sizes.tooth * MM, sizes.body * MM
+        field.setString(fid, "F", f"{a!r} + {b - a!r}*Min(1, {d_expr})")
+        field.setAsBackgroundMesh(fid)
+        for name, value in (
+            ("Mesh.MeshSizeExtendFromBoundary", 0),
+            ("Mesh.MeshSizeFromPoints", 0),
+            ("Mesh.MeshSizeFromCurvature", 0),
+            ("Mesh.Algorithm", 6),
+            ("Mesh.Algorithm3D", 10),
+            ("Mesh.Optimize", 1),
+        ):
+            gmsh.option.setNumber(name, value)
+        say("meshing a tooth sector")
+        try:
+            gmsh.model.mesh.generate(3)
+        except Exception as exc:
+            raise MeshError(f"gear body: gmsh could not mesh the sector ({exc})") from None
+        try:
+            gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the curved surfaces
+        except Exception as exc:  # pragma: no cover - gmsh's own failure
+            raise MeshError(f"gear body: quadratic nodes could not be placed ({exc})") from None
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        etypes, _, enodes = gmsh.model.mesh.getElements(3)
+        if list(etypes) != [11]:
+            raise MeshError(f"gear body: unexpected element types {list(etypes)} in the sector")
+        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+        index[tags] = np.arange(len(tags))
+        T = index[enodes[0].reshape(-1, 10)][:, GMSH_TO_VTK]
+        used = np.unique(T)  # drop the nodes of free construction curves
+        index = np.full(len(tags), -1, dtype=np.int64)
+        index[used] = np.arange(len(used))
+        P = coords.reshape(-1, 3)[used] / MM
+        T = index[T]
+    say("patterning the teeth")
+    points, tets = _pattern(P, T, z, pitch, phi0, tol / MM)
+    mesh = GearBodyMesh(
+        points, tets, gear, bl, features, sizes,
+        None if features.bore is None else 0.5 * features.bore, mount_z, len(T),
+    )  # fmt: skip
+    err = abs(mesh.volume / (z * volume) - 1)
+    if err > 0.05:
+        raise MeshError(
+            f"gear body: the mesh's volume is {100 * err:.2g} % off the CAD solid's (elements "
+            "too coarse for the curved surfaces?)"
+        )
+    return mesh
+
+
+def _pattern(
+    P: Array, T: NDArray[np.int64], z: int, pitch: float, phi0: float, tol: float
+) -> tuple[Array, NDArray[np.int64]]:
+    """Join ``z`` copies of the sector mesh, turned by ``k`` pitches, on their walls."""
+    from scipy.spatial import cKDTree
+
+    n = len(P)
+    nrm = lambda phi: np.array([-math.sin(phi), math.cos(phi), 0.0])  # noqa: E731
+    on_slave = np.flatnonzero(np.abs(P @ nrm(phi0)) < tol)
+    on_master = np.flatnonzero(np.abs(P @ nrm(phi0 - pitch)) < tol)
+    # the slave wall turned back by one pitch lands on the master wall
+    dist, j = cKDTree(P[on_master]).query(_rot(P[on_slave], -pitch))
+    if len(on_slave) != len(on_master) or np.any(dist > tol):
+        raise MeshError("gear body: the sector walls' nodes do not match (periodic mesh failed)")
+    partner = on_master[j]  # slave node i of sector k == master node partner of sector k+1
+    is_slave = np.zeros(n, bool)
+    is_slave[on_slave] = True
+    keep = np.flatnonzero(~is_slave)
+    local = np.full(n, -1, dtype=np.int64)
+    local[keep] = np.arange(len(keep))
+    per = len(keep)
+    points = np.concatenate([_rot(P[keep], k * pitch) for k in range(z)])
+    tets = []
+    for k in range(z):
+        g = local + k * per
+        g[on_slave] = local[partner] + ((k + 1) % z) * per
+        tets.append(g[T])
+    tets_all = np.concatenate(tets)
+    p = points[tets_all[:, :4]]
+    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+    if np.any(vol <= 0):
+        raise MeshError("gear body: the mesher returned inverted tetrahedra")
+    return points, tets_all
