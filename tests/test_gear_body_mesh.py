@@ -115,12 +115,12 @@ def test_too_coarse_mesh_is_refused():
 
 def test_blank_features_that_do_not_fit_are_refused():
     crown, bevel = DESIGN.tooth_generation(2)
-    with pytest.raises(MeshError, match="blank.hub"):
+    with pytest.raises(MeshError, match=r"blank\.hub"):
         mesh_gear(crown, bevel, features=BlankFeatures(0.03, 0.005, 0.07, 0.02),
                   sizes=coarse(2))  # fmt: skip
-    with pytest.raises(MeshError, match="blank.hub: the hub diameter"):
+    with pytest.raises(MeshError, match=r"blank\.hub: the hub diameter"):
         BlankFeatures(0.03, 0.005, 0.02, 0.02)
-    with pytest.raises(MeshError, match="blank.hub_length"):
+    with pytest.raises(MeshError, match=r"blank\.hub_length"):
         BlankFeatures(0.03, 0.005, 0.04, 0.001)
-    with pytest.raises(MeshError, match="blank.web"):
+    with pytest.raises(MeshError, match=r"blank\.web"):
         BlankFeatures(0.03, float("nan"), 0.04, 0.02)

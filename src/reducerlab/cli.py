@@ -527,12 +527,44 @@ def check(
         str | None, typer.Option(help="Operating range in rpm 'MIN,MAX' (default: design's).")
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    body_modes: Annotated[
+        list[Path] | None,
+        typer.Option(
+            "--body-modes",
+            help="A gear body's modes (body_modal.nc from 'reducerlab body-modal'); repeat "
+            "for each gear.",
+        ),
+    ] = None,
+    bodies: Annotated[
+        bool,
+        typer.Option(
+            "--bodies",
+            help="Compute every gear body's modes first (needs a [surface] table; minutes).",
+        ),
+    ] = False,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "--output",
+            "-o",
+            help="Also write check.json, the Table 5-style comparison and the Campbell "
+            "diagram with the body lines (PNG) here.",
+        ),
+    ] = None,
 ) -> None:
-    """Resonance verdict: exits 1 when a natural frequency meets an excitation."""
-    from .analysis.campbell import format_check, resonance_check
+    """Resonance verdict: exits 1 when a natural frequency meets an excitation, or a gear
+    body's mode meets an excitation or a system mode (paper 000 Table 5)."""
+    from .analysis.campbell import ComponentModes, format_check, resonance_check
     from .drives import load_design
 
     with _user_errors():
+        files = _outputs(output)
+        components = []
+        for path in body_modes or []:
+            from .analysis.body_modal import BodyModalResult
+
+            res_b = BodyModalResult.load(path)
+            components.append(ComponentModes.from_body_modal(res_b, source=str(path)))
         rng = None
         if speed_range is not None:
             parts = _parse_speeds(speed_range, "--speed-range")
@@ -540,11 +572,64 @@ def check(
                 raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
             rng = (parts[0], parts[1])
         d = load_design(design)
+        if bodies:
+            components += _all_body_modes(d, design, {c.label for c in components})
         with _busy("resonance check"):
-            report = resonance_check(d, margin=margin, speed_range=rng)
+            report = resonance_check(d, margin=margin, speed_range=rng, components=components)
+        if files is not None:
+            _write_check(d, report, components, files)
     typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
     if not report["ok"]:
         raise typer.Exit(code=1)
+
+
+def _all_body_modes(d, design: Path, have: set[str]) -> list:
+    """Body modes of every gear of a nutation design not given already (progress bar)."""
+    from .analysis.body_modal import body_modal as run_body_modal
+    from .analysis.campbell import ComponentModes
+
+    if not hasattr(d, "tooth_generation") or d.surface is None:
+        raise ReducerlabError(
+            f"--bodies: {design} has no [surface] table (profile, face_width): the gear "
+            "bodies cannot be generated; give --body-modes files instead"
+        )
+    out = []
+    gears = [g for g in range(1, (4 if d.sides == "double" else 2) + 1)
+             if f"gear {g}" not in have]  # fmt: skip
+    with _progress() as progress:
+        task = progress.add_task("gear bodies", total=None)
+        for g in gears:
+            res = run_body_modal(
+                d, g, convergence=False,
+                stage=lambda s, g=g: progress.update(task, description=f"gear {g}: {s}"),
+            )  # fmt: skip
+            out.append(ComponentModes.from_body_modal(res))
+    return out
+
+
+def _write_check(d, report: dict, components: list, files: OutputSet) -> None:
+    """check.json, components.png (Table 5-style) and campbell.png with the body lines."""
+    import numpy as np
+
+    from .analysis.campbell import campbell as run_campbell
+    from .io import stamp
+    from .plot.components import plot_component_comparison
+    from .plot.sweep import plot_campbell
+
+    hi = report["speed_range_rpm"][1] * 2 * math.pi / 60  # rad/s
+    res_c = run_campbell(d, np.linspace(0.0, 1.5 * hi, 151))
+    fmax = None
+    if components:
+        fmax = 1.05 * max(max(c.frequencies) for c in components)
+    with files:
+        files.path("check.json").write_text(
+            json.dumps({**report, **stamp(d.provenance)}, indent=2) + "\n"
+        )
+        if components:
+            _savefig(plot_component_comparison(report), files.path("components.png"),
+                     d.provenance)  # fmt: skip
+        _savefig(plot_campbell(res_c, components, fmax=fmax), files.path("campbell.png"),
+                 d.provenance)  # fmt: skip
 
 
 @app.command()
@@ -914,6 +999,119 @@ def khv_stiffness(
             typer.echo(f"x1 = {v:g}: k_C = {dv.pitch_stiffness():.4g} N/m, mean {law.mean:.4g} N/m")
         with files:
             _savefig(plot_mesh_stiffness(laws), files.path("mesh-stiffness.png"), d.provenance)
+
+
+def _length_option(text: str, option: str) -> float:
+    """A length option such as ``--tooth-size '1.2 mm'`` in m (a plain number is m)."""
+    from .units import parse_quantity
+
+    try:
+        value = parse_quantity(text, "length")
+    except ValueError as exc:
+        raise ReducerlabError(f"{option}: {exc}") from None
+    if not value > 0:
+        raise ReducerlabError(f"{option}: must be a length > 0; got {text!r}")
+    return value
+
+
+class BoundaryChoice(StrEnum):
+    free = "free"
+    bore = "bore"
+    face = "face"
+
+
+@app.command("body-modal")
+def body_modal(
+    design: Annotated[Path, typer.Argument(help="Nutation design file (TOML), surface table")],
+    gear: Annotated[
+        int,
+        typer.Option("--gear", "-g", help="Gear number: 1, 3 nutating (internal); 2, 4 external."),
+    ] = 1,
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "body-modal-output"
+    ),
+    modes: Annotated[
+        int, typer.Option("--modes", "-n", help="Elastic modes (paper 000: 10).", min=1, max=50)
+    ] = 10,
+    boundary: Annotated[
+        BoundaryChoice,
+        typer.Option(help="free (rigid modes removed), bore fixed, or mounting face fixed."),
+    ] = BoundaryChoice.free,
+    tooth_size: Annotated[
+        str | None,
+        typer.Option(help="Element size in the teeth, e.g. '1.2 mm' (default 0.6 m_n)."),
+    ] = None,
+    body_size: Annotated[
+        str | None,
+        typer.Option(help="Element size in the blank, e.g. '3 mm' (default 1.5 m_n)."),
+    ] = None,
+    convergence: Annotated[
+        bool,
+        typer.Option(help="Also solve a 1.5x coarser mesh and report each mode's change."),
+    ] = True,
+    renders: Annotated[bool, typer.Option(help="One PNG render per mode.")] = True,
+) -> None:
+    """Finite-element modes of one gear body (paper 000 §4, Table 4): frequencies, mode
+    types, renders, netCDF/JSON and a VTU file of the mesh and mode shapes (ParaView)."""
+    from .analysis.body_modal import body_modal as run_body_modal
+    from .drives import load_design
+    from .fe.gear_mesh import MeshSizes
+    from .fe.vtu import write_vtu
+    from .plot.body import plot_body_mode
+
+    with _user_errors():
+        files = OutputSet(output, "-o", report=_note)
+        d = load_design(design)
+        if not hasattr(d, "tooth_generation"):
+            raise ReducerlabError(
+                f"{design}: type = {d.type!r}: gear bodies need a nutation design"
+            )
+        if d.surface is None:
+            raise ReducerlabError(
+                f"{design}: the design has no [surface] table (profile, face_width): the gear "
+                "solid cannot be generated; see examples/nutation_double_sided.toml"
+            )
+        n_gears = 4 if d.sides == "double" else 2
+        if gear not in range(1, n_gears + 1):
+            raise ReducerlabError(
+                f"--gear: must be 1..{n_gears} for a {d.sides}-sided drive; got {gear}"
+            )
+        sizes = None
+        if tooth_size is not None or body_size is not None:
+            crown, _ = d.tooth_generation(gear)
+            dflt = MeshSizes.default(crown.profile.module)
+            t, b = (
+                default if text is None else _length_option(text, option)
+                for text, option, default in (
+                    (tooth_size, "--tooth-size", dflt.tooth),
+                    (body_size, "--body-size", dflt.body),
+                )
+            )
+            sizes = MeshSizes(t, max(b, t) if body_size is None else b)
+        with _progress() as progress:
+            task = progress.add_task("gear body", total=None)
+            res = run_body_modal(
+                d, gear, count=modes, boundary=boundary.value, sizes=sizes,
+                convergence=convergence,
+                stage=lambda s: progress.update(task, description=s),
+            )  # fmt: skip
+            progress.update(task, description="writing results")
+            with files:
+                res.save(files.path("body_modal.nc"))
+                _write_json(res, files.path("body_modal.json"))
+                files.path("body_modal.txt").write_text(res.table() + "\n")
+                _savefig(res.figure(), files.path("modes.png"), res.data.attrs)
+                mesh, shapes = res.mesh, res.shapes
+                labels = [f"{t} (n = {n})" for t, n in zip(res.types,
+                          res.data["nodal_diameters"].values, strict=True)]  # fmt: skip
+                write_vtu(files.path("body_modes.vtu"), mesh.points, mesh.tets[:, :4], shapes,
+                          res.frequencies, labels)  # fmt: skip
+                if renders:
+                    for k, (f, lab) in enumerate(zip(res.frequencies, labels, strict=True)):
+                        title = f"Gear {gear}, mode {k + 1}: {f:.5g} Hz, {lab}"
+                        fig = plot_body_mode(mesh.points, mesh.tets[:, :4], shapes[:, :, k], title)
+                        _savefig(fig, files.path(f"mode_{k + 1:02d}.png"), res.data.attrs)
+    typer.echo(res.table())
 
 
 @app.command()

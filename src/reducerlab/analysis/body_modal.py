@@ -167,38 +167,31 @@ def gear_blank(design: Any, gear: int) -> tuple[float, Any]:
 
 
 def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[np.int64] | None:
-    """DOFs held at zero: all DOFs on the bore or on the mounting face."""
+    """DOFs held at zero: all DOFs of the boundary facets whose three corners lie on the
+    bore (the rim ring's seat, its body cone, without a bore) or on the mounting face.
+    Corners lie exactly on the CAD surfaces; facet midpoints of curved facets do not."""
     if boundary == "free":
         return None
-    scale = float(np.max(np.abs(mesh.points)))
-    tol = 1e-6 * scale
-    if boundary == "bore":
-        if mesh.bore_radius is not None:
-            rb = mesh.bore_radius
+    skm = basis.mesh
+    tol = 1e-6 * float(np.max(np.abs(mesh.points)))
+    x = skm.p  # corners of the scikit-fem mesh (m)
+    if boundary == "bore" and mesh.bore_radius is not None:
+        on = np.abs(np.hypot(x[0], x[1]) - mesh.bore_radius) < tol
+    elif boundary == "bore":
+        from ..geometry.solid import cone_coordinates
 
-            def on(x: Any) -> Any:
-                return np.abs(np.hypot(x[0], x[1]) - rb) < tol
-        else:  # the rim ring: its body cone is the seat
-            from ..geometry.solid import cone_coordinates
-
-            delta, body = mesh.gear.cone_angle, mesh.blank.body
-
-            def on(x: Any) -> Any:
-                h = cone_coordinates(np.moveaxis(x, 0, -1), delta)[1]
-                return np.abs(h - body) < tol
+        h = cone_coordinates(x.T, mesh.gear.cone_angle)[1]
+        on = np.abs(h - mesh.blank.body) < tol
     else:
-        zf = mesh.mount_z
-
-        def on(x: Any) -> Any:
-            return np.abs(x[2] - zf) < tol
-
-    dofs = basis.get_dofs(on).all()
-    if len(dofs) == 0:
+        on = np.abs(x[2] - mesh.mount_z) < tol
+    bf = skm.boundary_facets()
+    facets = bf[np.all(on[skm.facets[:, bf]], axis=0)]
+    if len(facets) == 0:
+        where = "bore" if boundary == "bore" else "mounting face"
         raise ReducerlabError(
-            f"boundary {boundary!r}: no mesh nodes lie on the "
-            f"{'bore' if boundary == 'bore' else 'mounting face'}: the fixed set is empty"
+            f"boundary {boundary!r}: no boundary facets lie on the {where}: the fixed set is empty"
         )
-    return np.asarray(dofs, dtype=np.int64)
+    return np.asarray(basis.get_dofs(facets=facets).all(), dtype=np.int64)
 
 
 def _solve(
@@ -277,6 +270,18 @@ def _at_points(basis: Any, skm: Any, mesh: GearBodyMesh, shapes: Any) -> NDArray
     return out
 
 
+def _coarser(sizes: Any, crown: Any, bevel: Any, rim: float) -> Any:
+    """The convergence run's sizes: ``COARSER`` times the result's, the tooth size kept
+    within the half tooth depth that :func:`~reducerlab.fe.gear_mesh.mesh_gear` allows."""
+    from ..fe.gear_mesh import MeshSizes
+    from ..geometry.solid import default_blank
+
+    bl = default_blank(crown, bevel, rim)
+    cap = 0.5 * abs(bl.face - bl.root)
+    c = sizes.refined(COARSER)
+    return MeshSizes(min(c.tooth, cap), max(c.body, min(c.tooth, cap)))
+
+
 @names_source
 def body_modal(
     design: Any,
@@ -342,7 +347,7 @@ def body_modal(
     if convergence:
         say("coarser mesh (convergence check)")
         coarse = mesh_gear(crown, bevel, rim=rim, features=features,
-                           sizes=sizes.refined(COARSER), stage=say)  # fmt: skip
+                           sizes=_coarser(sizes, crown, bevel, rim), stage=say)  # fmt: skip
         coarse_f = _solve(coarse, material, count, boundary, say)[0]
     mesh = mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say)
     freq, shapes, info, _ = _solve(mesh, material, count, boundary, say)

@@ -6,12 +6,19 @@ rotation (1x) and the first three harmonics of every mesh frequency; their order
 from the drive's kinematics, or, for designs without kinematics, from the mesh
 stiffness laws of the model. Crossings of natural frequencies with excitation lines are
 located by root finding on the exact frequency-speed relation.
+
+The resonance check can also take the finite-element modes of the gear bodies
+(:class:`ComponentModes`, paper 000 §4): each body frequency is checked against every
+excitation line (a constant frequency meets ``order * speed / 2 pi`` at exactly
+``speed = 2 pi f / order``) and against the system natural frequencies (paper 000's
+Table 5 comparison).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -31,6 +38,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CampbellResult",
+    "ComponentModes",
     "campbell",
     "excitation_orders",
     "format_check",
@@ -40,6 +48,108 @@ __all__ = [
 
 TWO_PI = 2.0 * math.pi
 RPM = 60.0 / TWO_PI
+
+
+@dataclass(frozen=True)
+class ComponentModes:
+    """Natural frequencies of one component (a gear body), computed elsewhere (FE).
+
+    Parameters
+    ----------
+    label : str
+        Name of the component in reports and figures, e.g. ``"gear 1"``.
+    frequencies : sequence of float
+        Natural frequencies (Hz), ascending (repeated roots allowed), finite, > 0; the
+        k-th is mode k (1-based).
+    types : sequence of str, optional
+        Mode type of each frequency (paper 000's names, e.g. ``"torsional"``), same
+        length as ``frequencies``; empty strings where unknown. Default: all empty.
+    source : str, optional
+        Where the frequencies come from (a file, "ANSYS", "paper 000 Table 4", ...).
+    """
+
+    label: str
+    frequencies: tuple[float, ...]
+    types: tuple[str, ...] = ()
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        label = self.label
+        if not isinstance(label, str) or not label.strip():
+            raise ReducerlabError(f"ComponentModes.label must be a non-empty string, got {label!r}")
+        where = f"ComponentModes {label!r}"
+        raw = self.frequencies
+        if isinstance(raw, str | bytes) or not isinstance(raw, Iterable):
+            raise ReducerlabError(
+                f"{where}: frequencies must be a sequence of numbers (Hz), got {raw!r}"
+            )
+        if isinstance(raw, np.ndarray) and raw.ndim != 1:
+            raise ReducerlabError(
+                f"{where}: frequencies must be one-dimensional, got shape {raw.shape}"
+            )
+        freqs = []
+        for i, f in enumerate(raw):
+            if isinstance(f, bool | np.bool_) or not isinstance(f, int | float | np.number):
+                raise ReducerlabError(f"{where}: frequencies[{i}] must be a number (Hz), got {f!r}")
+            freqs.append(float(f))
+        if not freqs:
+            raise ReducerlabError(f"{where}: frequencies must hold at least one frequency")
+        for i, f in enumerate(freqs):
+            if not (math.isfinite(f) and f > 0):
+                raise ReducerlabError(
+                    f"{where}: frequencies must be finite and > 0 Hz, frequencies[{i}] = {f!r}"
+                )
+        for i in range(1, len(freqs)):
+            if freqs[i] < freqs[i - 1]:
+                raise ReducerlabError(
+                    f"{where}: frequencies must be ascending (mode k is the k-th "
+                    f"frequency), frequencies[{i}] = {freqs[i]!r} < frequencies[{i - 1}] = "
+                    f"{freqs[i - 1]!r}"
+                )
+        types = self.types
+        if isinstance(types, str) or not isinstance(types, Iterable):
+            raise ReducerlabError(
+                f"{where}: types must be a sequence of strings (one a frequency), got {types!r}"
+            )
+        types = tuple(types)
+        if not types:
+            types = ("",) * len(freqs)
+        bad = [t for t in types if not isinstance(t, str)]
+        if bad:
+            raise ReducerlabError(f"{where}: types must be strings, got {bad[0]!r}")
+        if len(types) != len(freqs):
+            raise ReducerlabError(
+                f"{where}: types must have the same length as frequencies "
+                f"({len(freqs)}), got {len(types)}"
+            )
+        if not isinstance(self.source, str):
+            raise ReducerlabError(f"{where}: source must be a string, got {self.source!r}")
+        object.__setattr__(self, "frequencies", tuple(freqs))
+        object.__setattr__(self, "types", tuple(t.strip() for t in types))
+
+    @classmethod
+    def from_body_modal(
+        cls, result: Any, label: str | None = None, source: str | None = None
+    ) -> ComponentModes:
+        """From a :class:`~reducerlab.analysis.body_modal.BodyModalResult` (or anything
+        with ``frequencies`` and ``types``); label ``"gear N"`` from its attributes."""
+        attrs = getattr(getattr(result, "data", None), "attrs", {}) or {}
+        if label is None:
+            gear = attrs.get("gear")
+            label = f"gear {gear}" if gear is not None else "body"
+        if source is None:
+            boundary = attrs.get("boundary")
+            source = "FE body modes" + (f" ({boundary})" if boundary else "")
+        return cls(label, tuple(result.frequencies), tuple(result.types), source)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {
+            "label": self.label,
+            "frequencies": list(self.frequencies),
+            "types": list(self.types),
+            "source": self.source,
+        }
 
 
 @names_source
@@ -245,11 +355,129 @@ class CampbellResult(Result):
             )
         return "\n".join(lines)
 
-    def plot(self) -> Figure:
-        """Campbell diagram."""
+    def plot(self, components: Sequence[ComponentModes] = ()) -> Figure:
+        """Campbell diagram; ``components``: body modes drawn as horizontal lines."""
         from ..plot.sweep import plot_campbell
 
-        return plot_campbell(self)
+        return plot_campbell(self, components=components)
+
+
+def _components(components: Any) -> tuple[ComponentModes, ...]:
+    """The ``components`` argument of :func:`resonance_check`, checked."""
+    if isinstance(components, ComponentModes):
+        return (components,)
+    if components is None:
+        return ()
+    if isinstance(components, str | bytes | dict) or not isinstance(components, Iterable):
+        raise ReducerlabError(
+            f"components must be a sequence of ComponentModes, got {type(components).__name__}"
+        )
+    out = tuple(components)
+    for c in out:
+        if not isinstance(c, ComponentModes):
+            raise ReducerlabError(
+                f"components must be a sequence of ComponentModes, got an item of type "
+                f"{type(c).__name__}"
+            )
+    labels = [c.label for c in out]
+    dup = sorted({lab for lab in labels if labels.count(lab) > 1})
+    if dup:
+        raise ReducerlabError(f"components: labels must be unique, {dup[0]!r} is repeated")
+    return out
+
+
+def _component_check(
+    components: tuple[ComponentModes, ...],
+    orders: dict[str, float],
+    speeds: NDArray,
+    freq: NDArray,
+    lo: float,
+    hi: float,
+    margin: float,
+) -> dict[str, Any]:
+    """Body modes against excitation lines (exact) and system natural frequencies."""
+    crossings, near, coincidences, summary = [], [], [], []
+    for comp in components:
+        best_exc: dict[str, Any] | None = None
+        best_sys: dict[str, Any] | None = None
+        for k, (f, kind) in enumerate(zip(comp.frequencies, comp.types, strict=True), 1):
+            head = {"component": comp.label, "mode": k, "type": kind}
+            for name, order in orders.items():
+                w_star = TWO_PI * f / order  # f = order w / 2 pi: exact for a constant f
+                if lo <= w_star <= hi:
+                    crossings.append(
+                        {
+                            **head,
+                            "excitation": name,
+                            "speed_rad_s": w_star,
+                            "speed_rpm": w_star * RPM,
+                            "frequency_hz": f,
+                        }
+                    )
+                # |f - fe| / fe = |f / fe - 1| is monotone on either side of w*: the
+                # closest approach in the range is at w* clipped to it
+                w = min(max(w_star, lo), hi)
+                fe = order * w / TWO_PI
+                row = {
+                    **head,
+                    "excitation": name,
+                    "speed_rpm": w * RPM,
+                    "natural_hz": f,
+                    "excitation_hz": fe,
+                    "distance": abs(f - fe) / fe,
+                }
+                if row["distance"] <= margin:
+                    near.append(row)
+                if best_exc is None or row["distance"] < best_exc["distance"]:
+                    best_exc = row
+            for j in range(freq.shape[1]):
+                fn = freq[:, j]
+                if np.all(fn <= 0):
+                    continue  # rigid (0 Hz) or divergent throughout
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rel = np.where(fn > 0, np.abs(f - fn) / fn, np.inf)
+                i = int(np.argmin(rel))
+                row = {
+                    **head,
+                    "system_mode": j + 1,
+                    "speed_rpm": float(speeds[i] * RPM),
+                    "natural_hz": f,
+                    "system_hz": float(fn[i]),
+                    "distance": float(rel[i]),
+                }
+                if row["distance"] <= margin:
+                    coincidences.append(row)
+                if best_sys is None or row["distance"] < best_sys["distance"]:
+                    best_sys = row
+        strip = ("component",)
+        summary.append(
+            {
+                **comp.to_dict(),
+                "closest": {
+                    "excitation": None
+                    if best_exc is None
+                    else {k: v for k, v in best_exc.items() if k not in strip},
+                    "system_mode": None
+                    if best_sys is None
+                    else {k: v for k, v in best_sys.items() if k not in strip},
+                },
+            }
+        )
+    crossings.sort(key=lambda r: r["speed_rad_s"])
+    near.sort(key=lambda r: r["distance"])
+    coincidences.sort(key=lambda r: r["distance"])
+    return {
+        "component_crossings": crossings,
+        "component_near": near,
+        "coincidences": coincidences,
+        "components": summary,
+        "system": {
+            "speed_rpm": [float(speeds[0] * RPM), float(speeds[-1] * RPM)],
+            "frequencies_hz": [float(v) for v in freq[-1]],
+            "min_hz": [float(v) for v in freq.min(axis=0)],
+            "max_hz": [float(v) for v in freq.max(axis=0)],
+        },
+    }
 
 
 @names_source
@@ -259,6 +487,7 @@ def resonance_check(
     margin: float = 0.10,
     speed_range: tuple[float, float] | None = None,
     points: int = 101,
+    components: Sequence[ComponentModes] | ComponentModes = (),
 ) -> dict[str, Any]:
     """Resonance verdict over the operating speed range (paper 000's closing check).
 
@@ -266,14 +495,32 @@ def resonance_check(
     and every (mode, excitation) pair whose frequencies come within ``margin``
     (relative to the excitation) somewhere in the range, with the closest approach.
 
+    With ``components`` (finite-element modes of the gear bodies, paper 000 §4), each
+    body mode is also checked against
+
+    * every excitation line: a constant body frequency ``f`` meets the line
+      ``order * speed / 2 pi`` at exactly ``speed = 2 pi f / order``
+      (``component_crossings`` when inside the range); ``component_near`` lists the
+      (body mode, excitation) pairs within ``margin`` (relative to the excitation) at
+      their exact closest approach in the range;
+    * every elastic system natural frequency at the speeds of the range
+      (``coincidences`` when within ``margin``, relative to the system frequency):
+      paper 000's Table 5 comparison.
+
     Returns
     -------
     dict
         ``{"ok": bool, "margin": ..., "speed_range_rpm": [...], "crossings": [...],
-        "near": [...]}``.
+        "near": [...], "title": ...}``; with components also ``"component_crossings"``,
+        ``"component_near"``, ``"coincidences"``, ``"components"`` (per body: label,
+        frequencies, types, source and its ``closest`` approach to an excitation and
+        to a system mode) and ``"system"`` (the system natural frequencies over the
+        range: ``frequencies_hz`` at its top speed, ``min_hz``, ``max_hz``). ``ok`` is
+        False if any list of findings is non-empty.
     """
     if not (isinstance(margin, int | float) and 0 < margin < 1):
         raise ReducerlabError(f"margin must be a fraction in (0, 1), got {margin!r}")
+    comps = _components(components)
     lo, hi = speed_range if speed_range is not None else operating_range(target)
     if not (0 <= lo <= hi) or not math.isfinite(hi):
         raise ReducerlabError(f"speed range must satisfy 0 <= min <= max, got ({lo}, {hi})")
@@ -308,7 +555,7 @@ def resonance_check(
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
-    return {
+    report: dict[str, Any] = {
         "ok": not crossings and not near,
         "margin": margin,
         "speed_range_rpm": [lo * RPM, hi * RPM],
@@ -316,6 +563,13 @@ def resonance_check(
         "near": near,
         "title": ds.attrs.get("title", ""),
     }
+    if comps:
+        plain = {name: float(order) for name, order in orders.items()}
+        report.update(_component_check(comps, plain, speeds, freq, float(lo), float(hi), margin))
+        report["ok"] = report["ok"] and not (
+            report["component_crossings"] or report["component_near"] or report["coincidences"]
+        )
+    return report
 
 
 def format_check(report: dict[str, Any]) -> str:
@@ -335,7 +589,45 @@ def format_check(report: dict[str, Any]) -> str:
             f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
             f"at {r['speed_rpm']:.5g} rpm"
         )
+    for c in report.get("component_crossings", ()):
+        lines.append(
+            f"  CROSSING  {_body_mode(c)} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
+            f"({c['frequency_hz']:.5g} Hz)"
+        )
+    for r in report.get("component_near", ()):
+        lines.append(
+            f"  NEAR      {_body_mode(r)} ({r['natural_hz']:.5g} Hz) within "
+            f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
+            f"at {r['speed_rpm']:.5g} rpm"
+        )
+    for r in report.get("coincidences", ()):
+        lines.append(
+            f"  COINCIDE  {_body_mode(r)} ({r['natural_hz']:.5g} Hz) within "
+            f"{100 * r['distance']:.2f} % of system mode {r['system_mode']} "
+            f"({r['system_hz']:.5g} Hz) at {r['speed_rpm']:.5g} rpm"
+        )
+    for comp in report.get("components", ()):
+        f = comp["frequencies"]
+        parts = [f"  BODY      {comp['label']}: {len(f)} mode(s) {f[0]:.5g}-{f[-1]:.5g} Hz"]
+        ex, sy = comp["closest"]["excitation"], comp["closest"]["system_mode"]
+        if ex is not None:
+            parts.append(
+                f"closest excitation {100 * ex['distance']:.2f} % (mode {ex['mode']} x "
+                f"{ex['excitation']})"
+            )
+        if sy is not None:
+            parts.append(
+                f"closest system mode {100 * sy['distance']:.2f} % (mode {sy['mode']} ~ "
+                f"system mode {sy['system_mode']})"
+            )
+        lines.append(", ".join(parts))
     lines.append(
         "verdict: no resonance risk" if report["ok"] else "verdict: RESONANCE RISK (see above)"
     )
     return "\n".join(lines)
+
+
+def _body_mode(row: dict[str, Any]) -> str:
+    """``"gear 1 mode 3 (folding)"`` of a component row."""
+    kind = f" ({row['type']})" if row.get("type") else ""
+    return f"{row['component']} mode {row['mode']}{kind}"

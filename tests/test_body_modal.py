@@ -1,0 +1,202 @@
+"""Gear-body modal analysis end to end (issue 14): API, result file, CLI, bad input.
+
+The meshes here are coarse (a few thousand quadratic tets) to keep the suite fast; the
+accuracy of the default mesh is measured by benchmarks/bench_body_modal.py and the FE
+itself is checked against published benchmarks in tests/published/."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from reducerlab.analysis.body_modal import BodyModalResult, body_modal
+from reducerlab.cli import app
+from reducerlab.drives import load_design
+from reducerlab.errors import ReducerlabError
+from reducerlab.examples import example_dir
+from reducerlab.fe.gear_mesh import MeshSizes
+from reducerlab.results import Result
+
+EXAMPLE = example_dir() / "nutation_double_sided.toml"
+DESIGN = load_design(EXAMPLE)
+runner = CliRunner()
+
+
+def coarse(gear: int) -> MeshSizes:
+    m_n = DESIGN.tooth_generation(gear)[0].profile.module
+    return MeshSizes(0.8 * m_n, 2.5 * m_n)
+
+
+@pytest.fixture(scope="module")
+def free_ring():
+    """Gear 3 (the 32-tooth nutating ring), free-free, four modes, with the convergence
+    run (a coarser mesh still)."""
+    return body_modal(DESIGN, 3, count=4, sizes=coarse(3), convergence=True)
+
+
+def test_free_ring_modes(free_ring):
+    f = free_ring.frequencies
+    assert len(f) == 4 and np.all(np.diff(f) >= 0) and f[0] > 0
+    types = free_ring.types
+    fam = free_ring.data["family"].values
+    n = free_ring.data["nodal_diameters"].values
+    # a ring of revolution (cyclic with 32 teeth): modes with n >= 1 come in pairs of
+    # equal frequency, equal name and equal family; the lowest is an n = 2 pair
+    assert n[0] == n[1] == 2 and f[1] / f[0] - 1 < 1e-3
+    assert types[0] == types[1] and fam[0] == fam[1]
+    for i in range(3):
+        if fam[i] == fam[i + 1]:
+            assert n[i] >= 1 and types[i] == types[i + 1]
+    # the convergence statement: the coarser mesh's frequencies are higher (a stiffer
+    # discretisation) and the change is small
+    ch = free_ring.data["change"].values
+    assert np.all(np.isfinite(ch)) and free_ring.max_change < 0.05
+    a = free_ring.data.attrs
+    assert a["boundary"] == "free" and a["teeth"] == 32 and a["tetrahedra"] > 1000
+    assert 0.1 < a["mass_kg"] < 0.3
+
+
+def test_result_round_trip(free_ring, tmp_path):
+    p = free_ring.save(tmp_path / "b.nc")
+    back = Result.load(p)
+    assert isinstance(back, BodyModalResult)
+    np.testing.assert_allclose(back.frequencies, free_ring.frequencies)
+    assert back.types == free_ring.types
+    d = back.to_dict()
+    json.dumps(d)
+    assert d["modes"][0]["frequency_hz"] == pytest.approx(free_ring.frequencies[0])
+    with pytest.raises(ReducerlabError, match="kept only in the session"):
+        back.figure()
+
+
+def test_fixed_bore_has_no_rigid_modes():
+    """Gear 2 held at its bore: no rigid modes are left (the solve refuses any) and every
+    frequency is positive."""
+    fixed = body_modal(DESIGN, 2, count=2, sizes=coarse(2), convergence=False,
+                       boundary="bore")  # fmt: skip
+    assert np.all(fixed.frequencies > 0) and np.all(np.diff(fixed.frequencies) >= 0)
+    assert fixed.data.attrs["boundary"] == "bore"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"gear": 5}, "gear: must be 1..4"),
+        ({"gear": 1, "count": 0}, r"count: must be an integer in \[1, 50\]"),
+        ({"gear": 1, "boundary": "clamped"}, "boundary: must be one of"),
+    ],
+)
+def test_bad_arguments(kwargs, message):
+    with pytest.raises(ReducerlabError, match=message):
+        body_modal(DESIGN, **kwargs)
+
+
+def test_design_without_surface_table(tmp_path):
+    text = EXAMPLE.read_text()
+    start, end = text.index("[surface]"), text.index("[material]")
+    path = tmp_path / "plain.toml"
+    path.write_text(text[:start] + text[end:])
+    with pytest.raises(ReducerlabError, match=r"no \[surface\] table"):
+        body_modal(load_design(path), 1)
+    r = runner.invoke(app, ["body-modal", str(path), "-o", str(tmp_path / "out")])
+    assert r.exit_code == 2 and "no [surface] table" in r.output
+    assert "Traceback" not in r.output
+
+
+def test_blank_web_needs_a_bore(tmp_path):
+    text = EXAMPLE.read_text().replace('blank = { bore = "30 mm" }', 'blank = { web = "5 mm" }')
+    path = tmp_path / "web.toml"
+    path.write_text(text)
+    r = runner.invoke(app, ["body-modal", str(path), "-o", str(tmp_path / "out")])
+    assert r.exit_code == 2 and "web" in r.output and "needs a bore" in r.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--gear", "7"], "--gear: must be 1..4"),
+        (["--tooth-size", "2 kg"], "--tooth-size"),
+        (["--tooth-size", "20 mm"], "does not resolve a tooth"),
+        (["--modes", "0"], "--modes"),
+    ],
+)
+def test_cli_bad_options(tmp_path, args, message):
+    r = runner.invoke(app, ["body-modal", str(EXAMPLE), "-o", str(tmp_path / "o"), *args])
+    assert r.exit_code == 2, r.output
+    assert message in r.output and "Traceback" not in r.output
+
+
+def test_cli_writes_results_renders_and_vtu(tmp_path):
+    import meshio
+
+    out = tmp_path / "g4"
+    r = runner.invoke(
+        app,
+        ["body-modal", str(EXAMPLE), "--gear", "4", "--modes", "2", "-o", str(out),
+         "--tooth-size", "2 mm", "--body-size", "5.8 mm", "--no-convergence"],
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    for name in ("body_modal.nc", "body_modal.json", "body_modal.txt", "modes.png",
+                 "body_modes.vtu", "mode_01.png", "mode_02.png"):  # fmt: skip
+        assert (out / name).stat().st_size > 0, name
+    summary = json.loads((out / "body_modal.json").read_text())
+    assert len(summary["modes"]) == 2 and summary["gear"] == 4
+    vtu = meshio.read(out / "body_modes.vtu")
+    assert len(vtu.points) > 1000
+    assert len([k for k in vtu.point_data if k.startswith("mode_")]) >= 2
+
+
+def synthetic_body(path, gear: int, freqs) -> None:
+    """A body-modal result file with given frequencies (no FE run)."""
+    import xarray as xr
+
+    n = len(freqs)
+    ds = xr.Dataset(
+        {
+            "frequency": ("mode", np.asarray(freqs, float)),
+            "type": ("mode", np.array(["bending"] * n, dtype=object)),
+            "nodal_diameters": ("mode", np.full(n, 2)),
+            "nodal_circles": ("mode", np.zeros(n, int)),
+            "family": ("mode", np.arange(n)),
+            "change": ("mode", np.full(n, np.nan)),
+        },
+        coords={"mode": np.arange(1, n + 1)},
+        attrs={"gear": gear, "boundary": "free"},
+    )
+    BodyModalResult(ds).save(path)
+
+
+def test_check_with_body_modes_writes_table5_and_campbell(tmp_path):
+    """Body frequencies far above every excitation (the mesh frequencies of the example
+    are below 1 kHz at 2000 rpm) and away from the system modes keep the verdict; one
+    on a system mode makes it a coincidence (paper 000 Table 5's comparison)."""
+    far = tmp_path / "far.nc"
+    synthetic_body(far, 1, [40000.0, 41000.0])
+    out = tmp_path / "check"
+    r = runner.invoke(app, ["check", str(EXAMPLE), "--body-modes", str(far), "-o", str(out)])
+    report = json.loads((out / "check.json").read_text())
+    assert report["components"][0]["label"] == "gear 1"
+    assert not report["coincidences"] and not report["component_crossings"]
+    assert (out / "components.png").stat().st_size > 0
+    assert (out / "campbell.png").stat().st_size > 0
+    assert "BODY      gear 1" in r.output
+    # a body mode on the first elastic system mode
+    system = report["system"]["frequencies_hz"]
+    f_sys = next(f for f in system if f > 1.0)
+    near = tmp_path / "near.nc"
+    synthetic_body(near, 2, [f_sys * 1.01])
+    r = runner.invoke(app, ["check", str(EXAMPLE), "--body-modes", str(near), "--format", "json"])
+    assert r.exit_code == 1
+    rep = json.loads(r.output)
+    assert rep["coincidences"][0]["component"] == "gear 2"
+    assert rep["coincidences"][0]["distance"] == pytest.approx(0.01, abs=2e-3)
+
+
+def test_check_bad_body_modes_file(tmp_path):
+    bad = tmp_path / "bad.nc"
+    bad.write_text("not netcdf")
+    r = runner.invoke(app, ["check", str(EXAMPLE), "--body-modes", str(bad)])
+    assert r.exit_code == 2 and "bad.nc" in r.output and "Traceback" not in r.output
