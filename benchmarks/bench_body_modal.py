@@ -1,8 +1,8 @@
 """Gear-body modal analysis: time, peak memory and accuracy (issue 14).
 
-First ten elastic modes of the 26-tooth gear 2 of ``examples/nutation_double_sided.toml``
-(free-free), side by side in one run, each case in its own process (peak memory is the
-process's own):
+First ten elastic modes of the 26-tooth gear 2 (or another gear) of
+``examples/nutation_double_sided.toml`` (free-free), side by side in one run, each case
+in its own process (peak memory is the process's own):
 
 * ``P2 default``: quadratic tetrahedra on the default mesh (what ``body-modal`` runs);
 * ``P2 refined``: the same at ``REFINE`` times the element sizes: the reference, and the
@@ -10,7 +10,8 @@ process's own):
 * ``P1 refined``: linear tetrahedra on the refined mesh's corners (the plain way: more
   elements, the same solver) and its error against the reference.
 
-Run: ``.venv/bin/python benchmarks/bench_body_modal.py`` (several minutes); it prints a
+Run: ``.venv/bin/python benchmarks/bench_body_modal.py [GEAR]`` (several minutes; gear 2
+by default, 1 for the 28-tooth ring); it prints a
 Markdown table for ``benchmarks/RESULTS.md``.
 """
 
@@ -31,7 +32,7 @@ REFINE = 0.75
 GEAR = 2
 
 
-def case(name: str, factor: float, order: int, queue: mp.Queue) -> None:
+def case(name: str, factor: float, order: int, gear: int, queue: mp.Queue) -> None:
     import numpy as np
 
     from reducerlab.drives import load_design
@@ -42,8 +43,8 @@ def case(name: str, factor: float, order: int, queue: mp.Queue) -> None:
     d = load_design(example_dir() / "nutation_double_sided.toml")
     from reducerlab.analysis.body_modal import gear_blank
 
-    crown, bevel = d.tooth_generation(GEAR)
-    rim, features = gear_blank(d, GEAR)
+    crown, bevel = d.tooth_generation(gear)
+    rim, features = gear_blank(d, gear)
     sizes = MeshSizes.default(crown.profile.module).refined(factor)
     t0 = time.perf_counter()
     mesh = mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes)
@@ -75,9 +76,9 @@ def case(name: str, factor: float, order: int, queue: mp.Queue) -> None:
     )
 
 
-def run(name: str, factor: float, order: int) -> dict:
+def run(name: str, factor: float, order: int, gear: int) -> dict:
     q: mp.Queue = mp.get_context("spawn").Queue()
-    p = mp.get_context("spawn").Process(target=case, args=(name, factor, order, q))
+    p = mp.get_context("spawn").Process(target=case, args=(name, factor, order, gear, q))
     p.start()
     out = q.get()
     p.join()
@@ -85,10 +86,11 @@ def run(name: str, factor: float, order: int) -> dict:
 
 
 def main() -> None:
-    rows = [run("P2 default", 1.0, 2), run(f"P2 refined x{REFINE}", REFINE, 2)]
-    rows.append(run(f"P1 refined x{REFINE}", REFINE, 1))
+    gear = int(sys.argv[1]) if len(sys.argv) > 1 else GEAR
+    rows = [run("P2 default", 1.0, 2, gear), run(f"P2 refined x{REFINE}", REFINE, 2, gear)]
+    rows.append(run(f"P1 refined x{REFINE}", REFINE, 1, gear))
     ref = rows[1]["frequencies"]
-    print(f"gear {GEAR} body modes, {platform.processor() or platform.machine()}, "
+    print(f"gear {gear} body modes, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, {date.today()}, python {sys.version.split()[0]}")  # fmt: skip
     print("| case | tets | DOFs | mesh (s) | assemble (s) | solve (s) | total (s) | peak MB |"
           " max error vs P2 refined |")  # fmt: skip

@@ -815,13 +815,16 @@ class ProfileChoice(StrEnum):
     double_arc = "double-arc"
 
 
+GearOption = Annotated[
+    int,
+    typer.Option("--gear", "-g", help="Gear number: 1, 3 nutating (internal); 2, 4 external."),
+]
+
+
 @app.command()
 def surface(
     design: Annotated[Path, typer.Argument(help="Nutation design file (TOML), surface table")],
-    gear: Annotated[
-        int,
-        typer.Option("--gear", "-g", help="Gear number: 1, 3 nutating (internal); 2, 4 external."),
-    ] = 1,
+    gear: GearOption = 1,
     profile: Annotated[
         ProfileChoice | None,
         typer.Option("--profile", help="Basic profile (default: the design's surface.profile)."),
@@ -1023,10 +1026,7 @@ class BoundaryChoice(StrEnum):
 @app.command("body-modal")
 def body_modal(
     design: Annotated[Path, typer.Argument(help="Nutation design file (TOML), surface table")],
-    gear: Annotated[
-        int,
-        typer.Option("--gear", "-g", help="Gear number: 1, 3 nutating (internal); 2, 4 external."),
-    ] = 1,
+    gear: GearOption = 1,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "body-modal-output"
     ),

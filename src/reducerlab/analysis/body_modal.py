@@ -314,7 +314,7 @@ def body_modal(
         ``stage(description)`` at each stage (progress display).
     """
     from ..fe import Material
-    from ..fe.gear_mesh import MeshSizes, mesh_gear
+    from ..fe.gear_mesh import MeshSizes, check_sizes, mesh_gear
     from ..fe.modetypes import classify_modes
 
     if getattr(design, "surface", "missing") == "missing":
@@ -343,6 +343,7 @@ def body_modal(
     mat = design.material
     material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
     sizes = MeshSizes.default(crown.profile.module) if sizes is None else sizes
+    check_sizes(crown, bevel, rim, sizes)  # before the convergence run
     coarse_f = np.full(count, math.nan)
     if convergence:
         say("coarser mesh (convergence check)")

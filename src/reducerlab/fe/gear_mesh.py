@@ -45,6 +45,7 @@ __all__ = [
     "GearBodyMesh",
     "MeshError",
     "MeshSizes",
+    "check_sizes",
     "mesh_gear",
 ]
 
@@ -341,6 +342,29 @@ def _side_surfaces(gmsh: Any, phi: float, tol: float) -> list[int]:
     return out
 
 
+def check_sizes(crown: CrownGear, gear: BevelGear, rim: float, sizes: MeshSizes) -> Blank:
+    """The blank of the gear, after checking that ``sizes`` resolve its teeth: the tooth
+    size at most half the tooth depth, the body size at least the tooth size.
+
+    Raises
+    ------
+    MeshError
+    """
+    bl = default_blank(crown, gear, rim)
+    depth = abs(bl.face - bl.root)
+    if sizes.tooth > 0.5 * depth:
+        raise MeshError(
+            f"mesh size: the tooth size {sizes.tooth * 1e3:.4g} mm does not resolve a tooth "
+            f"{depth * 1e3:.4g} mm deep: it must be at most half the tooth depth"
+        )
+    if sizes.body < sizes.tooth:
+        raise MeshError(
+            f"mesh size: the body size {sizes.body * 1e3:.4g} mm must be >= the tooth size "
+            f"{sizes.tooth * 1e3:.4g} mm"
+        )
+    return bl
+
+
 def mesh_gear(
     crown: CrownGear,
     gear: BevelGear,
@@ -378,18 +402,8 @@ def mesh_gear(
     rim = 2.0 * m_n if rim is None else float(rim)
     features = BlankFeatures() if features is None else features
     sizes = MeshSizes.default(m_n) if sizes is None else sizes
-    bl = default_blank(crown, gear, rim)
+    bl = check_sizes(crown, gear, rim, sizes)
     depth = abs(bl.face - bl.root)
-    if sizes.tooth > 0.5 * depth:
-        raise MeshError(
-            f"mesh size: the tooth size {sizes.tooth * 1e3:.4g} mm does not resolve a tooth "
-            f"{depth * 1e3:.4g} mm deep: it must be at most half the tooth depth"
-        )
-    if sizes.body < sizes.tooth:
-        raise MeshError(
-            f"mesh size: the body size {sizes.body * 1e3:.4g} mm must be >= the tooth size "
-            f"{sizes.tooth * 1e3:.4g} mm"
-        )
     z = gear.teeth
     pitch = 2 * math.pi / z
     delta = gear.cone_angle

@@ -160,7 +160,7 @@ def write_vtu(
         raise ReducerlabError("tets: need at least one tetrahedron")
     s = None
     if shapes is not None:
-        s = _finite("shapes", shapes)
+        s = finite_array("shapes", shapes)
         if s.ndim == 2:
             s = s[:, :, None]
         if s.ndim != 3 or s.shape[:2] != (n, 3):
@@ -171,7 +171,7 @@ def write_vtu(
     modes = s.shape[2] if s is not None else 0
     f = None
     if frequencies is not None:
-        f = _finite("frequencies", frequencies)
+        f = finite_array("frequencies", frequencies)
         if f.ndim != 1 or (s is not None and len(f) != modes):
             raise ReducerlabError(
                 f"frequencies: must be 1-D with one value per mode ({modes} modes), got "
@@ -198,7 +198,7 @@ def write_vtu(
     for name, value in (cell_data or {}).items():
         if not isinstance(name, str) or not name:
             raise ReducerlabError(f"cell_data: names must be non-empty str, got {name!r}")
-        a = _finite(f"cell_data[{name!r}]", value)
+        a = finite_array(f"cell_data[{name!r}]", value)
         if a.ndim not in (1, 2) or len(a) != len(t):
             raise ReducerlabError(
                 f"cell_data[{name!r}]: must have shape ({len(t)},) or ({len(t)}, k) "
@@ -259,7 +259,8 @@ def _add_field_data(path: str, frequencies: Array | None, modes: int) -> None:
 # -- input checks ------------------------------------------------------------------------
 
 
-def _finite(name: str, value: ArrayLike) -> Array:
+def finite_array(name: str, value: ArrayLike) -> Array:
+    """``value`` as a float array, or an error naming ``name`` (not numbers, not finite)."""
     try:
         a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -270,7 +271,7 @@ def _finite(name: str, value: ArrayLike) -> Array:
 
 
 def _points(points: ArrayLike) -> Array:
-    p = _finite("points", points)
+    p = finite_array("points", points)
     if p.ndim != 2 or p.shape[1] != 3 or len(p) == 0:
         raise ReducerlabError(f"points: must have shape (n, 3) with n >= 1, got {p.shape}")
     return p

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ReducerlabError
+from ..fe.vtu import finite_array
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -159,7 +160,7 @@ def plot_body_modes_grid(
     from matplotlib.figure import Figure
 
     p, faces = _geometry(points, tets_or_faces)
-    s = _array("shapes", shapes)
+    s = finite_array("shapes", shapes)
     if s.ndim == 2:
         s = s[:, :, None]
     if s.ndim != 3 or s.shape[:2] != (len(p), 3) or s.shape[2] == 0:
@@ -168,7 +169,7 @@ def plot_body_modes_grid(
             f"{np.shape(shapes)}"
         )
     modes = s.shape[2]
-    f = _array("frequencies", frequencies)
+    f = finite_array("frequencies", frequencies)
     if f.shape != (modes,):
         raise ReducerlabError(f"frequencies: need one per mode ({modes}), got shape {f.shape}")
     if isinstance(types, str) or not all(isinstance(t, str) for t in types):
@@ -384,18 +385,8 @@ def _feature_edges(
 # -- input checks ------------------------------------------------------------------------
 
 
-def _array(name: str, value: ArrayLike) -> Array:
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ReducerlabError(f"{name}: must be an array of numbers") from None
-    if not np.all(np.isfinite(a)):
-        raise ReducerlabError(f"{name}: must be finite (no NaN or inf)")
-    return a
-
-
 def _displacement(name: str, value: ArrayLike, n: int) -> Array:
-    u = _array(name, value)
+    u = finite_array(name, value)
     if u.shape != (n, 3):
         raise ReducerlabError(f"{name}: must have shape ({n}, 3) for {n} points, got {u.shape}")
     return u
