@@ -183,7 +183,7 @@ def plot_component_comparison(
     ax.set_xlabel("order")
     ax.set_ylabel("natural frequency (Hz)")
     ax.set_title(
-        f"Natural frequencies of the drive and the gear bodies{': ' + title if title else ''}",
+        "Natural frequencies of the drive and the gear bodies" + (f"\n{title}" if title else ""),
         fontsize=9,
     )
     ax.legend(fontsize=7, ncol=min(groups, 5))
