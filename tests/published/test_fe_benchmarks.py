@@ -127,3 +127,24 @@ def test_bad_input_is_named():
     K, M, _ = assemble(m, STEEL, order=1)
     with pytest.raises(ReducerlabError, match="too few for"):
         body_modes(K, M, 50)
+
+
+def test_solvers_agree_and_bad_solver_is_refused():
+    """MKL PARDISO (optional pypardiso) and scipy's SuperLU factorise the same
+    shift-invert operator: the same modes to round-off (1e-9 relative: ARPACK's own
+    tolerance is machine precision)."""
+    mesh = skfem.MeshTet.init_tensor(
+        np.linspace(0, 0.4, 9), np.linspace(0, 0.05, 3), np.linspace(0, 0.05, 3)
+    )
+    K, M, _ = assemble(mesh, STEEL)
+    ref = body_modes(K, M, 4, solver="scipy")
+    try:
+        import pypardiso  # noqa: F401
+    except ImportError:
+        with pytest.raises(ReducerlabError, match="needs pypardiso"):
+            body_modes(K, M, 4, solver="pardiso")
+    else:
+        fast = body_modes(K, M, 4, solver="pardiso")
+        np.testing.assert_allclose(fast.frequencies, ref.frequencies, rtol=1e-9)
+    with pytest.raises(ReducerlabError, match="solver must be one of"):
+        body_modes(K, M, 4, solver="umfpack")

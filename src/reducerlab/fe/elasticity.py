@@ -65,6 +65,9 @@ SHIFT = 1e-6
 #: A mode is rigid when ``|lambda| <= rigid_tol * RIGID_SCALE * min(K_ii / M_ii)``.
 RIGID_SCALE = 1e-3
 
+#: Factorisations of the shift-invert operator (:func:`body_modes`).
+SOLVERS = ("auto", "scipy", "pardiso")
+
 #: Paper 000 §4: structural steel, E = 206 GPa, nu = 0.29, rho = 7850 kg/m^3.
 STEEL = Material(206e9, 0.29, 7850.0)
 
@@ -93,7 +96,11 @@ def assemble(mesh: Any, material: Material = STEEL, order: int = 2) -> tuple[Any
     if order not in (1, 2):
         raise ReducerlabError(f"assemble: order must be 1 or 2, got {order!r}")
     element = ElementVector(ElementTetP2() if order == 2 else ElementTetP1())
+    # mass: integrand of degree 2 order, exact on straight tets with intorder 2 order;
+    # stiffness: products of gradients of degree order - 1, exact with 2 (order - 1) (the
+    # 4-point rule for P2 instead of the 11-point one: ~3x less work on the costly form)
     basis = Basis(mesh, element, intorder=2 * order)
+    basis_k = basis if order == 1 else Basis(mesh, element, intorder=2 * (order - 1))
     lam, mu = material.lame
     rho = material.rho
 
@@ -106,7 +113,7 @@ def assemble(mesh: Any, material: Material = STEEL, order: int = 2) -> tuple[Any
     def mass(u, v, _):
         return rho * dot(u, v)
 
-    return asm(stiffness, basis).tocsr(), asm(mass, basis).tocsr(), basis
+    return asm(stiffness, basis_k).tocsr(), asm(mass, basis).tocsr(), basis
 
 
 @dataclass(frozen=True)
@@ -135,6 +142,7 @@ def body_modes(
     *,
     fixed: NDArray[np.int64] | None = None,
     rigid_tol: float = 1e-6,
+    solver: str = "auto",
 ) -> BodyModes:
     """The first ``count`` elastic modes of ``K phi = omega^2 M phi``.
 
@@ -153,11 +161,16 @@ def body_modes(
         DOFs held at zero (a fixed bore or mounting face); none for free-free.
     rigid_tol : float
         Relative eigenvalue below which a mode is rigid.
+    solver : {"auto", "scipy", "pardiso"}
+        Factorisation of ``K - sigma M``: MKL PARDISO through the optional pypardiso
+        (``auto`` when it is installed; ~10x faster on gear meshes) or scipy's SuperLU.
     """
     import scipy.sparse.linalg as spla
 
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         raise ReducerlabError(f"body_modes: count must be a positive integer, got {count!r}")
+    if solver not in SOLVERS:
+        raise ReducerlabError(f"body_modes: solver must be one of {SOLVERS}, got {solver!r}")
     n = K.shape[0]
     free = np.arange(n)
     if fixed is not None and len(fixed):
@@ -175,8 +188,13 @@ def body_modes(
     d = K.diagonal() / M.diagonal()
     scale = float(np.min(d[d > 0]))
     sigma = -SHIFT * scale
+    opinv = _pardiso_inverse(K - sigma * M) if solver in ("auto", "pardiso") else None
+    if solver == "pardiso" and opinv is None:
+        raise ReducerlabError(
+            "body_modes: solver 'pardiso' needs pypardiso (pip install pypardiso)"
+        )
     try:
-        lam, vec = spla.eigsh(K, k=want, M=M, sigma=sigma, which="LM")
+        lam, vec = spla.eigsh(K, k=want, M=M, sigma=sigma, which="LM", OPinv=opinv)
     except (RuntimeError, ValueError, spla.ArpackError) as exc:
         raise ModelError(f"body_modes: the eigen-solver failed ({exc})") from None
     order = np.argsort(lam)
@@ -188,3 +206,24 @@ def body_modes(
     shapes = np.zeros((n, vec.shape[1]))
     shapes[free] = vec
     return BodyModes(np.sqrt(lam) / (2 * math.pi), shapes, int(rigid.sum()))
+
+
+def _pardiso_inverse(A: Any) -> Any:
+    """``A^-1`` as a LinearOperator by MKL PARDISO (symmetric positive definite ``A``,
+    factorised once), or None when pypardiso is not installed."""
+    try:
+        import pypardiso
+    except ImportError:
+        return None
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    upper = sp.triu(A, format="csr")
+    upper.sort_indices()
+    solver = pypardiso.PyPardisoSolver(mtype=2)  # real symmetric positive definite
+    solver.factorize(upper)
+
+    def solve(b: Any) -> Any:
+        return np.asarray(solver.solve(upper, np.asarray(b, dtype=float)), dtype=float)
+
+    return spla.LinearOperator(A.shape, matvec=solve, matmat=solve, dtype=float)
