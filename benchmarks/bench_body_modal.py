@@ -8,7 +8,9 @@ in its own process (peak memory is the process's own):
 * ``P2 refined``: the same at ``REFINE`` times the element sizes: the reference, and the
   convergence of the default (the change of every mode must be <= 1 %);
 * ``P1 refined``: linear tetrahedra on the refined mesh's corners (the plain way: more
-  elements, the same solver) and its error against the reference.
+  elements, the same solver) and its error against the reference;
+* ``P2 default, scipy SuperLU``: the default case with scipy's own factorisation instead
+  of MKL PARDISO (the optional ``fast`` extra).
 
 Run: ``.venv/bin/python benchmarks/bench_body_modal.py [GEAR]`` (several minutes; gear 2
 by default, 1 for the 28-tooth ring); it prints a
@@ -32,7 +34,7 @@ REFINE = 0.75
 GEAR = 2
 
 
-def case(name: str, factor: float, order: int, gear: int, queue: mp.Queue) -> None:
+def case(name: str, factor: float, order: int, gear: int, solver: str, queue: mp.Queue) -> None:
     import numpy as np
 
     from reducerlab.drives import load_design
@@ -59,7 +61,7 @@ def case(name: str, factor: float, order: int, gear: int, queue: mp.Queue) -> No
         skm = MeshTet(mesh.points[corners].T.copy(), t.T.copy())
     K, M, _ = assemble(skm, Material(206e9, 0.29, 7850.0), order=order)
     t2 = time.perf_counter()
-    modes = body_modes(K, M, 10)
+    modes = body_modes(K, M, 10, solver=solver)
     t3 = time.perf_counter()
     queue.put(
         {
@@ -76,9 +78,10 @@ def case(name: str, factor: float, order: int, gear: int, queue: mp.Queue) -> No
     )
 
 
-def run(name: str, factor: float, order: int, gear: int) -> dict:
+def run(name: str, factor: float, order: int, gear: int, solver: str = "auto") -> dict:
     q: mp.Queue = mp.get_context("spawn").Queue()
-    p = mp.get_context("spawn").Process(target=case, args=(name, factor, order, gear, q))
+    args = (name, factor, order, gear, solver, q)
+    p = mp.get_context("spawn").Process(target=case, args=args)
     p.start()
     out = q.get()
     p.join()
@@ -89,6 +92,7 @@ def main() -> None:
     gear = int(sys.argv[1]) if len(sys.argv) > 1 else GEAR
     rows = [run("P2 default", 1.0, 2, gear), run(f"P2 refined x{REFINE}", REFINE, 2, gear)]
     rows.append(run(f"P1 refined x{REFINE}", REFINE, 1, gear))
+    rows.append(run("P2 default, scipy SuperLU", 1.0, 2, gear, "scipy"))
     ref = rows[1]["frequencies"]
     print(f"gear {gear} body modes, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, {date.today()}, python {sys.version.split()[0]}")  # fmt: skip

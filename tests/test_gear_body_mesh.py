@@ -140,3 +140,19 @@ def test_involute_internal_gear_meshes_too():
     assert set(np.unique(counts)) <= {1, 2}
     solid = build_gear_solid(crown, bevel, n_profile=21, n_face=21, n_land=3, n_space=9, rim=rim)
     assert mesh.volume == pytest.approx(solid.gear_mesh().volume, rel=0.015)
+
+
+def test_section_corners_and_switchbacks():
+    """A profile corner leaves a step that turns back on itself: it is dropped, and the
+    splines break at the real corners, at the same points on every section."""
+    from reducerlab.fe.gear_mesh import _corners_of
+
+    x = np.linspace(0.0, 1.0, 11)
+    leg1 = np.stack([x, np.zeros_like(x), np.zeros_like(x)], 1)
+    leg2 = np.stack([np.ones(10), np.linspace(0.1, 1.0, 10), np.zeros(10)], 1)
+    back = np.array([[0.995, 0.0005, 0.0]])  # a short step back past the corner
+    path = np.concatenate([leg1, back, leg2])
+    p, ends = _corners_of(np.stack([path, path + np.array([0.0, 0.0, 1.0])]))
+    assert p.shape == (2, 21, 3)  # the switchback point is gone on both sections
+    assert ends == [0, 10, 20]  # one break, at the 90 deg corner
+

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import itertools
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -223,6 +224,40 @@ def _rz(L: float, h: float, delta: float) -> tuple[float, float]:
     return L * s + h * c, L * c - h * s
 
 
+def _turns(p: Array) -> Array:
+    """Turning angles (deg) of polylines ``p`` (..., n, 3) at their interior points."""
+    d = np.diff(p, axis=-2)
+    u = d / np.linalg.norm(d, axis=-1, keepdims=True)
+    cos = np.einsum("...ij,...ij->...i", u[..., 1:, :], u[..., :-1, :])
+    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def _corners_of(paths: Array) -> tuple[Array, list[int]]:
+    """The section polylines (sections, n, 3) without their switchbacks, and where
+    their splines break (the same points on every section, so that every wire has the
+    same edges for the loft).
+
+    At a profile corner the two one-sided envelopes leave a short step that turns back
+    on itself (the ruled corner strip of :mod:`~reducerlab.geometry.solid`); a point
+    where a polyline turns by more than 120 deg on any section is such a step and is
+    dropped. The polylines are then split where one turns by more than 30 deg (the
+    profile corner, the space bottom's junction with the flanks): an interpolating
+    spline through a corner would overshoot into notches that only a fine mesh
+    resolves.
+    """
+    p = np.asarray(paths)
+    while p.shape[1] > 3:
+        t = _turns(p).max(axis=0)
+        k = int(np.argmax(t))
+        if t[k] <= 120.0:
+            break
+        p = np.delete(p, k + 1, axis=1)
+    t = _turns(p).max(axis=0)
+    n = p.shape[1]
+    ends = sorted({0, n - 1, *(int(i) + 1 for i in np.flatnonzero(t > 30.0))})
+    return p, ends
+
+
 def _space_wires(occ: Any, crown: CrownGear, gear: BevelGear, rim: float, ext: float) -> list:
     """Closed wires (mm) of one tooth space on the sections of the widened gear."""
     wide = dataclasses.replace(crown, face_width=crown.face_width + 2 * ext)
@@ -233,11 +268,14 @@ def _space_wires(occ: Any, crown: CrownGear, gear: BevelGear, rim: float, ext: f
     out_sign = 1.0 if gear.kind == "external" else -1.0
     above = bl.face + out_sign * 0.75 * crown.profile.module
     A, B, sp = solid.parts["A"], solid.parts["B"], solid.parts["space"]
+    paths = np.stack([
+        np.concatenate([solid.loop[j, B], solid.loop[j, sp],
+                        _rot(solid.loop[j, A], -solid.pitch_angle)])
+        for j in range(solid.loop.shape[0])
+    ])  # fmt: skip
+    paths, ends = _corners_of(paths)
     wires = []
-    for j in range(solid.loop.shape[0]):
-        path = np.concatenate(
-            [solid.loop[j, B], solid.loop[j, sp], _rot(solid.loop[j, A], -solid.pitch_angle)]
-        )
+    for path in paths:
         L, _, psi = cone_coordinates(path, delta)
         psi = np.unwrap(psi)
         Lj = float(np.mean(L))
@@ -246,8 +284,8 @@ def _space_wires(occ: Any, crown: CrownGear, gear: BevelGear, rim: float, ext: f
         cap = np.stack([r * np.cos(top), r * np.sin(top), np.full_like(top, z)], -1)
         tags = [occ.addPoint(*q) for q in path * MM]
         cap_tags = [occ.addPoint(*q) for q in cap * MM]
-        curves = [
-            occ.addSpline(tags),
+        curves = [occ.addSpline(tags[a : b + 1]) for a, b in itertools.pairwise(ends)]
+        curves += [
             occ.addLine(tags[-1], cap_tags[0]),
             occ.addSpline(cap_tags),
             occ.addLine(cap_tags[-1], tags[0]),
