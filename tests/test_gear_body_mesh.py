@@ -155,4 +155,3 @@ def test_section_corners_and_switchbacks():
     p, ends = _corners_of(np.stack([path, path + np.array([0.0, 0.0, 1.0])]))
     assert p.shape == (2, 21, 3)  # the switchback point is gone on both sections
     assert ends == [0, 10, 20]  # one break, at the 90 deg corner
-
