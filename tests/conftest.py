@@ -41,3 +41,16 @@ def chain(masses, springs, *, grounded=False) -> Model:
 @pytest.fixture
 def pair() -> Model:
     return torsional_pair()
+
+
+@pytest.fixture
+def no_surface_design(tmp_path):
+    """The double-sided nutation example with its [surface] table taken out (a design
+    whose gear solids cannot be generated)."""
+    from reducerlab.examples import example_dir
+
+    text = (example_dir() / "nutation_double_sided.toml").read_text()
+    start, end = text.index("[surface]"), text.index("[material]")
+    path = tmp_path / "no_surface.toml"
+    path.write_text(text[:start] + text[end:])
+    return path

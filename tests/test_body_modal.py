@@ -94,11 +94,8 @@ def test_bad_arguments(kwargs, message):
         body_modal(DESIGN, **kwargs)
 
 
-def test_design_without_surface_table(tmp_path):
-    text = EXAMPLE.read_text()
-    start, end = text.index("[surface]"), text.index("[material]")
-    path = tmp_path / "plain.toml"
-    path.write_text(text[:start] + text[end:])
+def test_design_without_surface_table(tmp_path, no_surface_design):
+    path = no_surface_design
     with pytest.raises(ReducerlabError, match=r"no \[surface\] table"):
         body_modal(load_design(path), 1)
     r = runner.invoke(app, ["body-modal", str(path), "-o", str(tmp_path / "out")])

@@ -71,17 +71,8 @@ def test_surface_rejects_bad_options(tmp_path, monkeypatch, args, message):
     assert "Traceback" not in r.output
 
 
-def without_surface(tmp_path):
-    """The double-sided example with its [surface] table taken out."""
-    text = (example_dir() / "nutation_double_sided.toml").read_text()
-    start, end = text.index("[surface]"), text.index("[material]")
-    path = tmp_path / "no_surface.toml"
-    path.write_text(text[:start] + text[end:])
-    return path
-
-
-def test_surface_needs_a_surface_table_and_a_nutation_design(tmp_path):
-    r = runner.invoke(app, ["surface", str(without_surface(tmp_path))])
+def test_surface_needs_a_surface_table_and_a_nutation_design(no_surface_design):
+    r = runner.invoke(app, ["surface", str(no_surface_design)])
     assert r.exit_code == 2 and "no 'surface' table" in r.output
     r = runner.invoke(app, ["surface", str(example_dir() / "gear_pair.toml")])
     assert r.exit_code == 2 and "need a nutation design" in r.output

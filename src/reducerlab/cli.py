@@ -554,6 +554,7 @@ def check(
 ) -> None:
     """Resonance verdict: exits 1 when a natural frequency meets an excitation, or a gear
     body's mode meets an excitation or a system mode (paper 000 Table 5)."""
+    from .analysis.body_modal import BodyModalResult
     from .analysis.campbell import ComponentModes, format_check, resonance_check
     from .drives import load_design
 
@@ -561,8 +562,6 @@ def check(
         files = _outputs(output)
         components = []
         for path in body_modes or []:
-            from .analysis.body_modal import BodyModalResult
-
             res_b = BodyModalResult.load(path)
             components.append(ComponentModes.from_body_modal(res_b, source=str(path)))
         rng = None
@@ -586,16 +585,17 @@ def check(
 def _all_body_modes(d, design: Path, have: set[str]) -> list:
     """Body modes of every gear of a nutation design not given already (progress bar)."""
     from .analysis.body_modal import body_modal as run_body_modal
+    from .analysis.body_modal import check_bodies
     from .analysis.campbell import ComponentModes
 
-    if not hasattr(d, "tooth_generation") or d.surface is None:
+    try:
+        check_bodies(d)
+    except ReducerlabError as exc:
         raise ReducerlabError(
-            f"--bodies: {design} has no [surface] table (profile, face_width): the gear "
-            "bodies cannot be generated; give --body-modes files instead"
-        )
+            f"--bodies: {design}: {exc}; give --body-modes files instead"
+        ) from None
     out = []
-    gears = [g for g in range(1, (4 if d.sides == "double" else 2) + 1)
-             if f"gear {g}" not in have]  # fmt: skip
+    gears = [g for g in range(1, d.gear_count + 1) if f"gear {g}" not in have]
     with _progress() as progress:
         task = progress.add_task("gear bodies", total=None)
         for g in gears:
@@ -713,9 +713,9 @@ def _check_periods(periods: int, **counts: int) -> None:
             raise ReducerlabError(f"--{name} {value}: must be at most --periods ({periods})")
 
 
-def _time_option(text: str | None, option: str, kind: str) -> float | None:
-    """A positive finite time (``kind = "time"``, s) or frequency (Hz) from an option:
-    a plain number in SI or a quantity string ("2 ms", "500 Hz")."""
+def _quantity_option(text: str | None, option: str, kind: str) -> float | None:
+    """A positive finite quantity of ``kind`` ("time", "frequency", "length", ...) from
+    an option, in SI: a plain number in SI or a quantity string ("2 ms", "1.2 mm")."""
     if text is None:
         return None
     from .units import parse_quantity
@@ -736,8 +736,8 @@ def _forcing_period(period: str | None, frequency: str | None) -> float | None:
     """The sampling period (s) given by ``--period`` or ``--frequency``, or None."""
     if period is not None and frequency is not None:
         raise ReducerlabError("--period and --frequency: give one of them, not both")
-    f = _time_option(frequency, "--frequency", "frequency")
-    return 1.0 / f if f is not None else _time_option(period, "--period", "time")
+    f = _quantity_option(frequency, "--frequency", "frequency")
+    return 1.0 / f if f is not None else _quantity_option(period, "--period", "time")
 
 
 PeriodOption = Annotated[
@@ -1004,19 +1004,6 @@ def khv_stiffness(
             _savefig(plot_mesh_stiffness(laws), files.path("mesh-stiffness.png"), d.provenance)
 
 
-def _length_option(text: str, option: str) -> float:
-    """A length option such as ``--tooth-size '1.2 mm'`` in m (a plain number is m)."""
-    from .units import parse_quantity
-
-    try:
-        value = parse_quantity(text, "length")
-    except ValueError as exc:
-        raise ReducerlabError(f"{option}: {exc}") from None
-    if not value > 0:
-        raise ReducerlabError(f"{option}: must be a length > 0; got {text!r}")
-    return value
-
-
 class BoundaryChoice(StrEnum):
     free = "free"
     bore = "bore"
@@ -1054,6 +1041,7 @@ def body_modal(
     """Finite-element modes of one gear body (paper 000 §4, Table 4): frequencies, mode
     types, renders, netCDF/JSON and a VTU file of the mesh and mode shapes (ParaView)."""
     from .analysis.body_modal import body_modal as run_body_modal
+    from .analysis.body_modal import check_bodies
     from .drives import load_design
     from .fe.gear_mesh import MeshSizes
     from .fe.vtu import write_vtu
@@ -1062,26 +1050,20 @@ def body_modal(
     with _user_errors():
         files = OutputSet(output, "-o", report=_note)
         d = load_design(design)
-        if not hasattr(d, "tooth_generation"):
+        try:
+            check_bodies(d)
+        except ReducerlabError as exc:
+            raise ReducerlabError(f"{design}: {exc}") from None
+        if gear not in range(1, d.gear_count + 1):
             raise ReducerlabError(
-                f"{design}: type = {d.type!r}: gear bodies need a nutation design"
-            )
-        if d.surface is None:
-            raise ReducerlabError(
-                f"{design}: the design has no [surface] table (profile, face_width): the gear "
-                "solid cannot be generated; see examples/nutation_double_sided.toml"
-            )
-        n_gears = 4 if d.sides == "double" else 2
-        if gear not in range(1, n_gears + 1):
-            raise ReducerlabError(
-                f"--gear: must be 1..{n_gears} for a {d.sides}-sided drive; got {gear}"
+                f"--gear: must be 1..{d.gear_count} for a {d.sides}-sided drive; got {gear}"
             )
         sizes = None
         if tooth_size is not None or body_size is not None:
             crown, _ = d.tooth_generation(gear)
             dflt = MeshSizes.default(crown.profile.module)
             t, b = (
-                default if text is None else _length_option(text, option)
+                default if text is None else _quantity_option(text, option, "length")
                 for text, option, default in (
                     (tooth_size, "--tooth-size", dflt.tooth),
                     (body_size, "--body-size", dflt.body),
@@ -1102,8 +1084,7 @@ def body_modal(
                 files.path("body_modal.txt").write_text(res.table() + "\n")
                 _savefig(res.figure(), files.path("modes.png"), res.data.attrs)
                 mesh, shapes = res.mesh, res.shapes
-                labels = [f"{t} (n = {n})" for t, n in zip(res.types,
-                          res.data["nodal_diameters"].values, strict=True)]  # fmt: skip
+                labels = res.labels
                 write_vtu(files.path("body_modes.vtu"), mesh.points, mesh.tets[:, :4], shapes,
                           res.frequencies, labels)  # fmt: skip
                 if renders:

@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
     from ..fe.gear_mesh import GearBodyMesh
 
-__all__ = ["BOUNDARIES", "BodyModalResult", "body_modal", "gear_blank"]
+__all__ = ["BOUNDARIES", "BodyModalResult", "body_modal", "check_bodies", "gear_blank"]
 
 #: Boundary conditions of the gear body.
 BOUNDARIES = ("free", "bore", "face")
@@ -69,6 +69,12 @@ class BodyModalResult(Result):
     def types(self) -> list[str]:
         """Mode type of each mode."""
         return [str(t) for t in self.data["type"].values]
+
+    @property
+    def labels(self) -> list[str]:
+        """``"type (n = nodal diameters)"`` of each mode, for titles and VTU fields."""
+        n = self.data["nodal_diameters"].values
+        return [f"{t} (n = {k})" for t, k in zip(self.types, n, strict=True)]
 
     @property
     def max_change(self) -> float:
@@ -123,10 +129,8 @@ class BodyModalResult(Result):
 
         mesh, shapes = self._shapes()
         a = self.data.attrs
-        labels = [f"{t} (n = {n})" for t, n in zip(self.types,
-                  self.data["nodal_diameters"].values, strict=True)]  # fmt: skip
         return plot_body_modes_grid(
-            mesh.points, mesh.tets[:, :4], shapes, self.frequencies, labels,
+            mesh.points, mesh.tets[:, :4], shapes, self.frequencies, self.labels,
             f"Gear {a.get('gear')} body modes ({a.get('boundary')})",
         )  # fmt: skip
 
@@ -141,6 +145,21 @@ class BodyModalResult(Result):
 
 def _plain(v: Any) -> Any:
     return v.item() if hasattr(v, "item") else v
+
+
+def check_bodies(design: Any) -> None:
+    """Refuse a design whose gear bodies cannot be generated: not a nutation design, or
+    one without a ``[surface]`` table."""
+    if not hasattr(design, "tooth_generation"):
+        raise ReducerlabError(
+            f"body modal: type = {getattr(design, 'type', '?')!r}: gear bodies need a nutation "
+            "design with a [surface] table"
+        )
+    if design.surface is None:
+        raise ReducerlabError(
+            "body modal: the design has no [surface] table (profile, face_width): the gear "
+            "solid cannot be generated; see examples/nutation_double_sided.toml"
+        )
 
 
 def gear_blank(design: Any, gear: int) -> tuple[float, Any]:
@@ -196,8 +215,8 @@ def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[n
 
 def _solve(
     mesh: GearBodyMesh, material: Any, count: int, boundary: Boundary, stage: Stage
-) -> tuple[NDArray[np.float64], NDArray[np.float64], dict[str, Any], Any]:
-    """Frequencies (Hz), shapes at the mesh points (n, 3, count), info, basis."""
+) -> tuple[NDArray[np.float64], NDArray[np.float64], int, float]:
+    """Frequencies (Hz), shapes at the mesh points (n, 3, count), DOFs, mass (kg)."""
     from ..errors import ModelError
     from ..fe import assemble, body_modes
 
@@ -226,8 +245,7 @@ def _solve(
         )
     # displacement at the corner nodes and at the mid-edge nodes of the mesh points
     shapes = _at_points(basis, skm, mesh, modes.shapes)
-    info = {"dofs": int(K.shape[0]), "mass_kg": _translation_mass(basis, M)}
-    return modes.frequencies, shapes, info, basis
+    return modes.frequencies, shapes, int(K.shape[0]), _translation_mass(basis, M)
 
 
 def _translation_mass(basis: Any, M: Any) -> float:
@@ -273,11 +291,9 @@ def _at_points(basis: Any, skm: Any, mesh: GearBodyMesh, shapes: Any) -> NDArray
 def _coarser(sizes: Any, crown: Any, bevel: Any, rim: float) -> Any:
     """The convergence run's sizes: ``COARSER`` times the result's, the tooth size kept
     within the half tooth depth that :func:`~reducerlab.fe.gear_mesh.mesh_gear` allows."""
-    from ..fe.gear_mesh import MeshSizes
-    from ..geometry.solid import default_blank
+    from ..fe.gear_mesh import MeshSizes, max_tooth_size
 
-    bl = default_blank(crown, bevel, rim)
-    cap = 0.5 * abs(bl.face - bl.root)
+    cap = max_tooth_size(crown, bevel, rim)
     c = sizes.refined(COARSER)
     return MeshSizes(min(c.tooth, cap), max(c.body, min(c.tooth, cap)))
 
@@ -317,21 +333,12 @@ def body_modal(
     from ..fe.gear_mesh import MeshSizes, check_sizes, mesh_gear
     from ..fe.modetypes import classify_modes
 
-    if getattr(design, "surface", "missing") == "missing":
-        raise ReducerlabError(
-            f"body modal: type = {getattr(design, 'type', '?')!r}: gear bodies need a nutation "
-            "design with a [surface] table"
-        )
-    if design.surface is None:
-        raise ReducerlabError(
-            "body modal: the design has no [surface] table (profile, face_width): the gear "
-            "solid cannot be generated; see examples/nutation_double_sided.toml"
-        )
+    check_bodies(design)
     if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 50:
         raise ReducerlabError(f"count: must be an integer in [1, 50], got {count!r}")
     if boundary not in BOUNDARIES:
         raise ReducerlabError(f"boundary: must be one of {BOUNDARIES}, got {boundary!r}")
-    n_gears = 4 if design.sides == "double" else 2
+    n_gears = design.gear_count
     if isinstance(gear, bool) or gear not in range(1, n_gears + 1):
         raise ReducerlabError(
             f"gear: must be 1..{n_gears} for a {design.sides}-sided drive, got {gear!r}"
@@ -351,7 +358,7 @@ def body_modal(
                            sizes=_coarser(sizes, crown, bevel, rim), stage=say)  # fmt: skip
         coarse_f = _solve(coarse, material, count, boundary, say)[0]
     mesh = mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say)
-    freq, shapes, info, _ = _solve(mesh, material, count, boundary, say)
+    freq, shapes, dofs, mass = _solve(mesh, material, count, boundary, say)
     say("classifying the modes")
     types = classify_modes(mesh.points, shapes, freq)
     change = freq / coarse_f - 1.0 if convergence else coarse_f
@@ -375,7 +382,7 @@ def body_modal(
     ds.attrs.update(
         gear=int(gear), teeth=int(bevel.teeth), gear_kind=bevel.kind, boundary=boundary,
         tooth_size_mm=sizes.tooth * 1e3, body_size_mm=sizes.body * 1e3,
-        tetrahedra=len(mesh.tets), dofs=info["dofs"], mass_kg=info["mass_kg"],
+        tetrahedra=len(mesh.tets), dofs=dofs, mass_kg=mass,
         seconds=time.perf_counter() - t0,
         material=f"E = {mat.youngs_modulus:.6g} Pa, nu = {mat.poisson_ratio:.4g}, "
         f"rho = {mat.density:.6g} kg/m^3",

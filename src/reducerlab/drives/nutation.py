@@ -276,8 +276,7 @@ class NutationDesign(Design):
             ))  # fmt: skip
         if sf.normal_module is None:
             return
-        n_gears = 4 if self.sides == "double" else 2
-        for k in range(1, n_gears + 1):
+        for k in range(1, self.gear_count + 1):
             m_r = self.surface_module(k)
             if abs(sf.normal_module / m_r - 1) > CONE_DISTANCE_TOL:
                 raise field_rules((
@@ -327,10 +326,9 @@ class NutationDesign(Design):
                 "the design has no 'surface' table (profile, face_width): add one, see "
                 "examples/nutation_surface.toml"
             )
-        n_gears = 4 if self.sides == "double" else 2
-        if gear not in range(1, n_gears + 1):
+        if gear not in range(1, self.gear_count + 1):
             raise ValueError(
-                f"gear must be 1..{n_gears} for a {self.sides}-sided drive; got {gear}"
+                f"gear must be 1..{self.gear_count} for a {self.sides}-sided drive; got {gear}"
             )
         kind = profile or self.surface.profile
         pair = (gear - 1) // 2
@@ -351,6 +349,11 @@ class NutationDesign(Design):
             prof, spec.teeth, delta, self.spiral_angle, self.surface.face_width
         )
         return crown, bevel
+
+    @property
+    def gear_count(self) -> int:
+        """Bevel gears of the drive: 4 double-sided, 2 single-sided."""
+        return 4 if self.sides == "double" else 2
 
     def _pairs(self) -> list[tuple[Bevel, Bevel]]:
         pairs = [(self.gear1, self.gear2)]

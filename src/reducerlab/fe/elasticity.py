@@ -163,7 +163,8 @@ def body_modes(
         Relative eigenvalue below which a mode is rigid.
     solver : {"auto", "scipy", "pardiso"}
         Factorisation of ``K - sigma M``: MKL PARDISO through the optional pypardiso
-        (``auto`` when it is installed; ~10x faster on gear meshes) or scipy's SuperLU.
+        (``auto`` when it is installed; 3.5x faster solve on a gear mesh) or scipy's
+        SuperLU.
     """
     import scipy.sparse.linalg as spla
 

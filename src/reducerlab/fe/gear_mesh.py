@@ -336,10 +336,9 @@ def _feature_polygons(
     else:
         A = _rz(bl.back, bl.root, delta)
         B = _rz(bl.back, bl.body, delta)
-        z_tip = _rz(bl.back, bl.face, delta)[1]
+        r_tip, z_tip = _rz(bl.back, bl.face, delta)
         z0 = z_tip + 0.5 * module  # clear of the teeth's heel ends
         z1 = z0 + f.web
-        r_tip = _rz(bl.back, bl.face, delta)[0]
         if not rh < r_tip - 0.5 * module:
             raise MeshError(
                 f"blank.hub: {f.hub * 1e3:.5g} mm across does not fit inside the teeth "
@@ -380,6 +379,15 @@ def _side_surfaces(gmsh: Any, phi: float, tol: float) -> list[int]:
     return out
 
 
+def max_tooth_size(crown: CrownGear, gear: BevelGear, rim: float) -> float:
+    """Largest tooth-band element size (m) that resolves a tooth: half its depth."""
+    return _max_tooth(default_blank(crown, gear, rim))
+
+
+def _max_tooth(bl: Blank) -> float:
+    return 0.5 * abs(bl.face - bl.root)
+
+
 def check_sizes(crown: CrownGear, gear: BevelGear, rim: float, sizes: MeshSizes) -> Blank:
     """The blank of the gear, after checking that ``sizes`` resolve its teeth: the tooth
     size at most half the tooth depth, the body size at least the tooth size.
@@ -390,7 +398,7 @@ def check_sizes(crown: CrownGear, gear: BevelGear, rim: float, sizes: MeshSizes)
     """
     bl = default_blank(crown, gear, rim)
     depth = abs(bl.face - bl.root)
-    if sizes.tooth > 0.5 * depth:
+    if sizes.tooth > _max_tooth(bl):
         raise MeshError(
             f"mesh size: the tooth size {sizes.tooth * 1e3:.4g} mm does not resolve a tooth "
             f"{depth * 1e3:.4g} mm deep: it must be at most half the tooth depth"
