@@ -1,0 +1,374 @@
+"""Loaded tooth contact analysis of a nutation design's gear pair (papers 001, 000 §2.3).
+
+``contact_analysis(design, pair, power=...)`` generates both gears of the pair from the
+design's ``[surface]`` table (paper 001), builds the finite-element bending compliance
+of each gear's teeth (``contact.compliance``), and runs the loaded tooth contact
+analysis (``contact.ltca``) at evenly spaced positions over one mesh cycle. Per
+position: unloaded and loaded transmission error, contact area, peak pressure, the
+resultant contact force and its components, the largest subsurface von Mises stress
+and its depth, and the mesh stiffness; over the cycle, the Fourier series of paper
+000's Eq. 8 fitted to ``k(t)`` (default order 7).
+
+Load: ``torque`` on the pair's external gear, or ``power`` with the design's
+``input_speed`` as that gear's speed (paper 001's set-up: the external bevel gear on
+the input shaft at 1500 rpm, 1 kW and 3 kW).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError, names_source
+from ..results import Result, provenance
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["ContactResult", "contact_analysis", "contact_pair"]
+
+Stage = Callable[[str], None]
+#: default fine contact cell, in normal modules
+CELL = 1.0 / 40.0
+
+
+class ContactResult(Result):
+    """Loaded tooth contact over one mesh cycle of a gear pair.
+
+    ``data`` has dimension ``position`` (angle of the external gear over one pitch, rad,
+    and ``time`` at the design's speed) with ``unloaded_te`` and ``loaded_te`` (rad of
+    the internal gear), ``te`` (loaded minus unloaded, m at the internal gear's mean
+    radius), ``stiffness`` (N/m, paper 000's mesh stiffness), ``stiffness_fit``,
+    ``contact_area`` (m^2), ``peak_pressure`` (Pa), ``normal_force`` (N, sum of the
+    cell forces), ``force`` (N, components ``x, y, z`` of the resultant on the external
+    gear in the pair's frame, ``axis`` dimension), ``von_mises`` (Pa, largest subsurface
+    value) and ``von_mises_depth`` (m), ``pairs`` (tooth pairs in contact); dimension
+    ``harmonic`` with ``amplitude`` (N/m) and ``phase`` (rad) of Eq. 8; dimension
+    ``cell`` (the contact grid of every position, concatenated) with ``cell_position``,
+    ``cell_tooth``, ``u``, ``v`` (flank parameters of the external gear), ``x, y, z``
+    (m), ``area``, ``separation`` (m), ``cell_force`` (N) and ``pressure`` (Pa).
+    """
+
+    kind: ClassVar[str] = "contact"
+
+    @property
+    def stiffness(self) -> NDArray[np.float64]:
+        """Mesh stiffness at each position (N/m)."""
+        return np.asarray(self.data["stiffness"].values, float)
+
+    @property
+    def mean_stiffness(self) -> float:
+        """``k_m`` of the Fourier fit (N/m)."""
+        return float(self.data.attrs["k_mean"])
+
+    def harmonics(self) -> tuple[list[float], list[float]]:
+        """``(k_r, phi_r)`` of Eq. 8: amplitudes (N/m) and phases (rad)."""
+        return (
+            [float(v) for v in self.data["amplitude"].values],
+            [float(v) for v in self.data["phase"].values],
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: attributes, one row a position, the Fourier terms."""
+        ds = self.data
+        rows = []
+        for i in range(ds.sizes["position"]):
+            f = ds["force"].values[i]
+            rows.append({
+                "angle_deg": float(np.degrees(ds["angle"].values[i])),
+                "unloaded_te_urad": 1e6 * float(ds["unloaded_te"].values[i]),
+                "te_um": 1e6 * float(ds["te"].values[i]),
+                "stiffness_N_per_m": float(ds["stiffness"].values[i]),
+                "contact_area_mm2": 1e6 * float(ds["contact_area"].values[i]),
+                "peak_pressure_MPa": 1e-6 * float(ds["peak_pressure"].values[i]),
+                "normal_force_N": float(ds["normal_force"].values[i]),
+                "force_N": [float(v) for v in f],
+                "von_mises_MPa": 1e-6 * float(ds["von_mises"].values[i]),
+                "von_mises_depth_mm": 1e3 * float(ds["von_mises_depth"].values[i]),
+                "pairs_in_contact": int(ds["pairs"].values[i]),
+            })  # fmt: skip
+        amp, ph = self.harmonics()
+        out = {k: _plain(v) for k, v in ds.attrs.items() if k not in ("design",)}
+        out["positions"] = rows
+        out["fourier"] = {
+            "k_mean_N_per_m": float(ds.attrs["k_mean"]),
+            "amplitudes_N_per_m": amp,
+            "phases_rad": ph,
+            "residual": float(ds.attrs["fit_residual"]),
+        }
+        return out
+
+    def summary(self) -> dict[str, float]:
+        """Cycle averages and extremes (SI)."""
+        ds = self.data
+        return {
+            "contact_area_mean": float(ds["contact_area"].mean()),
+            "peak_pressure_max": float(ds["peak_pressure"].max()),
+            "von_mises_max": float(ds["von_mises"].max()),
+            "force_x_mean_abs": float(np.abs(ds["force"].sel(axis="x")).mean()),
+            "normal_force_mean": float(ds["normal_force"].mean()),
+            "k_mean": float(ds.attrs["k_mean"]),
+            "te_peak_to_peak": float(ds["te"].max() - ds["te"].min()),
+        }
+
+    def table(self) -> str:
+        """Plain-text table over the cycle."""
+        a = self.data.attrs
+        lines = [
+            f"Pair {a['pair']} ({a['profile']}): T_ext = {a['torque_external']:.4g} N m, "
+            f"T_int = {a['torque_internal']:.4g} N m; k_m = {a['k_mean']:.5g} N/m "
+            f"(Eq. 8, order {a['order']}, residual {100 * a['fit_residual']:.2f} %)",
+            "angle(deg)  TE(um)   k (N/m)     area(mm2)  p_max(MPa)  F_x(N)   "
+            "vM_max(MPa) depth(mm) pairs",
+        ]
+        for r in self.to_dict()["positions"]:
+            lines.append(
+                f"{r['angle_deg']:>9.3f}  {r['te_um']:>6.3f}  {r['stiffness_N_per_m']:>10.4g}  "
+                f"{r['contact_area_mm2']:>9.3f}  {r['peak_pressure_MPa']:>10.1f}  "
+                f"{r['force_N'][0]:>7.1f}  {r['von_mises_MPa']:>11.1f}  "
+                f"{r['von_mises_depth_mm']:>8.3f}  {r['pairs_in_contact']:>5}"
+            )
+        return "\n".join(lines)
+
+    def figure(self) -> Figure:
+        """Pressure map, k(t) with its Fourier fit, TE and stress over the cycle."""
+        from ..plot.contact import plot_contact
+
+        return plot_contact(self)
+
+
+def _plain(v: Any) -> Any:
+    return v.item() if hasattr(v, "item") else v
+
+
+def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
+                 misalignment: Any = None, flank: int = 1) -> Any:  # fmt: skip
+    """The :class:`~reducerlab.contact.flanks.NutationPair` of pair ``pair`` (1 or 2):
+    its external gear (2 or 4) and its nutating internal gear (1 or 3)."""
+    from ..contact.flanks import Misalignment, NutationPair
+
+    if getattr(design, "surface", None) is None:
+        raise ReducerlabError(
+            "surface: the design has no [surface] table (profile, face_width), which the "
+            "contact analysis needs to generate the teeth; see examples/nutation_surface.toml"
+        )
+    pairs = design.gear_count // 2
+    if isinstance(pair, bool) or pair not in range(1, pairs + 1):
+        raise ReducerlabError(
+            f"pair: must be 1..{pairs} for a {design.sides}-sided drive; got {pair!r}"
+        )
+    crown, ext = design.tooth_generation(2 * pair, profile)
+    _, internal = design.tooth_generation(2 * pair - 1, profile)
+    return NutationPair(crown, ext, internal, flank, misalignment or Misalignment())
+
+
+def _load(design: Any, power: float | None, torque: float | None) -> float:
+    if (power is None) == (torque is None):
+        raise ReducerlabError("load: give exactly one of power (W) and torque (N m)")
+    if torque is not None:
+        if not (isinstance(torque, (int, float)) and math.isfinite(torque) and torque > 0):
+            raise ReducerlabError(f"torque: must be a number > 0 (N m); got {torque!r}")
+        return float(torque)
+    if not (isinstance(power, (int, float)) and math.isfinite(power) and power > 0):
+        raise ReducerlabError(f"power: must be a number > 0 (W); got {power!r}")
+    speed = getattr(design, "input_speed", None)
+    if not speed:
+        raise ReducerlabError("power: the design has no input_speed to turn power into torque")
+    return float(power) / float(speed)
+
+
+@names_source
+def contact_analysis(
+    design: Any,
+    pair: int = 1,
+    *,
+    power: float | None = None,
+    torque: float | None = None,
+    positions: int = 24,
+    order: int = 7,
+    cell: float | None = None,
+    profile: str | None = None,
+    misalignment: Any = None,
+    tooth_size: float | None = None,
+    rigid: bool = False,
+    stage: Stage | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> ContactResult:
+    """Loaded tooth contact analysis of one gear pair over a mesh cycle.
+
+    Parameters
+    ----------
+    design : NutationDesign
+        With ``[surface]`` (and ``[material]``, default paper 000's steel).
+    pair : int
+        1 (gears 1-2) or 2 (gears 3-4).
+    power, torque : float
+        Exactly one: power (W) at the design's ``input_speed`` on the external gear, or
+        the torque on the external gear (N m).
+    positions : int
+        Positions over one mesh cycle (one pitch of the external gear), >= 2 order + 1.
+    order : int
+        Harmonics of the Eq. 8 fit (paper 000: 7).
+    cell : float, optional
+        Fine contact cell (m); default ``m_n / 40``.
+    profile : {"involute", "double-arc"}, optional
+        Overrides ``surface.profile``.
+    misalignment : contact.flanks.Misalignment, optional
+    tooth_size : float, optional
+        Element size of the finite-element tooth models (m); default ``0.3 m_n``.
+    rigid : bool
+        Teeth rigid beyond the local (half-space) contact deformation: no
+        finite-element models (a quick estimate of the contact pattern; the mesh
+        stiffness is then far too high).
+    stage, progress : callable, optional
+        ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
+    """
+    from ..contact.compliance import fe_tooth_compliance
+    from ..contact.halfspace import combined_modulus, max_subsurface_von_mises
+    from ..contact.ltca import ContactGrid, loaded_contact
+    from ..contact.meshstiffness import fit_fourier
+    from ..fe import Material
+
+    t0 = time.perf_counter()
+    say = stage or (lambda _s: None)
+    T_a = _load(design, power, torque)
+    if isinstance(positions, bool) or not isinstance(positions, int) or positions < 2:
+        raise ReducerlabError(f"positions: must be an integer >= 2; got {positions!r}")
+    if isinstance(order, bool) or not isinstance(order, int) or order < 0:
+        raise ReducerlabError(f"order: must be an integer >= 0; got {order!r}")
+    if 2 * order + 1 > positions:
+        raise ReducerlabError(
+            f"order: {order} harmonics need positions >= {2 * order + 1}; got {positions}"
+        )
+    mp = contact_pair(design, pair, profile=profile, misalignment=misalignment)
+    m_n = mp.crown.profile.module
+    h = CELL * m_n if cell is None else float(cell)
+    if not (math.isfinite(h) and 0 < h <= 0.5 * m_n):
+        raise ReducerlabError(
+            f"cell: must be a length in (0, m_n/2] = (0, {0.5 * m_n * 1e3:.4g} mm]; got {cell!r}"
+        )
+    mat = design.material
+    material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
+    E, nu = material.E, material.nu
+    comp_a = comp_b = None
+    if not rigid:
+        say("finite-element compliance of the external gear's teeth")
+        comp_a = fe_tooth_compliance(mp.flank_a, material=material, tooth_size=tooth_size,
+                                     stage=say)  # fmt: skip
+        say("finite-element compliance of the internal gear's teeth")
+        comp_b = fe_tooth_compliance(mp.flank_b, material=material, tooth_size=tooth_size,
+                                     stage=say)  # fmt: skip
+    pitch = 2 * math.pi / mp.external.teeth
+    phis = pitch * np.arange(positions) / positions
+    say(f"loaded contact at {positions} positions")
+    runs = loaded_contact(
+        mp, T_a, phis, ContactGrid(h), compliance_a=comp_a, compliance_b=comp_b,
+        E_star=combined_modulus(E, nu, E, nu), progress=progress,
+    )  # fmt: skip
+    # lever of the lumped model's mesh on the internal gear (paper 000 Eq. 2-4)
+    internal_gear = getattr(design, f"gear{2 * pair - 1}")
+    a_y = math.cos(design.helix_angle) * math.cos(design.normal_pressure_angle)
+    arm = a_y * internal_gear.mean_radius
+    T_b = runs[0].torque
+    approach = np.array([r.loaded_te for r in runs])
+    k = T_b / (arm**2 * approach)
+    fit = fit_fourier(k, order)
+    vm, depth = _stresses(runs, nu, max_subsurface_von_mises)
+    kin = design.kinematics()
+    f_mesh = list(kin.mesh_frequencies(design.input_speed).values())[pair - 1]
+    force = np.array([r.force_vector for r in runs])
+    cells = _cells_dataset(runs)
+    ds = xr.Dataset(
+        {
+            "angle": ("position", phis, {"units": "rad"}),
+            "time": ("position", np.arange(positions) / (positions * f_mesh), {"units": "s"}),
+            "unloaded_te": ("position", [r.unloaded_te for r in runs], {"units": "rad"}),
+            "loaded_te": ("position", approach + [r.unloaded_te for r in runs], {"units": "rad"}),
+            "te": ("position", approach * internal_gear.mean_radius, {"units": "m"}),
+            "stiffness": ("position", k, {"units": "N/m"}),
+            "stiffness_fit": (
+                "position",
+                fit(2 * math.pi * np.arange(positions) / positions),
+                {"units": "N/m"},
+            ),
+            "contact_area": ("position", [r.contact_area for r in runs], {"units": "m^2"}),
+            "peak_pressure": ("position", [r.pressure.max() for r in runs], {"units": "Pa"}),
+            "normal_force": ("position", [r.force.sum() for r in runs], {"units": "N"}),
+            "force": (("position", "axis"), force, {"units": "N"}),
+            "von_mises": ("position", vm, {"units": "Pa"}),
+            "von_mises_depth": ("position", depth, {"units": "m"}),
+            "pairs": ("position", [len(np.unique(r.tooth[r.force > 0])) for r in runs]),
+            "amplitude": ("harmonic", fit.amplitudes, {"units": "N/m"}),
+            "phase": ("harmonic", fit.phases, {"units": "rad"}),
+            **cells,
+        },
+        coords={
+            "position": np.arange(positions),
+            "axis": ["x", "y", "z"],
+            "harmonic": np.arange(1, order + 1),
+        },
+        attrs={"title": f"Loaded tooth contact, pair {pair}", **provenance(design.provenance)},
+    )
+    ds.attrs.update(
+        pair=int(pair), profile=profile or design.surface.profile,
+        teeth_external=mp.external.teeth, teeth_internal=mp.internal.teeth,
+        torque_external=T_a, torque_internal=T_b, speed=float(design.input_speed),
+        mesh_frequency=f_mesh, k_mean=fit.mean, fit_residual=fit.residual, order=order,
+        cell_m=h, rigid=int(rigid), lever_arm_m=arm,
+        fe_dofs=0 if comp_a is None else comp_a.dofs + comp_b.dofs,
+        seconds=time.perf_counter() - t0,
+        frame="x: normal of the plane of the two axes (tangential at the mesh); y: along the "
+        "pitch line; z: crown gear axis",
+    )  # fmt: skip
+    return ContactResult(ds)
+
+
+def _stresses(runs: list, nu: float, vm_max: Callable) -> tuple[NDArray, NDArray]:
+    """Largest subsurface von Mises stress (Pa) and its depth (m) at each position,
+    over the contact patches of all tooth pairs (each on its tangent plane)."""
+    vm, depth = [], []
+    for r in runs:
+        best = (0.0, math.nan)
+        for k in np.unique(r.tooth[r.force > 0]):
+            m = (r.tooth == k) & (r.force > 0)
+            i0 = np.flatnonzero(m)[np.argmax(r.pressure[m])]
+            n0 = r.normals[i0]
+            e1 = np.cross(n0, [0.0, 0.0, 1.0])
+            if np.linalg.norm(e1) < 1e-6:
+                e1 = np.cross(n0, [1.0, 0.0, 0.0])
+            e1 /= np.linalg.norm(e1)
+            e2 = np.cross(n0, e1)
+            d = r.points[m] - r.points[i0]
+            xy = np.stack([d @ e1, d @ e2], axis=1)
+            half = 0.5 * np.sqrt(r.area[m])
+            v, z, _ = vm_max(xy, half, half, r.pressure[m], nu)
+            if v > best[0]:
+                best = (v, z)
+        vm.append(best[0])
+        depth.append(best[1])
+    return np.array(vm), np.array(depth)
+
+
+def _cells_dataset(runs: list) -> dict[str, Any]:
+    cat = lambda f: np.concatenate([f(r) for r in runs])  # noqa: E731
+    pos = cat(lambda r: np.full(len(r.force), runs.index(r)))
+    P = cat(lambda r: r.points)
+    return {
+        "cell_position": ("cell", pos),
+        "cell_tooth": ("cell", cat(lambda r: r.tooth)),
+        "u": ("cell", cat(lambda r: r.uv[:, 0])),
+        "v": ("cell", cat(lambda r: r.uv[:, 1])),
+        "x": ("cell", P[:, 0], {"units": "m"}),
+        "y": ("cell", P[:, 1], {"units": "m"}),
+        "z": ("cell", P[:, 2], {"units": "m"}),
+        "area": ("cell", cat(lambda r: r.area), {"units": "m^2"}),
+        "separation": ("cell", cat(lambda r: r.separation), {"units": "m"}),
+        "cell_force": ("cell", cat(lambda r: r.force), {"units": "N"}),
+        "pressure": ("cell", cat(lambda r: r.pressure), {"units": "Pa"}),
+    }

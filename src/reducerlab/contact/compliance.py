@@ -1,0 +1,354 @@
+"""Tooth bending compliance from finite-element influence coefficients.
+
+The compliance of a loaded tooth contact splits into a *local* part, the half-space
+deformation near each loaded point (``contact.halfspace``: Boussinesq, exact on the
+fine contact grid), and a *global* part: bending, shear, fillet and rim deformation of
+the teeth, smooth over the flank. The global part comes from a finite-element model of
+a few teeth (quadratic tetrahedra, ``fe.gear_mesh`` and ``fe.elasticity``):
+
+1. A grid of ``n_u x n_v`` load points on the flank of each of the teeth ``-1, 0, 1``.
+   At each, a unit normal force spread as a smooth bump ``(1 - r^2/a^2)^2`` over the
+   flank (radius ``a``, a few element sizes, so that the mesh resolves it).
+2. One factorisation of the stiffness matrix (base of the rim and the sector's end walls
+   held), all loads solved at once; the influence coefficient ``K_FE[k, l]`` is the
+   work-conjugate normal displacement of bump ``k`` under bump ``l`` (symmetric).
+3. The finite-element response still holds the local half-space deformation of the
+   bumps, which the contact grid adds exactly: it is removed by subtracting, for two
+   bumps on the same flank, their half-space interaction
+   ``(1 - nu^2) / (pi E a) I(d / a)`` with
+   ``I(s) = int_0^inf phi(k)^2 J0(k s) dk``, ``phi(k) = 48 J3(k) / k^3`` (the Hankel
+   transform of the unit bump; ``I(s) -> 1/s`` far away). This is the decomposition of
+   Vijayakar (Int. J. Numer. Meth. Eng. 31, 1991, combined surface integral and finite
+   element method), with the surface integral on the contact grid.
+4. Between the load points the global compliance is interpolated bilinearly in the
+   flank parameters; beyond the outermost load points (which sit one bump radius inside
+   the flank edges) it is extrapolated linearly.
+
+The result for a gear is a :class:`ToothCompliance`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError
+from ..fe.elasticity import STEEL, Material
+from ..kinematics.rotations import rot_z
+
+__all__ = ["ToothCompliance", "bump_interaction", "fe_tooth_compliance", "flank_influence"]
+
+Array = NDArray[np.float64]
+Stage = Callable[[str], None]
+
+#: teeth modelled around the loaded one (tooth pairs -1, 0, 1 of the contact analysis)
+TEETH = (-1, 0, 1)
+
+
+@lru_cache(maxsize=1)
+def _interaction_table() -> tuple[Array, Array]:
+    """``I(s)`` on ``0 <= s <= 20`` (dimensionless, unit bump radius), by Simpson's rule
+    on ``0 <= k <= 200`` (``phi(k)^2 <= 2e-9`` there; the step resolves ``J0(20 k)``)."""
+    from scipy.integrate import simpson
+    from scipy.special import j0, jv
+
+    k = np.linspace(0.0, 200.0, 20001)
+    with np.errstate(all="ignore"):
+        phi = np.where(k < 1e-3, 1.0 - k * k / 16.0, 48.0 * jv(3, k) / k**3)
+    s = np.linspace(0.0, S_MAX, 401)
+    out = np.array([simpson(phi**2 * j0(k * si), x=k) for si in s])
+    return s, out
+
+
+#: beyond this distance (in bump radii) ``I(s) = 1/s`` to 3e-4 (the bumps' second
+#: moments add ``1/(8 s^3)``)
+S_MAX = 20.0
+
+
+def bump_interaction(distance: Array, radius: float) -> Array:
+    """``I(d/a) / a`` (1/m): the half-space interaction of two unit bumps of radius
+    ``a`` whose centres are ``d`` apart; times ``(1 - nu^2)/(pi E)`` it is the
+    work-conjugate displacement (m/N). ``I(s) = 1/s`` beyond ``S_MAX``."""
+    s_tab, i_tab = _interaction_table()
+    s = np.asarray(distance, float) / radius
+    far = s > s_tab[-1]
+    out = np.interp(np.where(far, 0.0, s), s_tab, i_tab)
+    return np.where(far, 1.0 / np.where(far, s, 1.0), out) / radius
+
+
+@dataclass(frozen=True)
+class ToothCompliance:
+    """Global (bending) compliance of one gear's teeth on a grid of load points.
+
+    Attributes
+    ----------
+    u_nodes, v_nodes : ndarray
+        Flank parameters of the load grid (``n_u``, ``n_v``).
+    teeth : tuple of int
+        Tooth indices of the blocks (``-1, 0, 1``).
+    matrix : ndarray, shape (T L, T L)
+        Influence coefficients (m/N) between the ``L = n_u n_v`` load points of the
+        ``T`` teeth, local half-space part removed; order: tooth, ``u``, ``v``.
+    dofs : int
+        Size of the finite-element model.
+    radius : float
+        Bump radius ``a`` (m).
+    """
+
+    u_nodes: Array
+    v_nodes: Array
+    teeth: tuple[int, ...]
+    matrix: Array
+    dofs: int
+    radius: float
+
+    def weights(self, tooth: Array, u: Array, v: Array) -> Array:
+        """Interpolation weights (n, T L) of points ``(u, v)`` on teeth ``tooth``."""
+        tooth = np.asarray(tooth, int)
+        nu, nv = len(self.u_nodes), len(self.v_nodes)
+        L = nu * nv
+        W = np.zeros((len(tooth), len(self.teeth) * L))
+        iu, wu = _linear(self.u_nodes, np.asarray(u, float))
+        iv, wv = _linear(self.v_nodes, np.asarray(v, float))
+        try:
+            t = np.array([self.teeth.index(int(k)) for k in tooth], dtype=int)
+        except ValueError:
+            raise ReducerlabError(
+                f"compliance: tooth pairs must be among {self.teeth}; got {sorted(set(tooth))}"
+            ) from None
+        rows = np.arange(len(tooth))
+        for a in (0, 1):
+            for b in (0, 1):
+                col = t * L + (iu + a) * nv + (iv + b)
+                np.add.at(W, (rows, col), wu[:, a] * wv[:, b])
+        return W
+
+    def between(self, wi: Array, wj: Array) -> Array:
+        """Compliance (m/N) between points of weights ``wi`` (n, TL) and ``wj`` (m, TL)."""
+        return wi @ self.matrix @ wj.T
+
+
+def _linear(nodes: Array, x: Array) -> tuple[NDArray[np.int64], Array]:
+    """Cell index and the two linear weights (extrapolating beyond the ends)."""
+    i = np.clip(np.searchsorted(nodes, x) - 1, 0, len(nodes) - 2)
+    t = (x - nodes[i]) / (nodes[i + 1] - nodes[i])
+    return i, np.stack([1.0 - t, t], axis=1)
+
+
+def fe_tooth_compliance(
+    flank,
+    *,
+    material: Material = STEEL,
+    grid: tuple[int, int] = (6, 9),
+    tooth_size: float | None = None,
+    body_size: float | None = None,
+    rim: float | None = None,
+    stage: Stage | None = None,
+) -> ToothCompliance:
+    """Finite-element tooth compliance of a crown-generated bevel gear's flank.
+
+    Parameters
+    ----------
+    flank : contact.flanks.BevelFlank
+        The loaded flank (its gear, crown gear and flank side).
+    material : Material
+    grid : (int, int)
+        Load points along the profile and along the face on each tooth.
+    tooth_size, body_size : float, optional
+        Element sizes (m) in the teeth and in the rim; default ``0.3 m_n`` and ``m_n``.
+    rim : float, optional
+        Rim thickness below the root cone (m); its base is held. Default ``2 m_n``.
+    stage : callable, optional
+        ``stage(text)`` at each step (progress display).
+    """
+    from ..fe.gear_mesh import MeshSizes, mesh_gear
+    from ..geometry.solid import cone_coordinates
+
+    say = stage or (lambda _s: None)
+    crown, gear = flank.crown, flank.gear
+    m_n = crown.profile.module
+    ts = 0.3 * m_n if tooth_size is None else float(tooth_size)
+    bs = 1.0 * m_n if body_size is None else float(body_size)
+    n_u, n_v = (int(g) for g in grid)
+    if n_u < 2 or n_v < 2:
+        raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
+    a = 2.0 * ts  # bump radius: two tooth elements
+    say("meshing five tooth sectors")
+    mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, max(bs, ts)), sectors=range(-2, 3))
+    # load grid, inset by the bump radius from the flank's edges (arc length)
+    u_nodes, v_nodes = _load_nodes(flank, a, n_u, n_v)
+    uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
+    P0, N0 = flank.evaluate(uu.ravel(), vv.ravel())
+    skm = mesh.skfem()
+    angles = [-2 * math.pi * k / gear.teeth for k in TEETH]
+    Kb, dofs = flank_influence(
+        skm, lambda basis: _held_dofs(basis, mesh, cone_coordinates), P0, N0, angles,
+        a, material, stage=say,
+    )  # fmt: skip
+    return ToothCompliance(u_nodes, v_nodes, TEETH, Kb, dofs, a)
+
+
+def flank_influence(
+    skm,
+    held: Callable,
+    points: Array,
+    normals: Array,
+    angles: Sequence[float],
+    radius: float,
+    material: Material,
+    stage: Stage | None = None,
+) -> tuple[Array, int]:
+    """Bending influence coefficients of load points on several teeth of one FE model.
+
+    Parameters
+    ----------
+    skm : skfem.MeshTet2
+        The teeth and their rim (m), gear axis ``z``.
+    held : callable
+        ``held(basis) -> DOF indices`` held at zero.
+    points, normals : ndarray (L, 3)
+        Load points on the flank of tooth 0 (m) and the flank's outward normals.
+    angles : sequence of float
+        Rotations about ``z`` (rad) taking tooth 0 to each modelled tooth.
+    radius : float
+        Bump radius ``a`` (m).
+    material : Material
+
+    Returns
+    -------
+    matrix : ndarray (T L, T L)
+        Influence coefficients (m/N), tooth-major, the bumps' own half-space interaction
+        removed between load points of the same tooth (module docstring).
+    dofs : int
+        Size of the finite-element model.
+    """
+    from ..fe.elasticity import assemble
+
+    say = stage or (lambda _s: None)
+    say(f"assembling {skm.t.shape[1]} quadratic tetrahedra")
+    K, _, basis = assemble(skm, material, order=2)
+    fixed = held(basis)
+    centres = np.concatenate([points @ rot_z(t).T for t in angles])
+    nrm = np.concatenate([normals @ rot_z(t).T for t in angles])
+    say(f"{len(centres)} flank loads")
+    F = _bump_loads(basis, skm, centres, nrm, radius)
+    say(f"solving {K.shape[0]} DOFs for {F.shape[1]} loads")
+    U = _solve_many(K, F, fixed)
+    Kfe = F.T @ U
+    Kfe = 0.5 * (Kfe + Kfe.T)
+    L = len(points)
+    E, nu = material.E, material.nu
+    for t in range(len(angles)):
+        sl = slice(t * L, (t + 1) * L)
+        d = np.linalg.norm(centres[sl, None, :] - centres[None, sl, :], axis=2)
+        Kfe[sl, sl] -= (1 - nu**2) / (math.pi * E) * bump_interaction(d, radius)
+    return Kfe, int(K.shape[0])
+
+
+def _load_nodes(flank, inset: float, n_u: int, n_v: int) -> tuple[Array, Array]:
+    """Load-point parameters, evenly spaced in arc length, ``inset`` (m) inside the
+    flank's edges (measured along the mid-face profile and the mid-height face line)."""
+    lo, hi = flank.u_range
+    s = np.linspace(lo, hi, 401)
+    P, _ = flank.evaluate(s, np.full_like(s, 0.5))
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+    if arc[-1] <= 2.5 * inset:
+        raise ReducerlabError(
+            f"compliance: the flank ({arc[-1] * 1e3:.3g} mm high) is too short for load bumps "
+            f"of radius {inset * 1e3:.3g} mm: use a smaller tooth element size"
+        )
+    u_nodes = np.interp(np.linspace(inset, arc[-1] - inset, n_u), arc, s)
+    t = np.linspace(0.0, 1.0, 401)
+    um = 0.5 * (lo + hi)
+    P, _ = flank.evaluate(np.full_like(t, um), t)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+    v_nodes = np.interp(np.linspace(inset, arc[-1] - inset, n_v), arc, t)
+    return u_nodes, v_nodes
+
+
+def _held_dofs(basis, mesh, cone_coordinates) -> NDArray[np.int64]:
+    """DOFs of the boundary facets on the rim's base cone and on the two end walls."""
+    skm = basis.mesh
+    x = skm.p
+    tol = 1e-6 * float(np.max(np.abs(mesh.points)))
+    h = cone_coordinates(x.T, mesh.gear.cone_angle)[1]
+    on = np.abs(h - mesh.blank.body) < tol
+    # end walls: the extreme azimuths of the open sector (planes through the axis)
+    az = np.arctan2(x[1], x[0])
+    ref = np.angle(np.mean(np.exp(1j * az)))
+    rel = np.angle(np.exp(1j * (az - ref)))
+    for side in (rel.min(), rel.max()):
+        phi = ref + side
+        nrm = np.array([-math.sin(phi), math.cos(phi), 0.0])
+        on |= np.abs(nrm @ x) < tol
+    bf = skm.boundary_facets()
+    facets = bf[np.all(on[skm.facets[:, bf]], axis=0)]
+    return np.asarray(basis.get_dofs(facets=facets).all(), dtype=np.int64)
+
+
+def _bump_loads(basis, skm, centres: Array, normals: Array, a: float) -> Array:
+    """Load vectors (ndofs, n): unit normal force spread as ``(1 - r^2/a^2)^2`` over the
+    boundary facets near each centre whose normal faces the load's normal (within 60
+    deg), integrated with the facets' quadrature (all loads at once)."""
+    import scipy.sparse as sp
+    from scipy.spatial import cKDTree
+    from skfem import FacetBasis
+
+    bf = skm.boundary_facets()
+    mid = skm.p[:, skm.facets[:, bf]].mean(axis=1).T  # facet corner centroids
+    near = cKDTree(mid).query_ball_point(centres, 1.5 * a)
+    used = np.unique(np.concatenate([np.asarray(n, dtype=np.int64) for n in near]))
+    if used.size == 0:
+        raise ReducerlabError("compliance: the load points lie off the meshed flank")
+    fb = FacetBasis(skm, basis.elem, facets=bf[used], intorder=4)
+    x = fb.global_coordinates().value  # (3, nf, nq)
+    nf, nq = x.shape[1], x.shape[2]
+    dx = fb.dx  # (nf, nq)
+    rows = np.repeat(fb.element_dofs[:, :, None], nq, axis=2)  # (nb, nf, nq)
+    cols = np.broadcast_to(np.arange(nf * nq).reshape(nf, nq), rows.shape)
+    S = []
+    for c in range(3):
+        vals = np.stack([fb.basis[i][0].value[c] for i in range(len(fb.basis))]) * dx
+        S.append(
+            sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(basis.N, nf * nq))
+        )
+    xq = x.reshape(3, -1).T  # (nf nq, 3)
+    nrm = fb.normals.reshape(3, -1).T
+    r2 = np.sum((xq[:, None, :] - centres[None, :, :]) ** 2, axis=2) / (a * a)
+    facing = nrm @ normals.T > 0.5
+    B = np.where((r2 < 1.0) & facing, (1.0 - r2) ** 2, 0.0)  # (nf nq, n)
+    F = -sum(S[c] @ (B * normals[:, c]) for c in range(3))
+    total = np.array([_force_of(F[:, j], basis, normals[j]) for j in range(F.shape[1])])
+    if not np.all(total > 0):
+        raise ReducerlabError("compliance: a load bump found no flank area under it")
+    return F / total
+
+
+def _force_of(b: Array, basis, n: Array) -> float:
+    """Resultant of a load vector along ``-n`` (N): sum of its nodal forces."""
+    f = np.array([b[basis.nodal_dofs[c]].sum() + b[basis.edge_dofs[c]].sum() for c in range(3)])
+    return float(-f @ n)
+
+
+def _solve_many(K, F: Array, fixed: NDArray[np.int64]) -> Array:
+    """``U = K^-1 F`` with the DOFs ``fixed`` held at zero (one factorisation)."""
+    from ..fe.elasticity import _pardiso_inverse
+
+    n = K.shape[0]
+    free = np.setdiff1d(np.arange(n), fixed)
+    Kff = K[free][:, free].tocsr()
+    inv = _pardiso_inverse(Kff)
+    if inv is not None:
+        Uf = inv.matmat(F[free])
+    else:
+        from scipy.sparse.linalg import splu
+
+        Uf = splu(Kff.tocsc()).solve(F[free])
+    U = np.zeros_like(F)
+    U[free] = Uf
+    return U

@@ -1,0 +1,394 @@
+"""Loaded tooth contact analysis (LTCA) over a mesh cycle.
+
+At each mesh position ``phi`` (rotation of gear A):
+
+1. **Unloaded contact (TCA).** On a coarse grid of each tooth pair ``k`` the exact
+   separation ``t`` along A's normal and the lever ``lam`` of B's rotation are computed
+   (``contact.flanks.separations``). The unloaded transmission error is the rotation of
+   B that closes the first point, ``psi_0 = min t / lam``; ``g = t - lam psi_0`` is the
+   ease-off (separation field) of the aligned pair.
+2. **Contact grid.** Coarse cells whose separation is below ``s_max`` (and their
+   neighbours) are split into fine cells (``cell`` in arc length), evaluated exactly.
+3. **Compliance.** ``C = C_hs + W_A K_A W_A^T + W_B K_B W_B^T``: the half-space
+   (Boussinesq) influence of the fine cells of both gears (``contact.halfspace``) and the
+   finite-element bending compliance of each gear interpolated to the cells
+   (``contact.compliance``).
+4. **Load distribution.** The complementarity problem ``C F + g - lam psi >= 0 _|_
+   F >= 0``, ``lam . F = T_B`` is solved exactly (``contact.complementarity``), warm
+   started from the previous position.
+5. **Completeness check.** If a point left out of the contact grid (separation above
+   ``s_max``) would have closed under the loaded approach ``lam psi``, ``s_max`` grows
+   and the position is solved again, so the result never depends on the first guess.
+
+The loaded transmission error ``psi`` and the mesh stiffness
+``k = T_B / ((a_y r_mB)^2 psi)`` (``a_y r_mB``: the lever of the lumped model's mesh,
+paper 000 Eq. 2-4) follow at each position.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError
+from .complementarity import ContactError, solve_contact
+from .flanks import MeshPair, separations
+
+__all__ = ["ContactGrid", "PositionContact", "loaded_contact"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class ContactGrid:
+    """Resolution of the contact grid.
+
+    Attributes
+    ----------
+    cell : float
+        Fine cell size (m) along the profile and along the face (arc length).
+    coarse : int
+        Fine cells per coarse cell along each direction (the coarse grid finds the
+        potential contact region).
+    teeth : tuple of int
+        Tooth pairs examined at each position.
+    s_max : float
+        First guess of the largest separation that can close under load (m); grown
+        automatically when too small.
+    """
+
+    cell: float
+    coarse: int = 4
+    teeth: tuple[int, ...] = (-1, 0, 1)
+    s_max: float = 1e-6
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.cell) and self.cell > 0):
+            raise ReducerlabError(f"grid.cell: must be a length > 0; got {self.cell!r}")
+        if not (isinstance(self.coarse, int) and 1 <= self.coarse <= 16):
+            raise ReducerlabError(f"grid.coarse: must be an integer in 1..16; got {self.coarse!r}")
+        if not self.teeth:
+            raise ReducerlabError("grid.teeth: needs at least one tooth pair")
+
+
+@dataclass(frozen=True)
+class _Axis:
+    """Fine cell edges of one flank parameter, grouped into coarse cells."""
+
+    edges: Array  # fine cell edges (n+1,)
+    coarse_of: NDArray[np.int64]  # coarse cell of each fine cell (n,)
+    coarse_edges: Array
+
+    @property
+    def centres(self) -> Array:
+        return 0.5 * (self.edges[:-1] + self.edges[1:])
+
+    @property
+    def coarse_centres(self) -> Array:
+        return 0.5 * (self.coarse_edges[:-1] + self.coarse_edges[1:])
+
+
+def _axis(param: Array, arc: Array, breaks: Sequence[float], cell: float, c: int) -> _Axis:
+    """Edges uniform in arc length with ``c`` fine cells per coarse cell, the coarse
+    edges landing on the profile's segment breaks (no cell straddles a corner)."""
+    lo, hi = float(param[0]), float(param[-1])
+    inner = np.interp([b for b in breaks if lo < b < hi], param, arc)
+    # breaks closer than half a fine cell to an end or to each other are not cut
+    s_cuts = [arc[0]]
+    for b in inner:
+        if b - s_cuts[-1] > 0.5 * cell and arc[-1] - b > 0.5 * cell:
+            s_cuts.append(float(b))
+    s_cuts = np.array([*s_cuts, arc[-1]])
+    coarse, fine, owner = [s_cuts[0]], [s_cuts[0]], []
+    for s0, s1 in itertools.pairwise(s_cuts):
+        n = max(1, round((s1 - s0) / (c * cell)))
+        ce = np.linspace(s0, s1, n + 1)
+        for a, b in itertools.pairwise(ce):
+            owner += [len(coarse) - 1] * c
+            fine += list(np.linspace(a, b, c + 1)[1:])
+            coarse.append(b)
+    to_param = lambda s: np.interp(s, arc, param)  # noqa: E731
+    return _Axis(to_param(np.array(fine)), np.array(owner), to_param(np.array(coarse)))
+
+
+@dataclass(frozen=True)
+class PositionContact:
+    """The loaded contact at one mesh position (fixed frame of the pair).
+
+    Attributes
+    ----------
+    phi : float
+        Mesh position: gear A's rotation (rad).
+    unloaded_te, loaded_te : float
+        Rotation of gear B (rad): the unloaded transmission error ``psi_0`` and the
+        elastic approach under load (loaded TE = ``psi_0 + loaded_te``).
+    torque : float
+        ``T_B`` (N m).
+    points, normals : ndarray (n, 3)
+        Contact grid cells (m) and A's outward normals.
+    tooth : ndarray of int (n,)
+        Tooth pair of each cell.
+    uv : ndarray (n, 2)
+        A's flank parameters of the cells.
+    area : ndarray (n,)
+        Cell areas (m^2).
+    separation : ndarray (n,)
+        Unloaded separation ``g`` (m).
+    force : ndarray (n,)
+        Normal force on each cell (N).
+    s_max : float
+        Largest separation admitted into the grid (m).
+    """
+
+    phi: float
+    unloaded_te: float
+    loaded_te: float
+    torque: float
+    points: Array
+    normals: Array
+    tooth: NDArray[np.int64]
+    uv: Array
+    area: Array
+    separation: Array
+    force: Array
+    s_max: float
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def pressure(self) -> Array:
+        """Mean pressure on each cell (Pa)."""
+        return self.force / self.area
+
+    @property
+    def contact_area(self) -> float:
+        """Area of the loaded cells (m^2)."""
+        return float(self.area[self.force > 0].sum())
+
+    @property
+    def force_vector(self) -> Array:
+        """Resultant contact force on gear A (N), fixed frame: ``-sum F_i n_i``."""
+        return -(self.force[:, None] * self.normals).sum(axis=0)
+
+
+def _arc(flank, along_u: bool, fixed: float, n: int = 801) -> tuple[Array, Array]:
+    """A parameter axis and the arc length along it on the flank (m)."""
+    if along_u:
+        p = np.linspace(*flank.u_range, n)
+        P, _ = flank.evaluate(p, np.full(n, fixed))
+    else:
+        p = np.linspace(0.0, 1.0, n)
+        P, _ = flank.evaluate(np.full(n, fixed), p)
+    return p, np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+
+
+def _cells(flank, u: Array, v: Array, du: Array, dv: Array) -> tuple[Array, ...]:
+    """Cell axes, half sides (m) and areas (m^2) from the flank's tangents."""
+    h = 1e-6
+    P, _ = flank.evaluate(u, v)
+    Pu = (flank.evaluate(u + h, v)[0] - P) / h * du[:, None]
+    Pv = (flank.evaluate(u, v + h)[0] - P) / h * dv[:, None]
+    e1 = Pu / np.linalg.norm(Pu, axis=1)[:, None]
+    pv = Pv - np.einsum("ij,ij->i", Pv, e1)[:, None] * e1
+    e2 = pv / np.linalg.norm(pv, axis=1)[:, None]
+    area = np.linalg.norm(np.cross(Pu, Pv), axis=1)
+    hu = 0.5 * np.linalg.norm(Pu, axis=1)
+    return e1, e2, hu, area / (4 * hu), area
+
+
+def loaded_contact(
+    pair: MeshPair,
+    torque: float,
+    positions: Array,
+    grid: ContactGrid,
+    *,
+    compliance_a=None,
+    compliance_b=None,
+    E_star: float,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[PositionContact]:
+    """Loaded tooth contact at each mesh position.
+
+    Parameters
+    ----------
+    pair : MeshPair
+    torque : float
+        Torque on gear A (N m), > 0; gear B carries ``T_B = torque_ratio * torque``.
+    positions : array_like
+        Mesh positions (rotations of gear A, rad).
+    grid : ContactGrid
+    compliance_a, compliance_b : ToothCompliance, optional
+        Bending compliance of each gear's teeth (``contact.compliance``); ``None``
+        treats that gear's teeth as rigid beyond the half-space (for closed-form checks).
+    E_star : float
+        Combined modulus ``E*`` of the two bodies (Pa), ``contact.halfspace``.
+    progress : callable, optional
+        ``progress(done, total)`` after each position.
+    """
+    from .halfspace import influence_matrix
+
+    if not (math.isfinite(torque) and torque > 0):
+        raise ReducerlabError(f"torque: must be a finite number > 0 (N m); got {torque!r}")
+    phis = np.atleast_1d(np.asarray(positions, float))
+    if phis.ndim != 1 or not np.all(np.isfinite(phis)):
+        raise ReducerlabError("positions: must be a 1-D array of finite angles (rad)")
+    A = pair.flank_a
+    pu, arc_u = _arc(A, True, 0.5)
+    pv, arc_v = _arc(A, False, 0.5 * sum(A.u_range))
+    breaks = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "breaks", ()))
+    ax_u = _axis(pu, arc_u, breaks, grid.cell, grid.coarse)
+    ax_v = _axis(pv, arc_v, (), grid.cell, grid.coarse)
+    T_B = torque * pair.torque_ratio
+    # fine cell geometry is the same for every tooth (tooth k = tooth 0 turned)
+    fu, fv = np.meshgrid(ax_u.centres, ax_v.centres, indexing="ij")
+    dfu, dfv = np.meshgrid(np.diff(ax_u.edges), np.diff(ax_v.edges), indexing="ij")
+    cu, cv = np.meshgrid(ax_u.coarse_centres, ax_v.coarse_centres, indexing="ij")
+    _n_fu, _n_fv = fu.shape
+    n_cu, n_cv = cu.shape
+    fine_coarse = (ax_u.coarse_of[:, None] * n_cv + ax_v.coarse_of[None, :]).ravel()
+    geo = _cells(A, fu.ravel(), fv.ravel(), dfu.ravel(), dfv.ravel())
+    sign = 0.0
+    s_max = grid.s_max
+    prev: set[tuple[int, int]] = set()
+    out: list[PositionContact] = []
+    for j, phi in enumerate(phis):
+        coarse = {k: separations(pair, phi, k, cu.ravel(), cv.ravel()) for k in grid.teeth}
+        if sign == 0.0:
+            lam_all = np.concatenate([s.lever[np.isfinite(s.distance)] for s in coarse.values()])
+            if lam_all.size == 0:
+                raise ContactError(
+                    f"no contact: at mesh position {math.degrees(phi):.4g} deg no point of "
+                    "gear A's flank finds gear B's flank (surfaces apart, or wrong flank)"
+                )
+            sign = 1.0 if np.median(lam_all) > 0 else -1.0
+        psi0 = _first_contact(coarse, sign)
+        fine_cache: dict[int, object] = {}
+        while True:
+            sel = _select(pair, phi, coarse, sign, psi0, s_max, fine_cache, fu, fv,
+                          fine_coarse, (n_cu, n_cv), grid.teeth)  # fmt: skip
+            psi0 = min(psi0, sel["psi0"])
+            g = sel["t"] - sel["lam"] * psi0
+            keep = g <= s_max
+            if not np.any(keep):
+                raise ContactError(
+                    f"no contact: nothing within {s_max * 1e6:.3g} um at mesh position "
+                    f"{math.degrees(phi):.4g} deg"
+                )
+            idx = sel["fine"][keep]
+            teeth = sel["tooth"][keep]
+            lam = sel["lam"][keep]
+            P, N = sel["P"][keep], sel["N"][keep]
+            e1, e2, hu, hv, area = (a[idx] for a in geo)
+            # axes of the tooth-k cells are the tooth-0 axes placed like the points
+            e1, e2 = sel["rot"](e1, teeth), sel["rot"](e2, teeth)
+            C = influence_matrix(P, e1, e2, hu, hv, E_star, same_body=teeth)
+            for comp, uv in ((compliance_a, np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1)),
+                             (compliance_b, sel["uv_b"][keep])):  # fmt: skip
+                if comp is not None:
+                    W = comp.weights(teeth, uv[:, 0], uv[:, 1])
+                    C += comp.between(W, W)
+            keys = list(zip(teeth.tolist(), idx.tolist(), strict=True))
+            start = np.array([k in prev for k in keys])
+            sol = solve_contact(C, g[keep], lam, T_B, start=start if start.any() else None)
+            approach = sol.approach
+            # completeness: points left out must stay open under the rigid approach
+            left = sel["left_gap"] - sel["left_lam"] * (psi0 + approach)
+            out_g = g[~keep] - sel["lam"][~keep] * approach
+            worst = min(left.min(initial=np.inf), out_g.min(initial=np.inf))
+            if worst > 0:
+                break
+            s_max *= 2.0
+        prev = {k for k, a in zip(keys, sol.active, strict=True) if a}
+        out.append(
+            PositionContact(
+                float(phi), float(psi0), float(approach), T_B, P, N, teeth,
+                np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1), area, g[keep], sol.force,
+                s_max,
+            )
+        )  # fmt: skip
+        # next position: a grid just large enough for this one's approach, with a margin
+        # (the completeness check grows it again where the next position needs more)
+        s_max = max(grid.s_max, 1.3 * float(np.max(lam * approach)))
+        if progress is not None:
+            progress(j + 1, len(phis))
+    return out
+
+
+def _first_contact(coarse: dict, sign: float) -> float:
+    psi = np.inf
+    for s in coarse.values():
+        lam = sign * s.lever
+        ok = np.isfinite(s.distance) & (lam > 0)
+        if np.any(ok):
+            psi = min(psi, float(np.min(s.distance[ok] / lam[ok])))
+    if not np.isfinite(psi):
+        raise ContactError("no contact: no point of the flanks can close under the load")
+    return psi
+
+
+def _select(pair, phi, coarse, sign, psi0, s_max, cache, fu, fv, fine_coarse, cshape, teeth):
+    """Fine cells (exact separations) inside the coarse cells that may close, with
+    their neighbours; and the coarse points left out, for the completeness check."""
+    n_cu, n_cv = cshape
+    Ps, Ns, ts, lams, uvb, fines, tooth_of = [], [], [], [], [], [], []
+    left_gap, left_lam = [], []
+    psi_min = np.inf
+    for k in teeth:
+        s = coarse[k]
+        lam = sign * s.lever
+        ok = np.isfinite(s.distance) & (lam > 0)
+        g = np.where(ok, s.distance - lam * psi0, np.inf).reshape(n_cu, n_cv)
+        near = g <= s_max
+        # dilate by one coarse cell (the gap varies within a coarse cell)
+        grown = near.copy()
+        grown[1:] |= near[:-1]
+        grown[:-1] |= near[1:]
+        grown[:, 1:] |= near[:, :-1]
+        grown[:, :-1] |= near[:, 1:]
+        left = ~grown.ravel() & ok
+        left_gap.append(s.distance[left] - lam[left] * 0.0)
+        left_lam.append(lam[left])
+        cells = np.flatnonzero(grown.ravel()[fine_coarse])
+        if cells.size == 0:
+            continue
+        key = (k, cells.tobytes())
+        if key not in cache:
+            cache[key] = separations(pair, phi, k, fu.ravel()[cells], fv.ravel()[cells])
+        f = cache[key]
+        flam = sign * f.lever
+        fok = np.isfinite(f.distance) & (flam > 0)
+        if np.any(fok):
+            psi_min = min(psi_min, float(np.min(f.distance[fok] / flam[fok])))
+        Ps.append(f.points[fok])
+        Ns.append(f.normals[fok])
+        ts.append(f.distance[fok])
+        lams.append(flam[fok])
+        uvb.append(f.uv_b[fok])
+        fines.append(cells[fok])
+        tooth_of.append(np.full(int(fok.sum()), k))
+    if not ts:
+        raise ContactError("no contact: the flanks never come within reach of each other")
+    pa, _ = pair.poses(phi)
+    R0 = pa.rotation
+
+    def rot(vec: Array, tooth: NDArray[np.int64]) -> Array:
+        out = np.empty_like(vec)
+        for k in np.unique(tooth):
+            a = pair.tooth_angles(int(k))[0]
+            c, s_ = math.cos(a), math.sin(a)
+            Rz = np.array([[c, -s_, 0.0], [s_, c, 0.0], [0.0, 0.0, 1.0]])
+            m = tooth == k
+            out[m] = vec[m] @ (R0 @ Rz).T
+        return out
+
+    return {
+        "P": np.concatenate(Ps), "N": np.concatenate(Ns), "t": np.concatenate(ts),
+        "lam": np.concatenate(lams), "uv_b": np.concatenate(uvb),
+        "fine": np.concatenate(fines), "tooth": np.concatenate(tooth_of),
+        "psi0": psi_min, "rot": rot,
+        "left_gap": np.concatenate(left_gap), "left_lam": np.concatenate(left_lam),
+    }  # fmt: skip
