@@ -41,6 +41,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "response": "reducerlab.analysis.nonlinear",
     "kinematics": "reducerlab.analysis.kinematics",
     "body-modal": "reducerlab.analysis.body_modal",
+    "contact": "reducerlab.analysis.contact",
 }
 
 

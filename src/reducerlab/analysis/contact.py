@@ -34,8 +34,37 @@ if TYPE_CHECKING:
 __all__ = ["ContactResult", "contact_analysis", "contact_pair"]
 
 Stage = Callable[[str], None]
-#: default fine contact cell, in normal modules
-CELL = 1.0 / 40.0
+#: cell of the pilot run that sizes the contact grid, in normal modules
+PILOT = 0.1
+#: cells across the narrowest contact patch of the pilot run (``auto_cell``)
+ACROSS = 12
+#: width of the flank-edge band (normal modules) outside which ``interior_pressure`` is
+#: taken: fixed in length, so that it does not move with the grid
+EDGE_BAND = 0.1
+#: loaded cells the automatic grid aims to stay below
+MAX_CELLS = 2500
+#: bounds of the automatic cell, in normal modules
+CELL_RANGE = (0.01, 0.1)
+
+
+def auto_cell(run: Any, module: float) -> float:
+    """Fine cell size (m) from a pilot position: ``ACROSS`` cells across the patch that
+    carries the largest load (width = its area over its length along its long axis),
+    at least so coarse that the pilot's loaded area holds ``MAX_CELLS`` cells, within
+    ``CELL_RANGE`` normal modules. (Patches at the start or end of engagement are
+    narrow but lightly loaded; sizing the grid on them would only cost time.)"""
+    loaded = run.force > 0
+    teeth = np.unique(run.tooth[loaded])
+    main = max(teeth, key=lambda k: run.force[run.tooth == k].sum())
+    m = (run.tooth == main) & loaded
+    P = run.points[m]
+    d = P - P.mean(axis=0)
+    axis = np.linalg.svd(d, full_matrices=False)[2][0] if len(P) > 1 else np.zeros(3)
+    length = float(np.ptp(d @ axis)) + math.sqrt(float(np.median(run.area[m])))
+    w = float(run.area[m].sum()) / length
+    floor = math.sqrt(float(run.area[loaded].sum()) / MAX_CELLS)
+    lo, hi = CELL_RANGE
+    return float(np.clip(max(w / ACROSS, floor), lo * module, hi * module))
 
 
 class ContactResult(Result):
@@ -45,14 +74,18 @@ class ContactResult(Result):
     and ``time`` at the design's speed) with ``unloaded_te`` and ``loaded_te`` (rad of
     the internal gear), ``te`` (loaded minus unloaded, m at the internal gear's mean
     radius), ``stiffness`` (N/m, paper 000's mesh stiffness), ``stiffness_fit``,
-    ``contact_area`` (m^2), ``peak_pressure`` (Pa), ``normal_force`` (N, sum of the
+    ``contact_area`` (m^2), ``peak_pressure`` (Pa, over all cells), ``interior_pressure``
+    (Pa, away from the flank edges) and ``edge_share`` (load fraction on edge cells: edge
+    contact, where the computed pressure depends on the grid), ``normal_force`` (N, sum of the
     cell forces), ``force`` (N, components ``x, y, z`` of the resultant on the external
     gear in the pair's frame, ``axis`` dimension), ``von_mises`` (Pa, largest subsurface
-    value) and ``von_mises_depth`` (m), ``pairs`` (tooth pairs in contact); dimension
+    value under the interior cells) and ``von_mises_depth`` (m), ``pairs`` (tooth pairs
+    in contact); dimension
     ``harmonic`` with ``amplitude`` (N/m) and ``phase`` (rad) of Eq. 8; dimension
     ``cell`` (the contact grid of every position, concatenated) with ``cell_position``,
     ``cell_tooth``, ``u``, ``v`` (flank parameters of the external gear), ``x, y, z``
-    (m), ``area``, ``separation`` (m), ``cell_force`` (N) and ``pressure`` (Pa).
+    (m), ``area``, ``separation`` (m), ``cell_force`` (N), ``pressure`` (Pa) and ``edge``
+    (1 on a flank edge).
     """
 
     kind: ClassVar[str] = "contact"
@@ -87,6 +120,8 @@ class ContactResult(Result):
                 "stiffness_N_per_m": float(ds["stiffness"].values[i]),
                 "contact_area_mm2": 1e6 * float(ds["contact_area"].values[i]),
                 "peak_pressure_MPa": 1e-6 * float(ds["peak_pressure"].values[i]),
+                "interior_pressure_MPa": 1e-6 * float(ds["interior_pressure"].values[i]),
+                "edge_share": float(ds["edge_share"].values[i]),
                 "normal_force_N": float(ds["normal_force"].values[i]),
                 "force_N": [float(v) for v in f],
                 "von_mises_MPa": 1e-6 * float(ds["von_mises"].values[i]),
@@ -110,6 +145,8 @@ class ContactResult(Result):
         return {
             "contact_area_mean": float(ds["contact_area"].mean()),
             "peak_pressure_max": float(ds["peak_pressure"].max()),
+            "interior_pressure_max": float(ds["interior_pressure"].max()),
+            "edge_share_max": float(ds["edge_share"].max()),
             "von_mises_max": float(ds["von_mises"].max()),
             "force_x_mean_abs": float(np.abs(ds["force"].sel(axis="x")).mean()),
             "normal_force_mean": float(ds["normal_force"].mean()),
@@ -124,13 +161,14 @@ class ContactResult(Result):
             f"Pair {a['pair']} ({a['profile']}): T_ext = {a['torque_external']:.4g} N m, "
             f"T_int = {a['torque_internal']:.4g} N m; k_m = {a['k_mean']:.5g} N/m "
             f"(Eq. 8, order {a['order']}, residual {100 * a['fit_residual']:.2f} %)",
-            "angle(deg)  TE(um)   k (N/m)     area(mm2)  p_max(MPa)  F_x(N)   "
-            "vM_max(MPa) depth(mm) pairs",
+            "angle(deg)  TE(um)   k (N/m)     area(mm2)  p_max(MPa)  p_int(MPa)  edge  "
+            "F_x(N)   vM_max(MPa) depth(mm) pairs",
         ]
         for r in self.to_dict()["positions"]:
             lines.append(
                 f"{r['angle_deg']:>9.3f}  {r['te_um']:>6.3f}  {r['stiffness_N_per_m']:>10.4g}  "
                 f"{r['contact_area_mm2']:>9.3f}  {r['peak_pressure_MPa']:>10.1f}  "
+                f"{r['interior_pressure_MPa']:>10.1f}  {100 * r['edge_share']:>3.0f}%  "
                 f"{r['force_N'][0]:>7.1f}  {r['von_mises_MPa']:>11.1f}  "
                 f"{r['von_mises_depth_mm']:>8.3f}  {r['pairs_in_contact']:>5}"
             )
@@ -216,7 +254,9 @@ def contact_analysis(
     order : int
         Harmonics of the Eq. 8 fit (paper 000: 7).
     cell : float, optional
-        Fine contact cell (m); default ``m_n / 40``.
+        Fine contact cell (m); default from a pilot run at position 0 (cells of
+        ``0.1 m_n``): ``ACROSS`` = 12 cells across its narrowest contact patch
+        (:func:`auto_cell`).
     profile : {"involute", "double-arc"}, optional
         Overrides ``surface.profile``.
     misalignment : contact.flanks.Misalignment, optional
@@ -230,7 +270,7 @@ def contact_analysis(
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
     """
     from ..contact.compliance import fe_tooth_compliance
-    from ..contact.halfspace import combined_modulus, max_subsurface_von_mises
+    from ..contact.halfspace import combined_modulus
     from ..contact.ltca import ContactGrid, loaded_contact
     from ..contact.meshstiffness import fit_fourier
     from ..fe import Material
@@ -248,8 +288,9 @@ def contact_analysis(
         )
     mp = contact_pair(design, pair, profile=profile, misalignment=misalignment)
     m_n = mp.crown.profile.module
-    h = CELL * m_n if cell is None else float(cell)
-    if not (math.isfinite(h) and 0 < h <= 0.5 * m_n):
+    if cell is not None and not (
+        isinstance(cell, (int, float)) and math.isfinite(cell) and 0 < cell <= 0.5 * m_n
+    ):
         raise ReducerlabError(
             f"cell: must be a length in (0, m_n/2] = (0, {0.5 * m_n * 1e3:.4g} mm]; got {cell!r}"
         )
@@ -266,10 +307,18 @@ def contact_analysis(
                                      stage=say)  # fmt: skip
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
+    E_star = combined_modulus(E, nu, E, nu)
+    if cell is None:
+        say("pilot contact (grid size)")
+        pilot = loaded_contact(mp, T_a, phis[:1], ContactGrid(PILOT * m_n),
+                               compliance_a=comp_a, compliance_b=comp_b, E_star=E_star)  # fmt: skip
+        h = auto_cell(pilot[0], m_n)
+    else:
+        h = float(cell)
     say(f"loaded contact at {positions} positions")
     runs = loaded_contact(
-        mp, T_a, phis, ContactGrid(h), compliance_a=comp_a, compliance_b=comp_b,
-        E_star=combined_modulus(E, nu, E, nu), progress=progress,
+        mp, T_a, phis, ContactGrid(h, edge_band=EDGE_BAND * m_n), compliance_a=comp_a,
+        compliance_b=comp_b, E_star=E_star, progress=progress,
     )  # fmt: skip
     # lever of the lumped model's mesh on the internal gear (paper 000 Eq. 2-4)
     internal_gear = getattr(design, f"gear{2 * pair - 1}")
@@ -279,7 +328,7 @@ def contact_analysis(
     approach = np.array([r.loaded_te for r in runs])
     k = T_b / (arm**2 * approach)
     fit = fit_fourier(k, order)
-    vm, depth = _stresses(runs, nu, max_subsurface_von_mises)
+    vm, depth = _stresses(runs, nu, h)
     kin = design.kinematics()
     f_mesh = list(kin.mesh_frequencies(design.input_speed).values())[pair - 1]
     force = np.array([r.force_vector for r in runs])
@@ -299,6 +348,12 @@ def contact_analysis(
             ),
             "contact_area": ("position", [r.contact_area for r in runs], {"units": "m^2"}),
             "peak_pressure": ("position", [r.pressure.max() for r in runs], {"units": "Pa"}),
+            "interior_pressure": (
+                "position",
+                [r.interior_peak_pressure for r in runs],
+                {"units": "Pa"},
+            ),
+            "edge_share": ("position", [r.edge_share for r in runs]),
             "normal_force": ("position", [r.force.sum() for r in runs], {"units": "N"}),
             "force": (("position", "axis"), force, {"units": "N"}),
             "von_mises": ("position", vm, {"units": "Pa"}),
@@ -329,15 +384,26 @@ def contact_analysis(
     return ContactResult(ds)
 
 
-def _stresses(runs: list, nu: float, vm_max: Callable) -> tuple[NDArray, NDArray]:
+def _stresses(runs: list, nu: float, cell: float) -> tuple[NDArray, NDArray]:
     """Largest subsurface von Mises stress (Pa) and its depth (m) at each position,
-    over the contact patches of all tooth pairs (each on its tangent plane)."""
+    under the interior cells (outside the flank-edge band, where the field does not
+    depend on the grid), over the contact patches of all tooth pairs, each patch on the
+    tangent plane of its peak cell (``contact.halfspace.subsurface_stress``)."""
+    from scipy.optimize import minimize_scalar
+
+    from ..contact.halfspace import subsurface_stress, von_mises
+
+    depths = np.linspace(1.0, 30.0, 59) * cell
     vm, depth = [], []
     for r in runs:
         best = (0.0, math.nan)
-        for k in np.unique(r.tooth[r.force > 0]):
-            m = (r.tooth == k) & (r.force > 0)
-            i0 = np.flatnonzero(m)[np.argmax(r.pressure[m])]
+        loaded = r.force > 0
+        for k in np.unique(r.tooth[loaded]):
+            m = (r.tooth == k) & loaded
+            inner = m & ~r.edge
+            if not inner.any():
+                continue
+            i0 = np.flatnonzero(inner)[np.argmax(r.pressure[inner])]
             n0 = r.normals[i0]
             e1 = np.cross(n0, [0.0, 0.0, 1.0])
             if np.linalg.norm(e1) < 1e-6:
@@ -347,9 +413,25 @@ def _stresses(runs: list, nu: float, vm_max: Callable) -> tuple[NDArray, NDArray
             d = r.points[m] - r.points[i0]
             xy = np.stack([d @ e1, d @ e2], axis=1)
             half = 0.5 * np.sqrt(r.area[m])
-            v, z, _ = vm_max(xy, half, half, r.pressure[m], nu)
-            if v > best[0]:
-                best = (v, z)
+            p = r.pressure[m]
+            # search under the most loaded interior cells
+            cand = np.flatnonzero(inner[m])
+            cand = cand[np.argsort(p[cand])[-40:]]
+
+            def field(pts: NDArray, xy=xy, half=half, p=p) -> NDArray:
+                return von_mises(subsurface_stress(xy, half, half, p, pts, nu))
+
+            pts = np.array([[*xy[c], z] for c in cand for z in depths])
+            v = field(pts)
+            j = int(np.argmax(v))
+            c, z0 = cand[j // len(depths)], depths[j % len(depths)]
+            res = minimize_scalar(
+                lambda z, q=xy[c], f=field: -f(np.array([[*q, z]]))[0],
+                bounds=(max(depths[0], z0 - cell), z0 + cell), method="bounded",
+                options={"xatol": 1e-3 * cell},
+            )  # fmt: skip
+            if -res.fun > best[0]:
+                best = (float(-res.fun), float(res.x))
         vm.append(best[0])
         depth.append(best[1])
     return np.array(vm), np.array(depth)
@@ -371,4 +453,5 @@ def _cells_dataset(runs: list) -> dict[str, Any]:
         "separation": ("cell", cat(lambda r: r.separation), {"units": "m"}),
         "cell_force": ("cell", cat(lambda r: r.force), {"units": "N"}),
         "pressure": ("cell", cat(lambda r: r.pressure), {"units": "Pa"}),
+        "edge": ("cell", cat(lambda r: r.edge).astype(np.int8)),
     }

@@ -30,10 +30,11 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.interpolate import RegularGridInterpolator
 
 from ..errors import ReducerlabError
 from .complementarity import ContactError, solve_contact
@@ -60,12 +61,16 @@ class ContactGrid:
     s_max : float
         First guess of the largest separation that can close under load (m); grown
         automatically when too small.
+    edge_band : float, optional
+        Width of the band along the flank edges whose cells count as edge contact (m);
+        default two cells. Fix it in length when comparing grids.
     """
 
     cell: float
     coarse: int = 4
     teeth: tuple[int, ...] = (-1, 0, 1)
     s_max: float = 1e-6
+    edge_band: float | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.cell) and self.cell > 0):
@@ -143,6 +148,9 @@ class PositionContact:
         Normal force on each cell (N).
     s_max : float
         Largest separation admitted into the grid (m).
+    edge : ndarray of bool (n,)
+        Cells within ``ContactGrid.edge_band`` of an edge of gear A's flank or opposite
+        an edge of gear B's flank: tip, root end of the active flank, toe or heel.
     """
 
     phi: float
@@ -157,7 +165,20 @@ class PositionContact:
     separation: Array
     force: Array
     s_max: float
-    extra: dict = field(default_factory=dict)
+    edge: NDArray[np.bool_]
+
+    @property
+    def interior_peak_pressure(self) -> float:
+        """Largest pressure away from the flank edges (Pa): cells outside the edge band
+        of either flank (at a square edge the pressure is singular and its computed
+        peak grows as the grid is refined); 0 if all load is on edges."""
+        p = self.pressure[~self.edge]
+        return float(p.max()) if p.size else 0.0
+
+    @property
+    def edge_share(self) -> float:
+        """Fraction of the load carried by cells on a flank edge (edge contact)."""
+        return float(self.force[self.edge].sum() / self.force.sum())
 
     @property
     def pressure(self) -> Array:
@@ -184,6 +205,24 @@ def _arc(flank, along_u: bool, fixed: float, n: int = 801) -> tuple[Array, Array
         p = np.linspace(0.0, 1.0, n)
         P, _ = flank.evaluate(np.full(n, fixed), p)
     return p, np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+
+
+def _edge_distance(flank, ax_u: _Axis, ax_v: _Axis, pu, arc_u, pv, arc_v) -> Array:
+    """Distance (m, in arc length on the flank) of each fine cell centre to the edge of
+    the real tooth flank: the parameter box or points outside the blank (tip and face
+    cones)."""
+    from scipy.ndimage import distance_transform_edt
+
+    uu, vv = np.meshgrid(ax_u.centres, ax_v.centres, indexing="ij")
+    P, _ = flank.evaluate(uu.ravel(), vv.ravel())
+    inside = flank.inside(P).reshape(uu.shape)
+    su = np.interp(ax_u.centres, pu, arc_u)
+    sv = np.interp(ax_v.centres, pv, arc_v)
+    hu = float(np.mean(np.diff(su))) if len(su) > 1 else arc_u[-1]
+    hv = float(np.mean(np.diff(sv))) if len(sv) > 1 else arc_v[-1]
+    padded = np.pad(inside, 1, constant_values=False)
+    d = distance_transform_edt(padded, sampling=(hu, hv))[1:-1, 1:-1]
+    return d - 0.5 * min(hu, hv)  # from the cell centre to the edge, not the next centre
 
 
 def _cells(flank, u: Array, v: Array, du: Array, dv: Array) -> tuple[Array, ...]:
@@ -247,7 +286,17 @@ def loaded_contact(
     fu, fv = np.meshgrid(ax_u.centres, ax_v.centres, indexing="ij")
     dfu, dfv = np.meshgrid(np.diff(ax_u.edges), np.diff(ax_v.edges), indexing="ij")
     cu, cv = np.meshgrid(ax_u.coarse_centres, ax_v.coarse_centres, indexing="ij")
-    _n_fu, _n_fv = fu.shape
+    band = grid.edge_band if grid.edge_band is not None else 2.0 * grid.cell
+    B = pair.flank_b
+    edge_a = (_edge_distance(A, ax_u, ax_v, pu, arc_u, pv, arc_v) < band).ravel()
+    pub, arc_ub = _arc(B, True, 0.5)
+    pvb, arc_vb = _arc(B, False, 0.5 * sum(B.u_range))
+    bu = _axis(pub, arc_ub, breaks, grid.cell, 1)
+    bv = _axis(pvb, arc_vb, (), grid.cell, 1)
+    edge_b = RegularGridInterpolator(
+        (bu.centres, bv.centres), _edge_distance(B, bu, bv, pub, arc_ub, pvb, arc_vb),
+        bounds_error=False, fill_value=0.0,
+    )  # fmt: skip
     n_cu, n_cv = cu.shape
     fine_coarse = (ax_u.coarse_of[:, None] * n_cv + ax_v.coarse_of[None, :]).ravel()
     geo = _cells(A, fu.ravel(), fv.ravel(), dfu.ravel(), dfv.ravel())
@@ -303,11 +352,12 @@ def loaded_contact(
                 break
             s_max *= 2.0
         prev = {k for k, a in zip(keys, sol.active, strict=True) if a}
+        edge = edge_a[idx] | (edge_b(sel["uv_b"][keep]) < band)
         out.append(
             PositionContact(
                 float(phi), float(psi0), float(approach), T_B, P, N, teeth,
                 np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1), area, g[keep], sol.force,
-                s_max,
+                s_max, edge,
             )
         )  # fmt: skip
         # next position: a grid just large enough for this one's approach, with a margin
