@@ -97,6 +97,7 @@ class QuantityKind:
 #: torsional damping         1e-12 .. 1e9    N m s/rad
 #: force                     1e-9 .. 1e10    1 nN .. 1 GN x 10
 #: torque                    1e-9 .. 1e10    1 nN m .. 1000x the largest gearbox torque
+#: power                     1e-6 .. 1e10    W: 1 uW .. 10 GW (a power station's shaft)
 #: angular velocity          1e-9 .. 1e7     1e7 rad/s (95 million rpm) keeps squares finite
 #: frequency                 1e-9 .. 1e9     Hz
 #: time                      1e-12 .. 1e9    1 ps .. 30 years
@@ -120,6 +121,7 @@ QUANTITIES: dict[str, QuantityKind] = {
         QuantityKind("torsional damping", "N*m*s/rad", "2 N*m*s/rad", 1e-12, 1e9, -1),
         QuantityKind("force", "N", "100 N", 1e-9, 1e10),
         QuantityKind("torque", "N*m", "50 N*m", 1e-9, 1e10),
+        QuantityKind("power", "W", "3 kW", 1e-6, 1e10),
         QuantityKind("angular velocity", "rad/s", "1500 rpm", 1e-9, 1e7, angle_power=1),
         QuantityKind("frequency", "Hz", "7880 Hz", 1e-9, 1e9),
         QuantityKind("time", "s", "2 ms", 1e-12, 1e9),

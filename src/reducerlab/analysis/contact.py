@@ -31,18 +31,18 @@ from ..results import Result, provenance
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["ContactResult", "contact_analysis", "contact_pair"]
+__all__ = ["ContactResult", "auto_cell", "contact_analysis", "contact_pair", "design_with_mesh"]
 
 Stage = Callable[[str], None]
 #: cell of the pilot run that sizes the contact grid, in normal modules
 PILOT = 0.1
 #: cells across the narrowest contact patch of the pilot run (``auto_cell``)
-ACROSS = 12
+ACROSS = 10
 #: width of the flank-edge band (normal modules) outside which ``interior_pressure`` is
 #: taken: fixed in length, so that it does not move with the grid
 EDGE_BAND = 0.1
 #: loaded cells the automatic grid aims to stay below
-MAX_CELLS = 2500
+MAX_CELLS = 1200
 #: bounds of the automatic cell, in normal modules
 CELL_RANGE = (0.01, 0.1)
 
@@ -255,8 +255,8 @@ def contact_analysis(
         Harmonics of the Eq. 8 fit (paper 000: 7).
     cell : float, optional
         Fine contact cell (m); default from a pilot run at position 0 (cells of
-        ``0.1 m_n``): ``ACROSS`` = 12 cells across its narrowest contact patch
-        (:func:`auto_cell`).
+        ``0.1 m_n``): ``ACROSS`` = 10 cells across its most loaded contact patch, at
+        most ``MAX_CELLS`` loaded cells (:func:`auto_cell`); ``0.1 m_n`` when ``rigid``.
     profile : {"involute", "double-arc"}, optional
         Overrides ``surface.profile``.
     misalignment : contact.flanks.Misalignment, optional
@@ -308,7 +308,9 @@ def contact_analysis(
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
     E_star = combined_modulus(E, nu, E, nu)
-    if cell is None:
+    if cell is None and rigid:
+        h = PILOT * m_n  # the quick pattern: the pilot's grid
+    elif cell is None:
         say("pilot contact (grid size)")
         pilot = loaded_contact(mp, T_a, phis[:1], ContactGrid(PILOT * m_n),
                                compliance_a=comp_a, compliance_b=comp_b, E_star=E_star)  # fmt: skip
@@ -455,3 +457,31 @@ def _cells_dataset(runs: list) -> dict[str, Any]:
         "pressure": ("cell", cat(lambda r: r.pressure), {"units": "Pa"}),
         "edge": ("cell", cat(lambda r: r.edge).astype(np.int8)),
     }
+
+
+def design_with_mesh(path: Any, result: ContactResult) -> str:
+    """The design file at ``path`` as TOML text whose ``[meshN]`` table (``N`` = the
+    result's pair) takes the contact analysis' mesh stiffness: ``stiffness = k_m``,
+    ``harmonics = k_r`` and ``phases = phi_r`` of paper 000's Eq. 8 (time origin: tooth
+    pair 0 at mid-mesh). Damping, backlash and error amplitude are kept. Comments of
+    the original file are not carried over; a header names the source."""
+    import tomli_w
+
+    from ..design import read_toml
+
+    data = read_toml(path)
+    pair = int(result.data.attrs["pair"])
+    amp, phase = result.harmonics()
+    table = dict(data.get(f"mesh{pair}", {}))
+    table["stiffness"] = f"{result.mean_stiffness:.6g} N/m"
+    table["harmonics"] = [f"{a:.6g} N/m" for a in amp]
+    table["phases"] = [f"{math.degrees(p):.6g} deg" for p in phase]
+    data[f"mesh{pair}"] = table
+    a = result.data.attrs
+    head = (
+        f"# {path} with [mesh{pair}] from `reducerlab contact` (pair {pair}, "
+        f"{a['profile']}, T_ext = {a['torque_external']:.6g} N m, "
+        f"{result.data.sizes['position']} positions, Eq. 8 order {a['order']}, "
+        f"fit residual {100 * a['fit_residual']:.2f} %)\n"
+    )
+    return head + tomli_w.dumps(data)
