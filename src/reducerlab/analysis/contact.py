@@ -89,6 +89,8 @@ class ContactResult(Result):
     """
 
     kind: ClassVar[str] = "contact"
+    #: the tooth compliance of both gears (in memory only, not in the netCDF file)
+    compliance: tuple[Any, Any] | None = None
 
     @property
     def stiffness(self) -> NDArray[np.float64]:
@@ -235,6 +237,7 @@ def contact_analysis(
     misalignment: Any = None,
     tooth_size: float | None = None,
     rigid: bool = False,
+    compliance: tuple[Any, Any] | None = None,
     stage: Stage | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> ContactResult:
@@ -266,6 +269,10 @@ def contact_analysis(
         Teeth rigid beyond the local (half-space) contact deformation: no
         finite-element models (a quick estimate of the contact pattern; the mesh
         stiffness is then far too high).
+    compliance : (ToothCompliance, ToothCompliance), optional
+        The external and internal gears' tooth compliance from an earlier run
+        (``result.compliance``) of the same pair and profile: skips the finite-element
+        models when only the load changes.
     stage, progress : callable, optional
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
     """
@@ -298,7 +305,9 @@ def contact_analysis(
     material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
     E, nu = material.E, material.nu
     comp_a = comp_b = None
-    if not rigid:
+    if compliance is not None and not rigid:
+        comp_a, comp_b = compliance
+    elif not rigid:
         say("finite-element compliance of the external gear's teeth")
         comp_a = fe_tooth_compliance(mp.flank_a, material=material, tooth_size=tooth_size,
                                      stage=say)  # fmt: skip
@@ -308,6 +317,7 @@ def contact_analysis(
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
     E_star = combined_modulus(E, nu, E, nu)
+    s0 = ContactGrid.s_max
     if cell is None and rigid:
         h = PILOT * m_n  # the quick pattern: the pilot's grid
     elif cell is None:
@@ -315,11 +325,12 @@ def contact_analysis(
         pilot = loaded_contact(mp, T_a, phis[:1], ContactGrid(PILOT * m_n),
                                compliance_a=comp_a, compliance_b=comp_b, E_star=E_star)  # fmt: skip
         h = auto_cell(pilot[0], m_n)
+        s0 = pilot[0].s_max  # the separation the pilot needed: the first guess
     else:
         h = float(cell)
     say(f"loaded contact at {positions} positions")
     runs = loaded_contact(
-        mp, T_a, phis, ContactGrid(h, edge_band=EDGE_BAND * m_n), compliance_a=comp_a,
+        mp, T_a, phis, ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n), compliance_a=comp_a,
         compliance_b=comp_b, E_star=E_star, progress=progress,
     )  # fmt: skip
     # lever of the lumped model's mesh on the internal gear (paper 000 Eq. 2-4)
@@ -383,7 +394,9 @@ def contact_analysis(
         frame="x: normal of the plane of the two axes (tangential at the mesh); y: along the "
         "pitch line; z: crown gear axis",
     )  # fmt: skip
-    return ContactResult(ds)
+    out = ContactResult(ds)
+    out.compliance = None if comp_a is None else (comp_a, comp_b)
+    return out
 
 
 def _stresses(runs: list, nu: float, cell: float) -> tuple[NDArray, NDArray]:

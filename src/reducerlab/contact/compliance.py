@@ -306,14 +306,14 @@ def _bump_loads(basis, skm, centres: Array, normals: Array, a: float) -> Array:
     if used.size == 0:
         raise ReducerlabError("compliance: the load points lie off the meshed flank")
     fb = FacetBasis(skm, basis.elem, facets=bf[used], intorder=4)
-    x = fb.global_coordinates().value  # (3, nf, nq)
+    x = np.asarray(fb.global_coordinates())  # (3, nf, nq)
     nf, nq = x.shape[1], x.shape[2]
     dx = fb.dx  # (nf, nq)
     rows = np.repeat(fb.element_dofs[:, :, None], nq, axis=2)  # (nb, nf, nq)
     cols = np.broadcast_to(np.arange(nf * nq).reshape(nf, nq), rows.shape)
     S = []
     for c in range(3):
-        vals = np.stack([fb.basis[i][0].value[c] for i in range(len(fb.basis))]) * dx
+        vals = np.stack([np.asarray(fb.basis[i][0])[c] for i in range(len(fb.basis))]) * dx
         S.append(
             sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(basis.N, nf * nq))
         )

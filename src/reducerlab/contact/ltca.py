@@ -45,6 +45,10 @@ __all__ = ["ContactGrid", "PositionContact", "loaded_contact"]
 Array = NDArray[np.float64]
 
 
+#: largest separation (m) the grid is ever widened to before giving up
+S_MAX_LIMIT = 1e-3
+
+
 @dataclass(frozen=True)
 class ContactGrid:
     """Resolution of the contact grid.
@@ -319,6 +323,13 @@ def loaded_contact(
         while True:
             sel = _select(pair, phi, coarse, sign, psi0, s_max, fine_cache, fu, fv,
                           fine_coarse, (n_cu, n_cv), grid.teeth)  # fmt: skip
+            if sel is None:  # the coarse cells all lie beyond s_max of the first contact
+                if s_max > S_MAX_LIMIT:
+                    raise ContactError(
+                        "no contact: the flanks never come within reach of each other"
+                    )
+                s_max *= 2.0
+                continue
             psi0 = min(psi0, sel["psi0"])
             g = sel["t"] - sel["lam"] * psi0
             keep = g <= s_max
@@ -421,7 +432,7 @@ def _select(pair, phi, coarse, sign, psi0, s_max, cache, fu, fv, fine_coarse, cs
         fines.append(cells[fok])
         tooth_of.append(np.full(int(fok.sum()), k))
     if not ts:
-        raise ContactError("no contact: the flanks never come within reach of each other")
+        return None
     pa, _ = pair.poses(phi)
     R0 = pa.rotation
 

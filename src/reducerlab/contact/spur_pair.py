@@ -1,0 +1,317 @@
+"""Parallel-axis involute spur gear pairs in the loaded tooth contact analysis.
+
+Adapters of :mod:`reducerlab.geometry.spur` to the protocols of
+:mod:`reducerlab.contact.flanks` and :mod:`reducerlab.contact.ltca`:
+
+* :class:`SpurFlank`: one involute flank of tooth 0 of a :class:`SpurGear`, ``u`` in
+  ``[0, 1]`` from the root form circle to the tip (linear in the roll length), ``v`` in
+  ``[0, 1]`` across the face (``z = -b/2 ... b/2``), the gear's own frame (``z`` = axis),
+  normals out of the material;
+* :class:`SpurMeshPair`: a :class:`SpurPair` as a ``MeshPair``; the pinion is gear A,
+  the wheel gear B, both loaded on flank +1 (the drive flanks for a positive pinion
+  torque). Tooth pair ``k`` is pinion tooth ``k`` (tooth 0 turned by ``+2 pi k / z1``)
+  against wheel tooth ``-k`` (wheel tooth 0 turned by ``-2 pi k / z2``), the spur
+  convention (``SpurPair.mating_tooth``);
+* :func:`spur_tooth_compliance`: the finite-element bending compliance of teeth
+  ``-1, 0, 1`` of a spur gear (``contact.compliance.flank_influence`` on a five-tooth
+  sector of ``fe.spur_mesh``, bore and radial cut faces held).
+
+Units: SI (m, N, Pa, rad).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError
+from ..fe.elasticity import STEEL, Material
+from ..geometry.spur import SpurGear, SpurPair
+from .compliance import TEETH, ToothCompliance, _load_nodes, flank_influence
+from .flanks import GearPose
+
+__all__ = ["SpurFlank", "SpurMeshPair", "spur_tooth_compliance"]
+
+Array = NDArray[np.float64]
+Stage = Callable[[str], None]
+
+#: Teeth meshed for the compliance: the modelled teeth -1, 0, 1 and one more on each
+#: side, so that teeth -1 and 1 are full teeth with a full pitch of rim on both sides,
+#: away from the held radial cut faces.
+SECTOR_TEETH = 5
+
+
+@dataclass(frozen=True)
+class SpurFlank:
+    """One involute flank of tooth 0 of a spur gear (the ``Flank`` protocol).
+
+    Parameters
+    ----------
+    gear : SpurGear
+    flank : {+1, -1}
+        Counter-clockwise (+1) or clockwise (-1) flank of the tooth
+        (:mod:`reducerlab.geometry.spur`).
+
+    ``u`` runs along the active involute from the root form circle (0) to the tip
+    circle (1), linear in the roll length; ``v`` over the face from ``z = -b/2`` (0) to
+    ``b/2`` (1). :meth:`evaluate` continues the involute and the face analytically a
+    little beyond ``[0, 1]`` (Newton iterates of ``contact.flanks.separations`` may step
+    outside); :meth:`inside` tells the real tooth.
+    """
+
+    gear: SpurGear
+    flank: int = 1
+    u_range: tuple[float, float] = field(default=(0.0, 1.0), init=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.gear, SpurGear):
+            raise ReducerlabError(f"gear: must be a SpurGear; got {type(self.gear).__name__}")
+        if isinstance(self.flank, bool) or self.flank not in (1, -1):
+            raise ReducerlabError(f"flank: must be +1 or -1; got {self.flank!r}")
+
+    @property
+    def teeth(self) -> int:
+        """Number of teeth ``z``."""
+        return self.gear.teeth
+
+    def evaluate(self, u: Array, v: Array) -> tuple[Array, Array]:
+        """Points (m) and unit outward normals, shape (n, 3), gear frame.
+
+        Parameters
+        ----------
+        u, v : ndarray (n,)
+            Flank parameters (dimensionless), see the class docstring.
+        """
+        g = self.gear
+        uu = np.asarray(u, float).ravel()
+        vv = np.asarray(v, float).ravel()
+        if uu.shape != vv.shape:
+            raise ReducerlabError(f"u, v: need the same length; got {uu.shape} and {vv.shape}")
+        p2, n2 = g.involute_points(u=uu)
+        if self.flank == -1:
+            p2 = p2 * np.array([1.0, -1.0])
+            n2 = n2 * np.array([1.0, -1.0])
+        zc = g.face_width * (vv - 0.5)
+        return np.column_stack([p2, zc]), np.column_stack([n2, np.zeros_like(zc)])
+
+    def inside(self, points: Array) -> NDArray[np.bool_]:
+        """Whether points (gear frame, (n, 3), m) lie within the tooth's radial extent
+        (root form circle to tip circle) and face width."""
+        g = self.gear
+        p = np.atleast_2d(np.asarray(points, float))
+        r = np.hypot(p[:, 0], p[:, 1])
+        tol = 1e-9 * g.tip_radius
+        radial = (r >= g.form_radius - tol) & (r <= g.tip_radius + tol)
+        return radial & (np.abs(p[:, 2]) <= 0.5 * g.face_width + tol)
+
+
+@dataclass(frozen=True)
+class SpurMeshPair:
+    """A parallel-axis spur gear pair as a ``MeshPair`` of the tooth contact analysis.
+
+    Parameters
+    ----------
+    pair : SpurPair
+        Pinion (gear A) and wheel (gear B) at their working centre distance.
+
+    The mesh position ``phi`` is the pinion's rotation (rad) of :meth:`SpurPair.pose`:
+    at ``phi = 0`` flank +1 of pinion tooth 0 touches flank +1 of wheel tooth 0. Both
+    loaded flanks are +1 (pinion drives, positive torque about ``+z``).
+    """
+
+    pair: SpurPair
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.pair, SpurPair):
+            raise ReducerlabError(f"pair: must be a SpurPair; got {type(self.pair).__name__}")
+
+    @property
+    def flank_a(self) -> SpurFlank:
+        """Flank +1 of the pinion."""
+        return SpurFlank(self.pair.pinion, 1)
+
+    @property
+    def flank_b(self) -> SpurFlank:
+        """Flank +1 of the wheel."""
+        return SpurFlank(self.pair.wheel, 1)
+
+    @property
+    def torque_ratio(self) -> float:
+        """``T_B / T_A = z2 / z1``."""
+        return self.pair.wheel.teeth / self.pair.pinion.teeth
+
+    def tooth_angles(self, k: int) -> tuple[float, float]:
+        """``(2 pi k / z1, -2 pi k / z2)`` (rad): pinion tooth ``k`` meshes wheel tooth
+        ``-k``."""
+        return 2 * math.pi * k / self.pair.pinion.teeth, -2 * math.pi * k / self.pair.wheel.teeth
+
+    def poses(self, phi: float) -> tuple[GearPose, GearPose]:
+        """Pinion about the ``z`` axis, wheel about the parallel axis through ``(a, 0, 0)``
+        (fixed frame), for the pinion rotation ``phi`` (rad)."""
+        R1, R2 = self.pair.pose(float(phi))
+        ez = np.array([0.0, 0.0, 1.0])
+        return GearPose(R1, np.zeros(3), ez), GearPose(R2, self.pair.wheel_center, ez.copy())
+
+    def pitch_point_position(self, k: int = 0) -> float:
+        """Mesh position ``phi`` (rad) at which tooth pair ``k`` touches at the pitch
+        point (roll length ``r_b1 tan a_w`` from ``T1``)."""
+        p = self.pair.pinion
+        aw = self.pair.working_pressure_angle
+        return math.tan(aw) - aw - p.base_half_angle - k * p.pitch
+
+    def tooth_compliances(
+        self,
+        *,
+        material: Material = STEEL,
+        grid: tuple[int, int] = (6, 9),
+        tooth_size: float | None = None,
+        body_size: float | None = None,
+        rim: float | None = None,
+        stage: Stage | None = None,
+    ) -> tuple[ToothCompliance, ToothCompliance]:
+        """Bending compliances of pinion and wheel (:func:`spur_tooth_compliance`), in
+        the tooth pair order of this pair. When the two gears are the same, one
+        finite-element model serves both (the wheel's blocks are the pinion's with the
+        teeth reversed). Parameters as :func:`spur_tooth_compliance`."""
+        kw = dict(material=material, grid=grid, tooth_size=tooth_size, body_size=body_size,
+                  rim=rim, stage=stage)  # fmt: skip
+        ca = spur_tooth_compliance(self.pair.pinion, 1, direction=1, **kw)
+        if self.pair.wheel == self.pair.pinion:
+            return ca, _reverse_teeth(ca)
+        return ca, spur_tooth_compliance(self.pair.wheel, 1, direction=-1, **kw)
+
+
+def _reverse_teeth(c: ToothCompliance) -> ToothCompliance:
+    """The compliance with tooth block ``k`` taken from block ``-k`` (the same three teeth
+    in reverse order: the wheel of a pair of two equal gears)."""
+    L = len(c.u_nodes) * len(c.v_nodes)
+    order = np.concatenate([np.arange(L) + c.teeth.index(-k) * L for k in c.teeth])
+    return ToothCompliance(c.u_nodes, c.v_nodes, c.teeth, c.matrix[np.ix_(order, order)],
+                           c.dofs, c.radius)  # fmt: skip
+
+
+def _held_dofs(basis, mesh) -> NDArray[np.int64]:
+    """DOFs of the boundary facets on the bore cylinder and the two radial cut faces."""
+    skm = basis.mesh
+    x = skm.p
+    tol = 1e-6 * mesh.gear.module
+    on = np.abs(np.hypot(x[0], x[1]) - mesh.inner_radius) <= tol
+    cut = np.zeros_like(on)
+    for phi in mesh.cut_angles:
+        nrm = np.array([-math.sin(phi), math.cos(phi), 0.0])
+        e = np.array([math.cos(phi), math.sin(phi), 0.0])
+        cut |= (np.abs(nrm @ x) <= tol) & (e @ x > 0)
+    bf = skm.boundary_facets()
+    corners = skm.facets[:, bf]
+    facets = bf[np.all(on[corners], axis=0) | np.all(cut[corners], axis=0)]
+    if facets.size == 0:
+        raise ReducerlabError("compliance: no bore or cut-face facets found to hold")
+    return np.asarray(basis.get_dofs(facets=facets).all(), dtype=np.int64)
+
+
+def spur_tooth_compliance(
+    gear: SpurGear,
+    flank: int = 1,
+    *,
+    material: Material = STEEL,
+    grid: tuple[int, int] = (6, 9),
+    tooth_size: float | None = None,
+    body_size: float | None = None,
+    rim: float | None = None,
+    direction: int = 1,
+    stage: Stage | None = None,
+) -> ToothCompliance:
+    """Finite-element bending compliance of teeth ``-1, 0, 1`` of a spur gear.
+
+    A sector of five teeth (``fe.spur_mesh.mesh_spur_sector``; teeth ``-2 ... 2``, so
+    the modelled teeth ``-1, 0, 1`` are full teeth with rim on both sides) is held on its
+    bore and its two radial cut faces. ``n_u x n_v`` load points on the flank of each
+    modelled tooth, inset by the bump radius ``a = 2 tooth_size`` from the flank's edges
+    (the rule of ``contact.compliance.fe_tooth_compliance``), give the influence
+    coefficients of ``contact.compliance.flank_influence`` (local half-space part
+    removed).
+
+    Parameters
+    ----------
+    gear : SpurGear
+    flank : {+1, -1}
+        The loaded flank.
+    material : Material
+        Young's modulus (Pa) and Poisson's ratio.
+    grid : (int, int)
+        Load points along the profile and across the face on each tooth (>= 2 each).
+    tooth_size, body_size : float, optional
+        Element sizes (m) on the teeth and one tooth depth below the root circle;
+        default ``0.3 m`` and ``m``.
+    rim : float, optional
+        Rim thickness below the root circle (m); default ``3.5 m`` (ISO 6336-1's solid
+        gear, ``s_R >= 3.5 m_n``).
+    direction : {+1, -1}
+        Tooth block ``k`` of the result is gear tooth ``direction * k`` (tooth 0 turned
+        by ``direction 2 pi k / z``): +1 for the pinion (gear A) and -1 for the wheel
+        (gear B) of a :class:`SpurMeshPair`, whose tooth pair ``k`` is pinion tooth
+        ``k`` against wheel tooth ``-k``.
+    stage : callable, optional
+        ``stage(text)`` at each step (progress display).
+
+    Returns
+    -------
+    ToothCompliance
+        Teeth ``(-1, 0, 1)``, flank parameters ``(u, v)`` of :class:`SpurFlank`,
+        influence coefficients in m/N.
+
+    Raises
+    ------
+    ReducerlabError
+        A bad argument (named), or a flank too short for the load bumps.
+    """
+    from ..fe.gear_mesh import MeshSizes
+    from ..fe.spur_mesh import mesh_spur_sector
+
+    if not isinstance(gear, SpurGear):
+        raise ReducerlabError(f"gear: must be a SpurGear; got {type(gear).__name__}")
+    if isinstance(flank, bool) or flank not in (1, -1):
+        raise ReducerlabError(f"flank: must be +1 or -1; got {flank!r}")
+    if isinstance(direction, bool) or direction not in (1, -1):
+        raise ReducerlabError(f"direction: must be +1 or -1; got {direction!r}")
+    if not isinstance(material, Material):
+        raise ReducerlabError(f"material: must be a Material; got {type(material).__name__}")
+    if gear.teeth <= SECTOR_TEETH:
+        raise ReducerlabError(
+            f"gear: the compliance model needs more than {SECTOR_TEETH} teeth; got {gear.teeth}"
+        )
+    try:
+        n_u, n_v = (int(g) for g in grid)
+    except (TypeError, ValueError):
+        raise ReducerlabError(f"grid: must be two integers (n_u, n_v); got {grid!r}") from None
+    if n_u < 2 or n_v < 2:
+        raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
+    m = gear.module
+    sizes = {"tooth_size": 0.3 * m, "body_size": 1.0 * m}
+    for name, val in (("tooth_size", tooth_size), ("body_size", body_size)):
+        if val is None:
+            continue
+        if (
+            isinstance(val, bool)
+            or not isinstance(val, int | float)
+            or not (math.isfinite(val) and val > 0)
+        ):
+            raise ReducerlabError(f"{name}: must be a length > 0 (m); got {val!r}")
+        sizes[name] = float(val)
+    ts, bs = sizes["tooth_size"], max(sizes["body_size"], sizes["tooth_size"])
+    say = stage or (lambda _s: None)
+    a = 2.0 * ts  # bump radius: two tooth elements
+    sflank = SpurFlank(gear, flank)
+    u_nodes, v_nodes = _load_nodes(sflank, a, n_u, n_v)
+    say(f"meshing a {SECTOR_TEETH}-tooth sector")
+    mesh = mesh_spur_sector(gear, SECTOR_TEETH, rim=rim, sizes=MeshSizes(ts, bs))
+    uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
+    P0, N0 = sflank.evaluate(uu.ravel(), vv.ravel())
+    angles = [direction * gear.pitch * k for k in TEETH]
+    K, dofs = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
+                              angles, a, material, stage=say)  # fmt: skip
+    return ToothCompliance(u_nodes, v_nodes, TEETH, K, dofs, a)
