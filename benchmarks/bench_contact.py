@@ -74,8 +74,9 @@ def main() -> None:
     per_plain = plain_t / PLAIN
     cells = np.mean([len(r.force) for r in runs])
     cells_plain = np.mean([len(r.force) for r in plain])
+    threads = os.environ["OMP_NUM_THREADS"]
     print(f"date: {date.today()}, machine: {platform.machine()}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}, OMP_NUM_THREADS={os.environ['OMP_NUM_THREADS']}")  # fmt: skip
+          f"Python {platform.python_version()}, OMP_NUM_THREADS={threads}")  # fmt: skip
     print(f"FE tooth compliance of both gears (built once): {build:.1f} s "
           f"({ca.dofs} + {cb.dofs} DOFs, {ca.matrix.shape[0]} loads each)")  # fmt: skip
     print(f"contact cell {cell * 1e3:.4f} mm")
