@@ -27,6 +27,7 @@ runner = CliRunner()
 GEAR = str(example_dir() / "gear_pair.toml")
 KHV = str(example_dir() / "khv.toml")
 NUTATION = str(example_dir() / "nutation_double.toml")
+SURFACE = str(example_dir() / "nutation_surface.toml")
 SHORT = ["--periods", "20", "--keep", "5"]
 
 # every command that writes files, with arguments for a short run (design first)
@@ -40,12 +41,23 @@ WRITERS = {
     "response": ["response", GEAR, *SHORT, "--history", "2"],
     "khv closed-graph": ["khv", "closed-graph", KHV],
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
+    "contact": [
+        "contact",
+        SURFACE,
+        "--torque",
+        "19.1 N*m",
+        "--rigid",
+        "--positions",
+        "4",
+        "--order",
+        "1",
+    ],
 }
 
 
 def _with_design(args: list[str], design: str) -> list[str]:
     """The command's arguments with its design file replaced."""
-    return [design if a in (GEAR, KHV, NUTATION) else a for a in args]
+    return [design if a in (GEAR, KHV, NUTATION, SURFACE) else a for a in args]
 
 
 # ------------------------------------------------------------------ output convention
@@ -329,6 +341,7 @@ def test_response_takes_the_forcing_period(tmp_path):
 def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.body_modal
     import reducerlab.analysis.campbell
+    import reducerlab.analysis.contact
     import reducerlab.analysis.kinematics
     import reducerlab.analysis.modal
     import reducerlab.analysis.nonlinear
@@ -387,7 +400,8 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
             if name != "khv closed-graph":  # that one reads the gears table only
                 assert text["design_hash"] == design.hash, png
     assert seen == {
-        "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response"
+        "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response",
+        "contact",
     }  # fmt: skip
 
 

@@ -191,3 +191,41 @@ def test_analysis_bad_input(design):
 def test_design_without_surface_is_refused(no_surface_design):
     with pytest.raises(ReducerlabError, match="surface"):
         contact_analysis(no_surface_design, 1, torque=1.0, rigid=True)
+
+
+# --------------------------------------------------------------------- command line
+
+
+def test_cli_contact_options_are_checked(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+
+    runner = CliRunner()
+    base = ["contact", "examples/nutation_surface.toml", "-o", str(tmp_path / "o")]
+    for extra, message in (
+        ([], "--power/--torque: give exactly one of them"),
+        (["--power", "3 kg"], "--power"),
+        (["--torque", "1 N*m", "--power", "1 kW"], "exactly one"),
+        (["--torque", "1 N*m", "--cell", "-1 mm"], "--cell"),
+        (["--torque", "1 N*m", "--shaft-angle", "5 deg", "--rigid"], "misalignment.shaft_angle"),
+        (["--torque", "1 N*m", "--pair", "2", "--rigid"], "pair: must be 1..1"),
+    ):
+        r = runner.invoke(app, base + extra)
+        assert r.exit_code == 2, (extra, r.output)
+        assert message in r.output and "Traceback" not in r.output
+
+
+def test_cli_contact_writes_results_and_a_fitted_design(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+
+    out, fitted = tmp_path / "o", tmp_path / "fitted.toml"
+    args = ["contact", "examples/nutation_surface.toml", "--torque", "19.1 N*m", "--rigid"]
+    args += ["--positions", "5", "--order", "2", "-o", str(out), "--write-design", str(fitted)]
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    names = {p.name for p in out.iterdir()}
+    assert names == {"contact.nc", "contact.json", "contact.txt", "contact.png", "pressure.png"}
+    assert load_design(fitted).mesh1.harmonics

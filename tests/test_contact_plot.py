@@ -1,0 +1,265 @@
+"""Figures of the loaded tooth contact analysis (``reducerlab.plot.contact``)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import matplotlib
+import numpy as np
+import pytest
+import xarray as xr
+
+matplotlib.use("Agg")
+
+from reducerlab.analysis.contact import ContactResult, contact_analysis
+from reducerlab.drives import load_design
+from reducerlab.errors import ReducerlabError
+from reducerlab.plot.contact import _flank, plot_contact, plot_pressure_map
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.fixture(scope="module")
+def result() -> ContactResult:
+    """A small real result: rigid teeth (no finite-element models), 5 positions."""
+    design = load_design("examples/nutation_surface.toml")
+    return contact_analysis(design, 1, torque=19.1, positions=5, order=2, rigid=True)
+
+
+def _labels(fig):
+    return [(ax.get_xlabel(), ax.get_ylabel()) for ax in fig.axes]
+
+
+def _colorbars(fig):
+    return [ax for ax in fig.axes if "contact pressure (MPa)" in ax.get_ylabel()]
+
+
+def _legend_texts(ax) -> list[str]:
+    leg = ax.get_legend()
+    return [t.get_text() for t in leg.get_texts()] if leg is not None else []
+
+
+def _saves(fig, path) -> None:
+    fig.savefig(path, dpi=50)
+    assert path.read_bytes()[:8] == PNG
+
+
+def test_overview_panels(result, tmp_path):
+    fig = result.figure()
+    assert type(fig).__name__ == "Figure"
+    # 4 panels + the pressure colorbar + the twin axis of (d)
+    assert len(fig.axes) == 6
+    a, b, c, d = fig.axes[:4]
+    assert a.get_title().startswith("(a)") and d.get_title().startswith("(d)")
+    assert a.get_xlabel() == "face: toe -> heel (mm)"
+    assert a.get_ylabel() == "profile: root -> tip (mm)"
+    assert len(_colorbars(fig)) == 1
+    # (a): the peak-pressure position is named in the legend
+    j = int(np.argmax(result.data["peak_pressure"].values))
+    p = 1e-6 * float(result.data["peak_pressure"].values[j])
+    assert any(f"position {j} " in t and f"{p:.0f} MPa" in t for t in _legend_texts(a))
+    # (b): k(t) points, the dashed red Eq. 8 fit with order and residual, k_m
+    assert b.get_ylabel() == "mesh stiffness k (10^8 N/m)"
+    assert b.get_xlabel() == "time t (ms)"
+    texts = _legend_texts(b)
+    assert any(t.startswith("Eq. 8, order 2 (residual") for t in texts)
+    assert any(t.startswith("k_m = ") for t in texts)
+    fits = [ln for ln in b.get_lines() if ln.get_linestyle() == "--"]
+    assert len(fits) == 1 and fits[0].get_color() == "tab:red"
+    period_ms = 1e3 / result.data.attrs["mesh_frequency"]
+    assert b.get_xlim() == pytest.approx((0.0, period_ms))
+    pts = b.get_lines()[0].get_ydata()
+    np.testing.assert_allclose(pts, 1e-8 * result.stiffness)
+    # (c) TE in um, (d) stresses in MPa and tooth pairs on the twin axis
+    assert c.get_ylabel() == "loaded transmission error (um)"
+    np.testing.assert_allclose(c.get_lines()[0].get_ydata(), 1e6 * result.data["te"].values)
+    assert d.get_ylabel() == "stress (MPa)"
+    assert fig.axes[5].get_ylabel() == "tooth pairs in contact"
+    assert "max subsurface von Mises" in _legend_texts(d)
+    _saves(fig, tmp_path / "overview.png")
+
+
+def test_overview_direct_call_matches(result):
+    fig = plot_contact(result.data)  # the dataset itself also works
+    assert len(fig.axes) == 6
+
+
+def test_developed_flank_of_a_real_result(result):
+    fl = _flank(result.data)
+    assert fl.mm
+    face = 1e3 * json.loads(result.data.attrs["design"])["surface"]["face_width"]  # mm
+    span_v = fl.ev[-1] - fl.ev[0]
+    assert 0.8 * face < span_v < 1.3 * face
+    # cells are about cell_m apart along both directions
+    h = 1e3 * result.data.attrs["cell_m"]
+    assert np.median(np.diff(fl.cv)) == pytest.approx(h, rel=0.15)
+    assert np.median(np.diff(fl.cu)) == pytest.approx(h, rel=0.15)
+
+
+def test_pressure_map_default_is_peak_position(result, tmp_path):
+    ds = result.data
+    j = int(np.argmax(ds["peak_pressure"].values))
+    fig = plot_pressure_map(result)
+    assert f"position {j}:" in fig._suptitle.get_text()
+    here = (ds["cell_position"].values == j) & (ds["cell_force"].values > 0)
+    teeth = np.unique(ds["cell_tooth"].values[here])
+    panels = [ax for ax in fig.axes if ax.get_title().startswith("tooth pair")]
+    assert len(panels) == len(teeth) == int(ds["pairs"].values[j])
+    assert [ax.get_title().split(":")[0] for ax in panels] == [f"tooth pair {k}" for k in teeth]
+    assert len(_colorbars(fig)) == 1
+    assert panels[0].get_xlabel() == "face: toe -> heel (mm)"
+    _saves(fig, tmp_path / "map.png")
+
+
+def test_pressure_map_position_and_errors(result):
+    fig = plot_pressure_map(result, position=2)
+    assert "position 2:" in fig._suptitle.get_text()
+    n = result.data.sizes["position"]
+    for bad in (-1, n, 1.5, True, "1"):
+        with pytest.raises(ReducerlabError, match="position"):
+            plot_pressure_map(result, position=bad)
+
+
+# ------------------------------------------------------------------ synthetic datasets
+
+
+def synthetic(n: int = 3, *, empty_tooth: bool = True, nan_vm: bool = True,
+              unloaded_position: int | None = None, points: bool = True) -> xr.Dataset:  # fmt: skip
+    """A contact dataset with the variables of ``ContactResult``: a flat flank 10 mm
+    (face, ``v`` 0..1) by 4 mm (profile, ``u`` 0.2..0.9), a diagonal contact line on
+    tooth pair 0 moving with the position, tooth pair 1 in the grid but unloaded."""
+    U = np.linspace(0.2, 0.9, 8)
+    V = np.linspace(0.0, 1.0, 12)
+    uu, vv = (a.ravel() for a in np.meshgrid(U, V, indexing="ij"))
+    cols: dict[str, list] = {k: [] for k in ("pos", "tooth", "u", "v", "force")}
+    for j in range(n):
+        for k in (0, 1):
+            line = 0.2 + 0.7 * ((vv + j / max(n, 1)) % 1.0)
+            f = np.where(np.abs(uu - line) < 0.06, 10.0 + 30.0 * vv, 0.0)
+            if (k == 1 and empty_tooth) or j == unloaded_position:
+                f = np.zeros_like(f)
+            elif k == 1:
+                f = f[::-1]
+            cols["pos"].append(np.full(uu.size, j))
+            cols["tooth"].append(np.full(uu.size, k))
+            cols["u"].append(uu)
+            cols["v"].append(vv)
+            cols["force"].append(f)
+    c = {k: np.concatenate(v) for k, v in cols.items()}
+    area = np.full(c["u"].size, (10e-3 / 11) * (4e-3 / 7))
+    pk = np.array([(c["force"][c["pos"] == j] / area[0]).max() for j in range(n)])
+    vm = 0.3 * pk
+    depth = np.full(n, 1e-4)
+    if nan_vm:
+        vm[0], depth[0] = np.nan, np.nan
+        if n > 2:
+            vm[1], depth[1] = 0.0, np.nan  # no interior cell: not computed
+    k = 6e8 + 5e7 * np.cos(2 * math.pi * np.arange(n) / n)
+    order = (n - 1) // 2
+    data = {
+        "angle": ("position", 2 * math.pi / 26 * np.arange(n) / n),
+        "time": ("position", np.arange(n) / (n * 650.0)),
+        "te": ("position", 1.4e-6 + 1e-7 * np.sin(np.arange(n))),
+        "stiffness": ("position", k),
+        "stiffness_fit": ("position", k),
+        "contact_area": ("position", np.ones(n) * 1e-6),
+        "peak_pressure": ("position", pk),
+        "normal_force": ("position", np.ones(n) * 500.0),
+        "force": (("position", "axis"), np.ones((n, 3))),
+        "von_mises": ("position", vm),
+        "von_mises_depth": ("position", depth),
+        "pairs": (
+            "position",
+            [len(np.unique(c["tooth"][(c["pos"] == j) & (c["force"] > 0)])) for j in range(n)],
+        ),
+        "amplitude": ("harmonic", [5e7, 0.0][:order]),
+        "phase": ("harmonic", [0.0, 0.0][:order]),
+        "cell_position": ("cell", c["pos"]),
+        "cell_tooth": ("cell", c["tooth"]),
+        "u": ("cell", c["u"]),
+        "v": ("cell", c["v"]),
+        "area": ("cell", area),
+        "separation": ("cell", np.zeros_like(area)),
+        "cell_force": ("cell", c["force"]),
+        "pressure": ("cell", c["force"] / area),
+    }
+    if points:
+        data |= {"x": ("cell", 10e-3 * c["v"]), "y": ("cell", 4e-3 * (c["u"] - 0.2) / 0.7),
+                 "z": ("cell", 0.01 * c["tooth"])}  # fmt: skip
+    return xr.Dataset(
+        data,
+        coords={
+            "position": np.arange(n),
+            "axis": ["x", "y", "z"],
+            "harmonic": np.arange(1, order + 1),
+        },
+        attrs={
+            "title": "synthetic contact",
+            "pair": 1,
+            "profile": "involute",
+            "torque_external": 19.1,
+            "mesh_frequency": 650.0,
+            "k_mean": 6e8,
+            "fit_residual": 0.0,
+            "order": order,
+            "cell_m": 4e-3 / 7,
+        },
+    )
+
+
+def test_synthetic_developed_coordinates():
+    fl = _flank(synthetic())
+    assert fl.mm
+    np.testing.assert_allclose(fl.cv, np.linspace(0.0, 10.0, 12), atol=1e-9)
+    np.testing.assert_allclose(fl.cu, np.linspace(0.0, 4.0, 8), atol=1e-9)
+    bare = _flank(synthetic(points=False))
+    assert not bare.mm
+    assert bare.xlabel == "face: toe -> heel (flank parameter v)"
+
+
+def test_edge_cases_render(tmp_path):
+    """Empty tooth pair, NaN von Mises (and 0 with no depth), several positions."""
+    ds = synthetic(4)
+    fig = plot_contact(ContactResult(ds))
+    d = fig.axes[3]
+    vm = next(ln for ln in d.get_lines() if ln.get_label() == "max subsurface von Mises")
+    y = np.asarray(vm.get_ydata(), float)
+    assert np.isnan(y[:2]).all() and np.isfinite(y[2:]).all()
+    _saves(fig, tmp_path / "synthetic.png")
+    # only tooth pair 0 carries load: one panel, the empty pair left out
+    m = plot_pressure_map(ds)
+    panels = [ax for ax in m.axes if ax.get_title().startswith("tooth pair")]
+    assert [ax.get_title().split(":")[0] for ax in panels] == ["tooth pair 0"]
+    _saves(m, tmp_path / "synthetic_map.png")
+    # both tooth pairs loaded: two panels side by side
+    two = plot_pressure_map(synthetic(3, empty_tooth=False), position=1)
+    assert len([ax for ax in two.axes if ax.get_title().startswith("tooth pair")]) == 2
+
+
+def test_single_position_and_all_nan(tmp_path):
+    ds = synthetic(1)
+    assert ds.sizes["position"] == 1 and ds.sizes["harmonic"] == 0
+    fig = plot_contact(ds)
+    d = fig.axes[3]
+    assert "max subsurface von Mises (not computed)" in _legend_texts(d)
+    assert any(t.startswith("Eq. 8, order 0") for t in _legend_texts(fig.axes[1]))
+    _saves(fig, tmp_path / "single.png")
+    _saves(plot_pressure_map(ds), tmp_path / "single_map.png")
+
+
+def test_position_without_loaded_cells(tmp_path):
+    ds = synthetic(3, unloaded_position=2)
+    m = plot_pressure_map(ds, position=2)
+    assert any("no loaded cells at position 2" in t.get_text() for ax in m.axes
+               for t in ax.texts)  # fmt: skip
+    assert not _colorbars(m)
+    _saves(m, tmp_path / "none.png")
+    _saves(plot_contact(ds), tmp_path / "overview.png")
+    # nothing loaded anywhere
+    empty = synthetic(2, unloaded_position=0)
+    empty["cell_force"][:] = 0.0
+    empty["pressure"][:] = 0.0
+    fig = plot_contact(empty)
+    assert any(t.get_text() == "no loaded cells" for t in fig.axes[0].texts)
+    _saves(fig, tmp_path / "empty.png")
