@@ -107,12 +107,12 @@ class ToothCompliance:
     dofs: int
     radius: float
 
-    def weights(self, tooth: Array, u: Array, v: Array) -> Array:
-        """Interpolation weights (n, T L) of points ``(u, v)`` on teeth ``tooth``."""
+    def stencil(self, tooth: Array, u: Array, v: Array) -> tuple[NDArray[np.int64], Array]:
+        """Bilinear interpolation of points ``(u, v)`` on teeth ``tooth`` from the load
+        points: the columns (n, 4) into ``matrix`` and their weights (n, 4)."""
         tooth = np.asarray(tooth, int)
         nu, nv = len(self.u_nodes), len(self.v_nodes)
         L = nu * nv
-        W = np.zeros((len(tooth), len(self.teeth) * L))
         iu, wu = _linear(self.u_nodes, np.asarray(u, float))
         iv, wv = _linear(self.v_nodes, np.asarray(v, float))
         try:
@@ -121,16 +121,17 @@ class ToothCompliance:
             raise ReducerlabError(
                 f"compliance: tooth pairs must be among {self.teeth}; got {sorted(set(tooth))}"
             ) from None
-        rows = np.arange(len(tooth))
-        for a in (0, 1):
-            for b in (0, 1):
-                col = t * L + (iu + a) * nv + (iv + b)
-                np.add.at(W, (rows, col), wu[:, a] * wv[:, b])
-        return W
+        cols = np.stack([t * L + (iu + a) * nv + (iv + b) for a in (0, 1) for b in (0, 1)], axis=1)
+        w = np.stack([wu[:, a] * wv[:, b] for a in (0, 1) for b in (0, 1)], axis=1)
+        return cols.astype(np.int64), w
 
-    def between(self, wi: Array, wj: Array) -> Array:
-        """Compliance (m/N) between points of weights ``wi`` (n, TL) and ``wj`` (m, TL)."""
-        return wi @ self.matrix @ wj.T
+    def add_to(self, C: Array, tooth: Array, u: Array, v: Array) -> None:
+        """``C += W K W^T`` in place: the bending compliance between the points
+        ``(u, v)`` on teeth ``tooth`` (m/N), by the sparse stencil (compiled)."""
+        from .kernels import add_interpolated
+
+        cols, w = self.stencil(tooth, u, v)
+        add_interpolated(C, cols, w, np.ascontiguousarray(self.matrix))
 
 
 def _linear(nodes: Array, x: Array) -> tuple[NDArray[np.int64], Array]:

@@ -50,9 +50,6 @@ FAR_FIELD = 12.0
 #: arrays of this many float64 values (1 MB each) and keeps them in cache.
 _STRESS_BLOCK = 131_072
 
-#: Entries per block of the influence matrix (keeps the temporaries in cache).
-_MATRIX_BLOCK = 65_536
-
 
 # --------------------------------------------------------------------------- checks
 def _array(name: str, value: ArrayLike, *, ndim: int | None = None) -> Array:
@@ -307,9 +304,9 @@ def influence_matrix(
 
     Notes
     -----
-    Cost: ``N^2`` kernel evaluations in blocks (the closed form only within ``12``
-    half sides, the multipole expansion beyond); ``N = 3000`` takes a few tenths of a
-    second.
+    Cost: ``N^2`` entries by a compiled kernel, in parallel over the rows
+    (``contact.kernels.half_space_block``; the closed form only within ``12`` half
+    sides, the multipole expansion beyond; entries between bodies are skipped).
     """
     P = _array("points", points, ndim=2)
     if P.shape[1:] != (3,) or P.shape[0] < 1:
@@ -347,38 +344,15 @@ def influence_matrix(
         if labels.dtype.kind not in "iub":
             raise ReducerlabError(f"same_body must hold integer labels, got dtype {labels.dtype}")
 
-    # dx_ij = (p_i - p_j) . u_j = (P U^T)_ij - (p_j . u_j); centred to keep round-off small
-    Pc = P - P.mean(axis=0)
-    W = np.cross(U, V)  # cell normals
-    cu = np.einsum("ij,ij->i", Pc, U)
-    cv = np.einsum("ij,ij->i", Pc, V)
-    cw = np.einsum("ij,ij->i", Pc, W)
+    from .kernels import half_space_block
+
+    # centred to keep round-off small in dx_ij = p_i . u_j - p_j . u_j
+    Pc = np.ascontiguousarray(P - P.mean(axis=0))
     scale = 1.0 / (math.pi * E_star * 4.0 * hu * hv)  # f -> m/N per column j
-    C = np.empty((n, n))
-    rows = max(1, _MATRIX_BLOCK // n)
-    for i0 in range(0, n, rows):
-        i1 = min(n, i0 + rows)
-        dx = Pc[i0:i1] @ U.T - cu
-        dy = Pc[i0:i1] @ V.T - cv
-        dz = Pc[i0:i1] @ W.T - cw
-        # stretch the in-plane offset to the chord length |p_i - p_j| (a no-op on a plane)
-        r2p = dx * dx + dy * dy
-        z2 = dz * dz
-        on_normal = (r2p == 0.0) & (z2 > 0.0)
-        stretch = np.divide(z2, r2p, out=np.zeros_like(z2), where=r2p > 0.0)
-        stretch += 1.0
-        np.sqrt(stretch, out=stretch)
-        dx *= stretch
-        dy *= stretch
-        if on_normal.any():  # straight above the cell centre: any in-plane direction
-            dx[on_normal] = np.abs(dz[on_normal])
-        blk = _rect(dx, dy, hu, hv)
-        blk *= scale
-        C[i0:i1] = blk
-    if labels is not None:
-        C[labels[:, None] != labels[None, :]] = 0.0
-    C += C.T
-    C *= 0.5
+    body = np.zeros(n, np.int64) if labels is None else labels.astype(np.int64)
+    C = half_space_block(
+        Pc, np.ascontiguousarray(U), np.ascontiguousarray(V), hu, hv, scale, body, FAR_FIELD
+    )
     return C
 
 

@@ -349,12 +349,12 @@ def loaded_contact(
             for comp, uv in ((compliance_a, np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1)),
                              (compliance_b, sel["uv_b"][keep])):  # fmt: skip
                 if comp is not None:
-                    W = comp.weights(teeth, uv[:, 0], uv[:, 1])
-                    C += comp.between(W, W)
+                    comp.add_to(C, teeth, uv[:, 0], uv[:, 1])
             keys = list(zip(teeth.tolist(), idx.tolist(), strict=True))
             start = np.array([k in prev for k in keys])
             sol = solve_contact(C, g[keep], lam, T_B, start=start if start.any() else None)
             approach = sol.approach
+            prev = {k for k, a in zip(keys, sol.active, strict=True) if a}  # next start
             # completeness: points left out must stay open under the rigid approach
             left = sel["left_gap"] - sel["left_lam"] * (psi0 + approach)
             out_g = g[~keep] - sel["lam"][~keep] * approach
@@ -362,7 +362,6 @@ def loaded_contact(
             if worst > 0:
                 break
             s_max *= 2.0
-        prev = {k for k, a in zip(keys, sol.active, strict=True) if a}
         edge = edge_a[idx] | (edge_b(sel["uv_b"][keep]) < band)
         out.append(
             PositionContact(
