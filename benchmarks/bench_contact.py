@@ -4,17 +4,21 @@ Pair 1 of ``examples/nutation_surface.toml`` (involute, 3 kW at 1500 rpm on the 
 gear). The finite-element tooth compliance of both gears is built once (its time is
 stated separately), then, side by side in one run:
 
-* ``reducerlab``: what ``reducerlab contact`` runs: the automatic grid, candidate cells
-  from the coarse separation, primal-dual active set warm-started from the previous
-  position, ``POSITIONS`` positions;
-* ``plain``: the way it is written first: every fine cell of every tooth pair within a
-  fixed 10 um separation in the problem at every position, a cold start and the
-  monotone one-point-at-a-time active set (Lawson-Hanson) for every position; run on
+* ``reducerlab``: what ``reducerlab contact`` runs after the compliance: the pilot
+  position that sizes the grid, then ``POSITIONS`` positions (20, the issue's cycle,
+  and 24, the CLI default) with the automatic grid, candidate cells from the coarse
+  separation, compiled assembly of the compliance matrix, primal-dual active set warm
+  started from the previous position;
+* ``plain``: the way it is written first, in numpy: every fine cell of every tooth
+  pair within a fixed 10 um separation in the problem at every position, the
+  half-space matrix from ``rectangle_influence`` on full (n, n) arrays, the bending
+  part as the dense product ``W K W^T``, a cold start from the first point to touch
+  and the monotone active-set method (Lawson-Hanson) for every position; run on
   ``PLAIN`` of the positions (it is slow) and compared per position.
 
-Both reach the same KKT point: the script checks that the mesh stiffness and contact
-area agree. Run: ``.venv/bin/python benchmarks/bench_contact.py``; prints a Markdown
-table for ``benchmarks/RESULTS.md``.
+Both reach the same KKT point: the script checks that the loaded transmission error
+and the contact area agree. Run: ``.venv/bin/python benchmarks/bench_contact.py``;
+prints a Markdown table for ``benchmarks/RESULTS.md``.
 """
 
 from __future__ import annotations
@@ -27,16 +31,51 @@ from datetime import date
 
 os.environ.setdefault("OMP_NUM_THREADS", "2")
 
-POSITIONS = 24
-PLAIN = 3
+POSITIONS = (20, 24)
+PLAIN = 2
+
+
+def _numpy_influence(points, axes_u, axes_v, half_u, half_v, E_star, same_body=None):
+    """``contact.halfspace.influence_matrix`` written with numpy arrays of all pairs."""
+    import numpy as np
+
+    from reducerlab.contact.halfspace import rectangle_influence
+
+    P = np.asarray(points)
+    W = np.cross(axes_u, axes_v)
+    d = P[:, None, :] - P[None, :, :]
+    dx = np.einsum("ijk,jk->ij", d, axes_u)
+    dy = np.einsum("ijk,jk->ij", d, axes_v)
+    dz = np.einsum("ijk,jk->ij", d, W)
+    r2 = dx**2 + dy**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        stretch = np.where(r2 > 0, np.sqrt(1 + dz**2 / r2), 1.0)
+    dx, dy = dx * stretch, dy * stretch
+    dx = np.where((r2 == 0) & (dz != 0), np.abs(dz), dx)
+    C = rectangle_influence(dx, dy, half_u[None, :], half_v[None, :])
+    C /= (math.pi * E_star * 4 * half_u * half_v)[None, :]
+    if same_body is not None:
+        C[same_body[:, None] != same_body[None, :]] = 0.0
+    return 0.5 * (C + C.T)
+
+
+def _numpy_add_to(self, C, tooth, u, v):
+    """``ToothCompliance.add_to`` as the dense product ``W K W^T``."""
+    import numpy as np
+
+    cols, w = self.stencil(tooth, u, v)
+    Wd = np.zeros((len(cols), self.matrix.shape[0]))
+    np.add.at(Wd, (np.arange(len(cols))[:, None], cols), w)
+    C += Wd @ self.matrix @ Wd.T
 
 
 def main() -> None:
     import numpy as np
 
     import reducerlab.contact.complementarity as cp
+    import reducerlab.contact.halfspace as hs
     from reducerlab.analysis.contact import PILOT, auto_cell, contact_pair
-    from reducerlab.contact.compliance import fe_tooth_compliance
+    from reducerlab.contact.compliance import ToothCompliance, fe_tooth_compliance
     from reducerlab.contact.halfspace import combined_modulus
     from reducerlab.contact.ltca import ContactGrid, loaded_contact
     from reducerlab.drives import load_design
@@ -51,28 +90,39 @@ def main() -> None:
     cb = fe_tooth_compliance(pair.flank_b)
     build = time.perf_counter() - t0
     E = combined_modulus(2.06e11, 0.3, 2.06e11, 0.3)
-    phis = 2 * math.pi / pair.external.teeth * np.arange(POSITIONS) / POSITIONS
+    pitch = 2 * math.pi / pair.external.teeth
     kw = {"compliance_a": ca, "compliance_b": cb, "E_star": E}
-    t0 = time.perf_counter()
-    pilot = loaded_contact(pair, torque, phis[:1], ContactGrid(PILOT * m_n), **kw)
-    cell = auto_cell(pilot[0], m_n)
-    runs = loaded_contact(pair, torque, phis, ContactGrid(cell), **kw)
-    ours = time.perf_counter() - t0
-    # the plain way on the first PLAIN positions
-    steps, cp.PDAS_STEPS = cp.PDAS_STEPS, 0
+    # warm the compiled kernels (their one-off compilation is cached on disk)
+    loaded_contact(pair, torque, [0.0], ContactGrid(PILOT * m_n), **kw)
+    rows = []
+    for n in POSITIONS:
+        phis = pitch * np.arange(n) / n
+        t0 = time.perf_counter()
+        pilot = loaded_contact(pair, torque, phis[:1], ContactGrid(PILOT * m_n), **kw)
+        cell = auto_cell(pilot[0], m_n)
+        runs = loaded_contact(pair, torque, phis, ContactGrid(cell), **kw)
+        rows.append((n, time.perf_counter() - t0, runs))
+    # the plain way on the first PLAIN positions of the 24
+    phis = pitch * np.arange(POSITIONS[-1]) / POSITIONS[-1]
+    saved = (cp.PDAS_STEPS, cp._winkler_set, hs.influence_matrix, ToothCompliance.add_to)
+    cp.PDAS_STEPS = 0
+    cp._winkler_set = lambda d, g, lam, load, usable: np.array(  # first point to touch
+        [int(np.argmin(np.where(usable, g / np.where(usable, lam, 1.0), np.inf)))]
+    )
+    hs.influence_matrix = _numpy_influence
+    ToothCompliance.add_to = _numpy_add_to
     t0 = time.perf_counter()
     plain = [
         loaded_contact(pair, torque, [phi], ContactGrid(cell, s_max=1e-5), **kw)[0]
         for phi in phis[:PLAIN]
     ]
     plain_t = time.perf_counter() - t0
-    cp.PDAS_STEPS = steps
-    for a, b in zip(runs[:PLAIN], plain, strict=True):
+    cp.PDAS_STEPS, cp._winkler_set, hs.influence_matrix, ToothCompliance.add_to = saved
+    ours24 = rows[-1][2]
+    for a, b in zip(ours24[:PLAIN], plain, strict=True):
         assert abs(a.loaded_te / b.loaded_te - 1) < 1e-6, (a.loaded_te, b.loaded_te)
         assert abs(a.contact_area / b.contact_area - 1) < 1e-6
-    per_ours = ours / POSITIONS
     per_plain = plain_t / PLAIN
-    cells = np.mean([len(r.force) for r in runs])
     cells_plain = np.mean([len(r.force) for r in plain])
     threads = os.environ["OMP_NUM_THREADS"]
     print(f"date: {date.today()}, machine: {platform.machine()}, {os.cpu_count()} cores, "
@@ -80,11 +130,14 @@ def main() -> None:
     print(f"FE tooth compliance of both gears (built once): {build:.1f} s "
           f"({ca.dofs} + {cb.dofs} DOFs, {ca.matrix.shape[0]} loads each)")  # fmt: skip
     print(f"contact cell {cell * 1e3:.4f} mm")
-    print("| case       | positions | cells/position | s/position | total (s) |")
-    print(f"| reducerlab | {POSITIONS:>9} | {cells:>14.0f} | {per_ours:>10.2f} | {ours:>9.1f} |")
+    print("| case       | positions | cells/position | s/position | cycle (s) |")
+    for n, t, runs in rows:
+        cells = np.mean([len(r.force) for r in runs])
+        print(f"| reducerlab | {n:>9} | {cells:>14.0f} | {t / n:>10.2f} | {t:>9.1f} |")
     print(f"| plain      | {PLAIN:>9} | {cells_plain:>14.0f} | {per_plain:>10.2f} | "
-          f"{plain_t:>9.1f} |")  # fmt: skip
-    print(f"ratio per position: {per_plain / per_ours:.1f}x")
+          f"{per_plain * POSITIONS[-1]:>9.1f} |")  # fmt: skip
+    per_ours = rows[-1][1] / POSITIONS[-1]
+    print(f"ratio per position (24-position cycle): {per_plain / per_ours:.1f}x")
 
 
 if __name__ == "__main__":

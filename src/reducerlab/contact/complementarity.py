@@ -119,7 +119,8 @@ def _subproblem(C: Array, g: Array, lam: Array, A: Array, load: float) -> tuple[
             f"factorisation takes ({MAX_SET}); coarsen the contact grid"
         )
     try:
-        fac = cho_factor(C[np.ix_(A, A)], lower=True, check_finite=False)
+        # C_AA is symmetric: its transpose is the same matrix in Fortran order (no copy)
+        fac = cho_factor(C[np.ix_(A, A)].T, lower=True, overwrite_a=True, check_finite=False)
     except LinAlgError as exc:
         raise ContactError(
             "compliance: not positive definite on the contact set (two points at the same "

@@ -368,21 +368,29 @@ def separations(
     x = np.stack([su[j], sv[j], np.einsum("ij,ij->i", Sq[j] - P, N)], axis=1)
     h = 1e-6
     res = np.full(len(P), np.inf)
+    act = np.arange(len(P))  # points still iterating (a converged point stays put)
     for _ in range(max_iter):
-        Q, _, _ = _eval_b(B, pb, ang_b, x[:, 0], x[:, 1])
-        r = Q - P - x[:, 2:3] * N
-        res = np.linalg.norm(r, axis=1)
-        if np.all(res[ok] < tol):
+        xa, Pa, Na = x[act], P[act], N[act]
+        Q, _, _ = _eval_b(B, pb, ang_b, xa[:, 0], xa[:, 1])
+        r = Q - Pa - xa[:, 2:3] * Na
+        res[act] = np.linalg.norm(r, axis=1)
+        going = ok[act] & ~(res[act] < tol)
+        if not np.any(going):
             break
-        Qu, _, _ = _eval_b(B, pb, ang_b, x[:, 0] + h, x[:, 1])
-        Qv, _, _ = _eval_b(B, pb, ang_b, x[:, 0], x[:, 1] + h)
-        J = np.stack([(Qu - Q) / h, (Qv - Q) / h, -N], axis=2)
+        act, xa, Q, r, Pa, Na = act[going], xa[going], Q[going], r[going], Pa[going], Na[going]
+        Qu, _, _ = _eval_b(B, pb, ang_b, xa[:, 0] + h, xa[:, 1])
+        Qv, _, _ = _eval_b(B, pb, ang_b, xa[:, 0], xa[:, 1] + h)
+        J = np.stack([(Qu - Q) / h, (Qv - Q) / h, -Na], axis=2)
         dx = _solve3(J, -r)
         dx = np.where(np.isfinite(dx), dx, 0.0)
         dx[:, :2] = np.clip(dx[:, :2], -0.2, 0.2)
-        x = x + dx
-        x[:, 0] = np.clip(x[:, 0], lo - 0.05, hi + 0.05)
-        x[:, 1] = np.clip(x[:, 1], -0.05, 1.05)
+        xa = xa + dx
+        xa[:, 0] = np.clip(xa[:, 0], lo - 0.05, hi + 0.05)
+        xa[:, 1] = np.clip(xa[:, 1], -0.05, 1.05)
+        x[act] = xa
+    else:  # the residual after the last step
+        Q, _, _ = _eval_b(B, pb, ang_b, x[act, 0], x[act, 1])
+        res[act] = np.linalg.norm(Q - P[act] - x[act, 2:3] * N[act], axis=1)
     Q, NB, QB_gear = _eval_b(B, pb, ang_b, x[:, 0], x[:, 1])
     inb = (x[:, 0] >= lo - 1e-12) & (x[:, 0] <= hi + 1e-12) & (x[:, 1] >= -1e-12)
     inb &= x[:, 1] <= 1 + 1e-12

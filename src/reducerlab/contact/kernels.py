@@ -75,15 +75,42 @@ def _entry(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale) -> float:
     return _rect_entry(dx, dy, hu[j], hv[j], coef[j], lim2[j]) * scale[j]
 
 
+@nb.njit(cache=True, inline="always")
+def _far(du: float, dv: float, ir2: float, coef: np.ndarray) -> float:
+    """The multipole branch of :func:`_rect_entry` from the in-plane offset ``(du, dv)``
+    in the cell's axes (its direction only: ``c = du^2 / (du^2 + dv^2)``, 1 on the
+    normal) and ``ir2 = 1 / r^2`` of the chord."""
+    p2 = du * du + dv * dv
+    c = du * du / p2 if p2 > 0.0 else 1.0
+    t4 = ((coef[5] * c + coef[4]) * c + coef[3]) * ir2 + (coef[2] * c + coef[1])
+    return coef[0] * math.sqrt(ir2) * (1.0 + t4 * ir2)
+
+
 @nb.njit(cache=True)
 def _fill_row(C, i, P, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale, labels) -> None:
-    """Entries ``(i, j)`` and ``(j, i)``, ``j <= i``, symmetrised."""
+    """Entries ``(i, j)`` and ``(j, i)``, ``j <= i``, symmetrised. Far from both cells
+    (the usual case) the two directions share the chord: the stretched offset has the
+    chord's length, so only its direction in each cell's axes differs."""
     for j in range(i + 1):
         if labels[i] != labels[j]:
             continue
-        e = _entry(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
-        if j != i:
-            e = 0.5 * (e + _entry(P, j, i, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale))
+        dx = P[i, 0] - P[j, 0]
+        dy = P[i, 1] - P[j, 1]
+        dz = P[i, 2] - P[j, 2]
+        r2 = dx * dx + dy * dy + dz * dz
+        if j != i and r2 >= lim2[i] and r2 >= lim2[j]:
+            ir2 = 1.0 / r2
+            uj = dx * U[j, 0] + dy * U[j, 1] + dz * U[j, 2]
+            vj = dx * V[j, 0] + dy * V[j, 1] + dz * V[j, 2]
+            ui = dx * U[i, 0] + dy * U[i, 1] + dz * U[i, 2]
+            vi = dx * V[i, 0] + dy * V[i, 1] + dz * V[i, 2]
+            e = 0.5 * (
+                _far(uj, vj, ir2, coef[j]) * scale[j] + _far(ui, vi, ir2, coef[i]) * scale[i]
+            )
+        else:
+            e = _entry(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
+            if j != i:
+                e = 0.5 * (e + _entry(P, j, i, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale))
         C[i, j] = e
         C[j, i] = e
 

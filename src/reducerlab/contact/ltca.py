@@ -48,6 +48,12 @@ Array = NDArray[np.float64]
 #: largest separation (m) the grid is ever widened to before giving up
 S_MAX_LIMIT = 1e-3
 
+#: the next position's grid admits separations up to this many times the largest rigid
+#: approach ``lam psi`` of the last one (a point farther apart cannot close: its loaded
+#: gap ``g - lam psi + (C F)_i`` stays positive); the completeness check widens it
+#: where the next position needs more
+MARGIN = 1.1
+
 
 @dataclass(frozen=True)
 class ContactGrid:
@@ -372,10 +378,35 @@ def loaded_contact(
         )  # fmt: skip
         # next position: a grid just large enough for this one's approach, with a margin
         # (the completeness check grows it again where the next position needs more)
-        s_max = max(grid.s_max, 1.3 * float(np.max(lam * approach)))
+        s_max = max(grid.s_max, MARGIN * float(np.max(lam * approach)))
         if progress is not None:
             progress(j + 1, len(phis))
     return out
+
+
+def _dip(g: Array) -> Array:
+    """Bound (m) on how far the gap inside each coarse cell falls below its value ``g``
+    at the centre, from the neighbouring centres: over half a cell a quadratic model
+    falls by at most ``|g'| h/2 + |g''| h^2/8`` per direction, with the first
+    difference (steepest side) and the second difference standing for ``g' h`` and
+    ``g'' h^2``. Neighbours off the flank (``inf``) give no information (0)."""
+    drop = np.zeros_like(g)
+    for axis in (0, 1):
+        gm = np.moveaxis(g, axis, 0)
+        lo = np.full_like(gm, np.nan)
+        hi = np.full_like(gm, np.nan)
+        lo[1:] = gm[:-1]
+        hi[:-1] = gm[1:]
+        with np.errstate(invalid="ignore"):
+            d_lo = np.abs(gm - lo)
+            d_hi = np.abs(hi - gm)
+            d2 = np.abs(hi - 2.0 * gm + lo)
+        first = np.fmax(np.where(np.isfinite(d_lo), d_lo, np.nan),
+                        np.where(np.isfinite(d_hi), d_hi, np.nan))  # fmt: skip
+        second = np.where(np.isfinite(d2), d2, np.nan)
+        part = 0.5 * np.nan_to_num(first, nan=0.0) + 0.125 * np.nan_to_num(second, nan=0.0)
+        drop += np.moveaxis(part, 0, axis)
+    return np.where(np.isfinite(g), drop, 0.0)
 
 
 def _first_contact(coarse: dict, sign: float) -> float:
@@ -402,15 +433,19 @@ def _select(pair, phi, coarse, sign, psi0, s_max, cache, fu, fv, fine_coarse, cs
         lam = sign * s.lever
         ok = np.isfinite(s.distance) & (lam > 0)
         g = np.where(ok, s.distance - lam * psi0, np.inf).reshape(n_cu, n_cv)
-        near = g <= s_max
-        # dilate by one coarse cell (the gap varies within a coarse cell)
+        # the gap can be lower inside a coarse cell than at its centre (a contact band
+        # thinner than a coarse cell may lie between centres): bound it from below
+        drop = _dip(g)
+        near = g - drop <= s_max
+        # and dilate by one coarse cell, diagonals included
         grown = near.copy()
         grown[1:] |= near[:-1]
         grown[:-1] |= near[1:]
-        grown[:, 1:] |= near[:, :-1]
-        grown[:, :-1] |= near[:, 1:]
+        row = grown.copy()
+        grown[:, 1:] |= row[:, :-1]
+        grown[:, :-1] |= row[:, 1:]
         left = ~grown.ravel() & ok
-        left_gap.append(s.distance[left] - lam[left] * 0.0)
+        left_gap.append(s.distance[left] - drop.ravel()[left])
         left_lam.append(lam[left])
         cells = np.flatnonzero(grown.ravel()[fine_coarse])
         if cells.size == 0:
