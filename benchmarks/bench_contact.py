@@ -7,14 +7,16 @@ stated separately), then, side by side in one run:
 * ``reducerlab``: what ``reducerlab contact`` runs after the compliance: the pilot
   position that sizes the grid, then ``POSITIONS`` positions (20, the issue's cycle,
   and 24, the CLI default) with the automatic grid, candidate cells from the coarse
-  separation, compiled assembly of the compliance matrix, primal-dual active set warm
-  started from the previous position;
+  separation, the compliance columns of the loaded cells only, made by compiled
+  kernels (``contact.cellmatrix``), primal-dual active set warm started from the
+  previous position;
 * ``plain``: the way it is written first, in numpy: every fine cell of every tooth
   pair within a fixed 10 um separation in the problem at every position, the
-  half-space matrix from ``rectangle_influence`` on full (n, n) arrays, the bending
-  part as the dense product ``W K W^T``, a cold start from the first point to touch
-  and the monotone active-set method (Lawson-Hanson) for every position; run on
-  ``PLAIN`` of the positions (it is slow) and compared per position.
+  whole compliance matrix: the half-space part from ``rectangle_influence`` on full
+  (n, n) arrays, the bending part as the dense product ``W K W^T``, a cold start from
+  the first point to touch and the monotone active-set method (Lawson-Hanson) for
+  every position; run on ``PLAIN`` of the positions (it is slow) and compared per
+  position.
 
 Both reach the same KKT point: the script checks that the loaded transmission error
 and the contact area agree. Run: ``.venv/bin/python benchmarks/bench_contact.py``;
@@ -59,23 +61,27 @@ def _numpy_influence(points, axes_u, axes_v, half_u, half_v, E_star, same_body=N
     return 0.5 * (C + C.T)
 
 
-def _numpy_add_to(self, C, tooth, u, v):
-    """``ToothCompliance.add_to`` as the dense product ``W K W^T``."""
+def _plain_compliance(points, axes_u, axes_v, half_u, half_v, E_star, body, bending=()):
+    """The whole cell compliance matrix at once, in numpy: the half-space part on
+    arrays of all pairs plus the dense products ``W K W^T``."""
     import numpy as np
 
-    cols, w = self.stencil(tooth, u, v)
-    Wd = np.zeros((len(cols), self.matrix.shape[0]))
-    np.add.at(Wd, (np.arange(len(cols))[:, None], cols), w)
-    C += Wd @ self.matrix @ Wd.T
+    C = _numpy_influence(points, axes_u, axes_v, half_u, half_v, E_star, body)
+    for comp, tooth, u, v in bending:
+        cols, w = comp.stencil(tooth, u, v)
+        Wd = np.zeros((len(cols), comp.matrix.shape[0]))
+        np.add.at(Wd, (np.arange(len(cols))[:, None], cols), w)
+        C += Wd @ comp.matrix @ Wd.T
+    return C
 
 
 def main() -> None:
     import numpy as np
 
+    import reducerlab.contact.cellmatrix as cm
     import reducerlab.contact.complementarity as cp
-    import reducerlab.contact.halfspace as hs
     from reducerlab.analysis.contact import PILOT, auto_cell, contact_pair
-    from reducerlab.contact.compliance import ToothCompliance, fe_tooth_compliance
+    from reducerlab.contact.compliance import fe_tooth_compliance
     from reducerlab.contact.halfspace import combined_modulus
     from reducerlab.contact.ltca import ContactGrid, loaded_contact
     from reducerlab.drives import load_design
@@ -104,20 +110,19 @@ def main() -> None:
         rows.append((n, time.perf_counter() - t0, runs))
     # the plain way on the first PLAIN positions of the 24
     phis = pitch * np.arange(POSITIONS[-1]) / POSITIONS[-1]
-    saved = (cp.PDAS_STEPS, cp._winkler_set, hs.influence_matrix, ToothCompliance.add_to)
+    saved = (cp.PDAS_STEPS, cp._winkler_set, cm.CellCompliance)
     cp.PDAS_STEPS = 0
     cp._winkler_set = lambda d, g, lam, load, usable: np.array(  # first point to touch
         [int(np.argmin(np.where(usable, g / np.where(usable, lam, 1.0), np.inf)))]
     )
-    hs.influence_matrix = _numpy_influence
-    ToothCompliance.add_to = _numpy_add_to
+    cm.CellCompliance = _plain_compliance
     t0 = time.perf_counter()
     plain = [
         loaded_contact(pair, torque, [phi], ContactGrid(cell, s_max=1e-5), **kw)[0]
         for phi in phis[:PLAIN]
     ]
     plain_t = time.perf_counter() - t0
-    cp.PDAS_STEPS, cp._winkler_set, hs.influence_matrix, ToothCompliance.add_to = saved
+    cp.PDAS_STEPS, cp._winkler_set, cm.CellCompliance = saved
     ours24 = rows[-1][2]
     for a, b in zip(ours24[:PLAIN], plain, strict=True):
         assert abs(a.loaded_te / b.loaded_te - 1) < 1e-6, (a.loaded_te, b.loaded_te)

@@ -68,33 +68,57 @@ def _compliance(rng):
     return ToothCompliance(u_nodes, v_nodes, (-1, 0, 1), A @ A.T * 1e-10, 1, 1e-3)
 
 
-def test_interpolated_bending_is_w_k_w_transpose():
-    # add_to adds W K W^T with W the bilinear interpolation from the load points (dense
-    # reference built here); points beyond the node range extrapolate linearly.
-    rng = np.random.default_rng(5)
-    comp = _compliance(rng)
-    n = 60
-    tooth = rng.choice([-1, 0, 1], n)
-    u = rng.uniform(-0.1, 1.1, n)
-    v = rng.uniform(0.0, 1.0, n)
+def _dense_w(comp, tooth, u, v):
+    """The bilinear interpolation matrix from the load points, written out."""
     nu, nv = comp.u_nodes.size, comp.v_nodes.size
-    W = np.zeros((n, 3 * nu * nv))
-    for i in range(n):
+    W = np.zeros((len(tooth), len(comp.teeth) * nu * nv))
+    for i in range(len(tooth)):
         iu = min(max(int(np.searchsorted(comp.u_nodes, u[i])) - 1, 0), nu - 2)
         iv = min(max(int(np.searchsorted(comp.v_nodes, v[i])) - 1, 0), nv - 2)
         tu = (u[i] - comp.u_nodes[iu]) / (comp.u_nodes[iu + 1] - comp.u_nodes[iu])
         tv = (v[i] - comp.v_nodes[iv]) / (comp.v_nodes[iv + 1] - comp.v_nodes[iv])
-        base = (tooth[i] + 1) * nu * nv
+        base = comp.teeth.index(int(tooth[i])) * nu * nv
         for a, wa in ((0, 1 - tu), (1, tu)):
             for b, wb in ((0, 1 - tv), (1, tv)):
                 W[i, base + (iu + a) * nv + iv + b] += wa * wb
-    start = rng.normal(size=(n, n)) * 1e-9  # added to, in place
-    C = start.copy()
-    comp.add_to(C, tooth, u, v)
-    ref = W @ comp.matrix @ W.T
-    np.testing.assert_allclose(C - start, ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+    return W
+
+
+def test_cell_compliance_is_half_space_plus_w_k_w_transpose():
+    # CellCompliance makes columns on demand: the half-space matrix of the cells
+    # (influence_matrix) plus W_A K_A W_A^T + W_B K_B W_B^T with W the bilinear
+    # interpolation from each gear's load points (written out here; points beyond the
+    # node range extrapolate linearly). Columns made in any order, the diagonal, C_AA
+    # and C F agree with that dense matrix to round-off.
+    from reducerlab.contact.cellmatrix import CellCompliance
+
+    rng = np.random.default_rng(5)
+    comp_a, comp_b = _compliance(rng), _compliance(rng)
+    n = 80
+    tooth = rng.choice([-1, 0, 1], n)
+    P = np.column_stack([rng.uniform(0, 4e-3, n), rng.uniform(0, 8e-3, n), np.zeros(n)])
+    U = np.tile([1.0, 0.0, 0.0], (n, 1))
+    V = np.tile([0.0, 1.0, 0.0], (n, 1))
+    h = np.full(n, 5e-5)
+    ua, va = rng.uniform(-0.1, 1.1, n), rng.uniform(0.0, 1.0, n)
+    ub, vb = rng.uniform(0.0, 1.0, n), rng.uniform(0.0, 1.0, n)
+    Wa, Wb = _dense_w(comp_a, tooth, ua, va), _dense_w(comp_b, tooth, ub, vb)
+    ref = influence_matrix(P, U, V, h, h, E_STAR, same_body=tooth)
+    ref = ref + Wa @ comp_a.matrix @ Wa.T + Wb @ comp_b.matrix @ Wb.T
+    bending = [(comp_a, tooth, ua, va), (comp_b, tooth, ub, vb)]
+    C = CellCompliance(P, U, V, h, h, E_STAR, tooth, bending)
+    tol = 1e-12 * np.abs(ref).max()
+    np.testing.assert_allclose(C.diagonal(), np.diag(ref), rtol=1e-12, atol=tol)
+    A = np.array([7, 3, 41, 12, 60])
+    np.testing.assert_allclose(C.block(A), ref[np.ix_(A, A)], rtol=1e-10, atol=tol)
+    assert C.columns_made == A.size
+    F = np.zeros(n)
+    F[A] = rng.uniform(1, 2, A.size)
+    np.testing.assert_allclose(C.apply(F, A), ref @ F, rtol=1e-10, atol=tol * F.sum())
+    np.testing.assert_allclose(C.dense(), ref, rtol=1e-10, atol=tol)
     # interpolation reproduces a node exactly
-    cols, w = comp.stencil([0], [comp.u_nodes[2]], [comp.v_nodes[3]])
+    cols, w = comp_a.stencil([0], [comp_a.u_nodes[2]], [comp_a.v_nodes[3]])
+    nu, nv = comp_a.u_nodes.size, comp_a.v_nodes.size
     assert w.sum() == pytest.approx(1.0)
     assert cols[0][np.argmax(w[0])] == 1 * nu * nv + 2 * nv + 3
 

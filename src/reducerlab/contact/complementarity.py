@@ -86,23 +86,47 @@ class ContactSolution:
         return float(np.max(np.abs(self.force * self.gap))) / max(scale, 1e-300)
 
 
-def _check(C: ArrayLike, gap: ArrayLike, lever: ArrayLike, load: float) -> tuple[Array, ...]:
-    C = np.asarray(C, dtype=float)
+class _Dense:
+    """A dense compliance matrix behind the interface the solver uses (see
+    ``solve_contact``: ``shape``, ``diagonal``, ``block`` and ``apply``)."""
+
+    def __init__(self, C: Array) -> None:
+        self.C = C
+        self.shape = C.shape
+
+    def diagonal(self) -> Array:
+        return np.diag(self.C)
+
+    def block(self, A: NDArray[np.int64]) -> Array:
+        return self.C[np.ix_(A, A)]
+
+    def apply(self, F: Array, A: NDArray[np.int64]) -> Array:
+        return self.C @ F
+
+
+def _check(C, gap: ArrayLike, lever: ArrayLike, load: float) -> tuple:
     g = np.asarray(gap, dtype=float)
     lam = np.asarray(lever, dtype=float)
     n = g.size
     if g.ndim != 1 or n == 0:
         raise ContactError(f"gap: must be a non-empty 1-D array; got shape {g.shape}")
-    if C.shape != (n, n):
-        raise ContactError(f"compliance: must have shape ({n}, {n}); got {C.shape}")
+    if hasattr(C, "block") and hasattr(C, "apply"):
+        op = C  # computed on demand: its entries are checked where they are made
+        checked = ()
+    else:
+        C = np.asarray(C, dtype=float)
+        op = _Dense(C)
+        checked = (("compliance", C),)
+    if tuple(op.shape) != (n, n):
+        raise ContactError(f"compliance: must have shape ({n}, {n}); got {tuple(op.shape)}")
     if lam.shape != (n,):
         raise ContactError(f"lever: must have shape ({n},); got {lam.shape}")
-    for name, a in (("compliance", C), ("gap", g), ("lever", lam)):
+    for name, a in (*checked, ("gap", g), ("lever", lam)):
         if not np.all(np.isfinite(a)):
             raise ContactError(f"{name}: must be finite (no NaN or inf)")
     if not (isinstance(load, (int, float)) and math.isfinite(load) and load > 0):
         raise ContactError(f"load: must be a finite number > 0; got {load!r}")
-    return C, g, lam
+    return op, g, lam
 
 
 #: Most points in one dense Cholesky factorisation: 12000 points are 1.15 GB and about
@@ -120,7 +144,7 @@ def _subproblem(C: Array, g: Array, lam: Array, A: Array, load: float) -> tuple[
         )
     try:
         # C_AA is symmetric: its transpose is the same matrix in Fortran order (no copy)
-        fac = cho_factor(C[np.ix_(A, A)].T, lower=True, overwrite_a=True, check_finite=False)
+        fac = cho_factor(C.block(A).T, lower=True, overwrite_a=True, check_finite=False)
     except LinAlgError as exc:
         raise ContactError(
             "compliance: not positive definite on the contact set (two points at the same "
@@ -148,8 +172,12 @@ def solve_contact(
 
     Parameters
     ----------
-    compliance : array_like, shape (N, N)
-        Symmetric positive definite compliance ``C`` (m/N).
+    compliance : array_like, shape (N, N), or an operator
+        Symmetric positive definite compliance ``C`` (m/N): a matrix, or an object
+        computing it on demand (``contact.cellmatrix.CellCompliance``) with ``shape``,
+        ``diagonal()``, ``block(A)`` (``C_AA``) and ``apply(F, A)`` (``C F`` for ``F``
+        zero outside ``A``): the solver only ever needs the columns of points that
+        carry load, usually a third of the candidates.
     gap : array_like, shape (N,)
         Unloaded separation of each point ``g`` (m), measured after the rigid approach
         that closes the first point (``min g/lam = 0``; other offsets are allowed).
@@ -205,7 +233,7 @@ def solve_contact(
                 f"the contact solver did not settle in {limit} active-set steps "
                 f"({A.size} points in contact); refine or coarsen the contact grid"
             )
-        s = C @ F + g - lam * psi
+        s = C.apply(F, A) + g - lam * psi
         scale = max(float(np.max(np.abs(lam[A] * psi))), float(np.max(np.abs(g[A]))), 1e-300)
         free = np.ones(n, dtype=bool)
         free[A] = False
@@ -233,7 +261,7 @@ def solve_contact(
             A = A[keep]
             F[A] = newF[keep]
             FA, psi_new = _subproblem(C, g, lam, A, load)
-    s = C @ F + g - lam * psi
+    s = C.apply(F, A) + g - lam * psi
     s[A] = 0.0
     active = np.zeros(n, dtype=bool)
     active[A] = True
@@ -270,7 +298,7 @@ def _primal_dual(
         pos = FA > 0
         F = np.zeros(n)
         F[A] = FA
-        s = C @ F + g - lam * psi  # one pass over C, no copy of its columns
+        s = C.apply(F, A) + g - lam * psi
         F[A[~pos]] = 0.0
         scale = max(float(np.max(np.abs(lam[A] * psi))), float(np.max(np.abs(g[A]))), 1e-300)
         free = np.ones(n, dtype=bool)
@@ -333,7 +361,7 @@ def _initial_set(
         idx = np.unique(idx[usable[idx]])
         if idx.size:
             return idx
-    return _winkler_set(np.diag(C), g, lam, load, usable)
+    return _winkler_set(C.diagonal(), g, lam, load, usable)
 
 
 def _winkler_set(d: Array, g: Array, lam: Array, load: float, usable: Array) -> NDArray[np.int64]:

@@ -125,14 +125,6 @@ class ToothCompliance:
         w = np.stack([wu[:, a] * wv[:, b] for a in (0, 1) for b in (0, 1)], axis=1)
         return cols.astype(np.int64), w
 
-    def add_to(self, C: Array, tooth: Array, u: Array, v: Array) -> None:
-        """``C += W K W^T`` in place: the bending compliance between the points
-        ``(u, v)`` on teeth ``tooth`` (m/N), by the sparse stencil (compiled)."""
-        from .kernels import add_interpolated
-
-        cols, w = self.stencil(tooth, u, v)
-        add_interpolated(C, cols, w, np.ascontiguousarray(self.matrix))
-
 
 def _linear(nodes: Array, x: Array) -> tuple[NDArray[np.int64], Array]:
     """Cell index and the two linear weights (extrapolating beyond the ends)."""

@@ -1,13 +1,14 @@
 """Compiled (numba) kernels of the contact compliance matrix.
 
-The loaded tooth contact analysis assembles, at every mesh position, a dense compliance
-matrix of a few thousand contact cells: the half-space influence of every cell on every
-other cell of the same tooth (``contact.halfspace.influence_matrix``) plus the
-finite-element bending compliance interpolated to the cells
-(``contact.compliance.ToothCompliance``). Written with numpy, each of the ``N^2``
-entries passes through a dozen temporary arrays; these kernels compute each entry once,
-in parallel over the rows, with the same formulas (the numpy forms stay the reference
-and the tests compare the two).
+The loaded tooth contact analysis needs, at every mesh position, the compliance between
+a few thousand contact cells: the half-space influence of every cell on every other cell
+of the same tooth (``contact.halfspace.influence_matrix``) plus the finite-element
+bending compliance interpolated to the cells (``contact.compliance.ToothCompliance``).
+Written with numpy, each of the ``N^2`` entries passes through a dozen temporary arrays;
+these kernels compute each entry once, in parallel, with the same formulas: the whole
+symmetric matrix (:func:`half_space_block`) or the columns the solver asks for
+(:func:`fill_columns`, ``contact.cellmatrix``). ``tests/test_contact_kernels.py``
+compares them with the numpy definitions.
 """
 
 from __future__ import annotations
@@ -17,7 +18,13 @@ import math
 import numba as nb
 import numpy as np
 
-__all__ = ["add_interpolated", "half_space_block"]
+__all__ = [
+    "cell_tables",
+    "diagonal_entries",
+    "fill_columns",
+    "half_space_block",
+    "stencil_product",
+]
 
 
 @nb.njit(cache=True, inline="always")
@@ -86,33 +93,122 @@ def _far(du: float, dv: float, ir2: float, coef: np.ndarray) -> float:
     return coef[0] * math.sqrt(ir2) * (1.0 + t4 * ir2)
 
 
+@nb.njit(cache=True, inline="always")
+def _pair(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale) -> float:
+    """Symmetrised entry ``(C_ij + C_ji) / 2`` (m/N). Far from both cells (the usual
+    case) the two directions share the chord: the stretched offset has the chord's
+    length, so only its direction in each cell's axes differs."""
+    if i == j:
+        return _entry(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
+    dx = P[i, 0] - P[j, 0]
+    dy = P[i, 1] - P[j, 1]
+    dz = P[i, 2] - P[j, 2]
+    r2 = dx * dx + dy * dy + dz * dz
+    if r2 >= lim2[i] and r2 >= lim2[j]:
+        ir2 = 1.0 / r2
+        uj = dx * U[j, 0] + dy * U[j, 1] + dz * U[j, 2]
+        vj = dx * V[j, 0] + dy * V[j, 1] + dz * V[j, 2]
+        ui = dx * U[i, 0] + dy * U[i, 1] + dz * U[i, 2]
+        vi = dx * V[i, 0] + dy * V[i, 1] + dz * V[i, 2]
+        return 0.5 * (_far(uj, vj, ir2, coef[j]) * scale[j] + _far(ui, vi, ir2, coef[i]) * scale[i])
+    e = _entry(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
+    return 0.5 * (e + _entry(P, j, i, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale))
+
+
 @nb.njit(cache=True)
 def _fill_row(C, i, P, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale, labels) -> None:
-    """Entries ``(i, j)`` and ``(j, i)``, ``j <= i``, symmetrised. Far from both cells
-    (the usual case) the two directions share the chord: the stretched offset has the
-    chord's length, so only its direction in each cell's axes differs."""
+    """Entries ``(i, j)`` and ``(j, i)``, ``j <= i``, symmetrised."""
     for j in range(i + 1):
         if labels[i] != labels[j]:
             continue
-        dx = P[i, 0] - P[j, 0]
-        dy = P[i, 1] - P[j, 1]
-        dz = P[i, 2] - P[j, 2]
-        r2 = dx * dx + dy * dy + dz * dz
-        if j != i and r2 >= lim2[i] and r2 >= lim2[j]:
-            ir2 = 1.0 / r2
-            uj = dx * U[j, 0] + dy * U[j, 1] + dz * U[j, 2]
-            vj = dx * V[j, 0] + dy * V[j, 1] + dz * V[j, 2]
-            ui = dx * U[i, 0] + dy * U[i, 1] + dz * U[i, 2]
-            vi = dx * V[i, 0] + dy * V[i, 1] + dz * V[i, 2]
-            e = 0.5 * (
-                _far(uj, vj, ir2, coef[j]) * scale[j] + _far(ui, vi, ir2, coef[i]) * scale[i]
-            )
-        else:
-            e = _entry(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
-            if j != i:
-                e = 0.5 * (e + _entry(P, j, i, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale))
+        e = _pair(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
         C[i, j] = e
         C[j, i] = e
+
+
+@nb.njit(cache=True)
+def cell_tables(P: np.ndarray, U: np.ndarray, V: np.ndarray, hu: np.ndarray, hv: np.ndarray,
+                far: float):  # fmt: skip
+    """Per-cell constants of the half-space entries: normals ``W``, the projections
+    ``P_j . U_j`` etc., the multipole coefficients (``contact.halfspace.
+    _multipole_coefficients``) and the squared far-field radius."""
+    n = P.shape[0]
+    W = np.empty((n, 3))
+    cu = np.empty(n)
+    cv = np.empty(n)
+    cw = np.empty(n)
+    coef = np.empty((n, 6))
+    lim2 = np.empty(n)
+    for j in range(n):
+        W[j, 0] = U[j, 1] * V[j, 2] - U[j, 2] * V[j, 1]
+        W[j, 1] = U[j, 2] * V[j, 0] - U[j, 0] * V[j, 2]
+        W[j, 2] = U[j, 0] * V[j, 1] - U[j, 1] * V[j, 0]
+        cu[j] = P[j, 0] * U[j, 0] + P[j, 1] * U[j, 1] + P[j, 2] * U[j, 2]
+        cv[j] = P[j, 0] * V[j, 0] + P[j, 1] * V[j, 1] + P[j, 2] * V[j, 2]
+        cw[j] = P[j, 0] * W[j, 0] + P[j, 1] * W[j, 1] + P[j, 2] * W[j, 2]
+        a, b = hu[j], hv[j]
+        a2, b2 = a * a, b * b
+        a4, b4, ab = a2 * a2, b2 * b2, a2 * b2
+        coef[j, 0] = 4.0 * a * b
+        coef[j, 1] = (2.0 * b2 - a2) / 6.0
+        coef[j, 2] = 0.5 * (a2 - b2)
+        coef[j, 3] = (1.8 * a4 - 8.0 * ab + 4.8 * b4) / 24.0
+        coef[j, 4] = (-18.0 * a4 + 70.0 * ab - 24.0 * b4) / 24.0
+        coef[j, 5] = (21.0 * a4 - 70.0 * ab + 21.0 * b4) / 24.0
+        lim = far * max(a, b)
+        lim2[j] = lim * lim
+    return W, cu, cv, cw, coef, lim2
+
+
+@nb.njit(cache=True, parallel=True)
+def fill_columns(Cf, js, P, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale, labels, WK, cols, w):
+    """Columns ``js`` of the cell compliance into ``Cf`` (n, n), Fortran order (m/N):
+    the symmetrised half-space entries between cells of the same ``labels`` plus the
+    interpolated bending compliance ``sum_b w[j, b] WK[:, cols[j, b]]`` (``WK = W K``
+    of :func:`stencil_product`, both gears side by side)."""
+    n = P.shape[0]
+    k = cols.shape[1]
+    for jj in nb.prange(js.shape[0]):
+        j = js[jj]
+        for i in range(n):
+            acc = 0.0
+            for b in range(k):
+                acc += w[j, b] * WK[i, cols[j, b]]
+            if labels[i] == labels[j]:
+                acc += _pair(P, i, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
+            Cf[i, j] = acc
+
+
+@nb.njit(cache=True)
+def diagonal_entries(P, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale, WK, cols, w):
+    """The diagonal of :func:`fill_columns`' matrix (m/N): self terms only."""
+    n = P.shape[0]
+    k = cols.shape[1]
+    d = np.empty(n)
+    for j in range(n):
+        acc = 0.0
+        for b in range(k):
+            acc += w[j, b] * WK[j, cols[j, b]]
+        d[j] = acc + _entry(P, j, j, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale)
+    return d
+
+
+@nb.njit(cache=True, parallel=True)
+def stencil_product(cols: np.ndarray, w: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """``W K`` (n, L) for the sparse interpolation ``W`` (weights ``w[i]`` in columns
+    ``cols[i]``) and the load-point compliance ``K`` (L, L)."""
+    n, k = cols.shape
+    L = K.shape[0]
+    WK = np.zeros((n, L))
+    for i in nb.prange(n):
+        for a in range(k):
+            c = cols[i, a]
+            wa = w[i, a]
+            if wa == 0.0:
+                continue
+            for m in range(L):
+                WK[i, m] += wa * K[c, m]
+    return WK
 
 
 @nb.njit(cache=True, parallel=True)
@@ -150,61 +246,10 @@ def half_space_block(
     """
     n = P.shape[0]
     C = np.zeros((n, n))
-    W = np.empty((n, 3))
-    cu = np.empty(n)
-    cv = np.empty(n)
-    cw = np.empty(n)
-    coef = np.empty((n, 6))
-    lim2 = np.empty(n)
-    for j in range(n):
-        W[j, 0] = U[j, 1] * V[j, 2] - U[j, 2] * V[j, 1]
-        W[j, 1] = U[j, 2] * V[j, 0] - U[j, 0] * V[j, 2]
-        W[j, 2] = U[j, 0] * V[j, 1] - U[j, 1] * V[j, 0]
-        cu[j] = P[j, 0] * U[j, 0] + P[j, 1] * U[j, 1] + P[j, 2] * U[j, 2]
-        cv[j] = P[j, 0] * V[j, 0] + P[j, 1] * V[j, 1] + P[j, 2] * V[j, 2]
-        cw[j] = P[j, 0] * W[j, 0] + P[j, 1] * W[j, 1] + P[j, 2] * W[j, 2]
-        a, b = hu[j], hv[j]
-        a2, b2 = a * a, b * b
-        a4, b4, ab = a2 * a2, b2 * b2, a2 * b2
-        coef[j, 0] = 4.0 * a * b
-        coef[j, 1] = (2.0 * b2 - a2) / 6.0
-        coef[j, 2] = 0.5 * (a2 - b2)
-        coef[j, 3] = (1.8 * a4 - 8.0 * ab + 4.8 * b4) / 24.0
-        coef[j, 4] = (-18.0 * a4 + 70.0 * ab - 24.0 * b4) / 24.0
-        coef[j, 5] = (21.0 * a4 - 70.0 * ab + 21.0 * b4) / 24.0
-        lim = far * max(a, b)
-        lim2[j] = lim * lim
+    W, cu, cv, cw, coef, lim2 = cell_tables(P, U, V, hu, hv, far)
     # rows t and n - 1 - t together: every task has the same share of the triangle
     for t in nb.prange((n + 1) // 2):
         _fill_row(C, t, P, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale, labels)
         if n - 1 - t != t:
             _fill_row(C, n - 1 - t, P, U, V, W, cu, cv, cw, hu, hv, coef, lim2, scale, labels)
     return C
-
-
-@nb.njit(cache=True, parallel=True)
-def add_interpolated(C: np.ndarray, cols: np.ndarray, w: np.ndarray, K: np.ndarray) -> None:
-    """``C += W K W^T`` in place for a sparse interpolation ``W``.
-
-    Row ``i`` of ``W`` has the weights ``w[i]`` in the columns ``cols[i]`` (a few
-    nodes of a grid of load points); ``K`` (L, L) is the compliance between the load
-    points (m/N). Cost ``n L (k) + n^2 k^2`` for ``k`` weights per row instead of the
-    dense ``n^2 L``.
-    """
-    n, k = cols.shape
-    L = K.shape[0]
-    WK = np.zeros((n, L))  # row i: sum_a w[i, a] K[cols[i, a], :]
-    for i in nb.prange(n):
-        for a in range(k):
-            c = cols[i, a]
-            wa = w[i, a]
-            if wa == 0.0:
-                continue
-            for m in range(L):
-                WK[i, m] += wa * K[c, m]
-    for i in nb.prange(n):
-        for j in range(n):
-            acc = 0.0
-            for b in range(k):
-                acc += w[j, b] * WK[i, cols[j, b]]
-            C[i, j] += acc

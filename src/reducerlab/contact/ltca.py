@@ -278,7 +278,7 @@ def loaded_contact(
     progress : callable, optional
         ``progress(done, total)`` after each position.
     """
-    from .halfspace import influence_matrix
+    from .cellmatrix import CellCompliance
 
     if not (math.isfinite(torque) and torque > 0):
         raise ReducerlabError(f"torque: must be a finite number > 0 (N m); got {torque!r}")
@@ -351,11 +351,14 @@ def loaded_contact(
             e1, e2, hu, hv, area = (a[idx] for a in geo)
             # axes of the tooth-k cells are the tooth-0 axes placed like the points
             e1, e2 = sel["rot"](e1, teeth), sel["rot"](e2, teeth)
-            C = influence_matrix(P, e1, e2, hu, hv, E_star, same_body=teeth)
-            for comp, uv in ((compliance_a, np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1)),
-                             (compliance_b, sel["uv_b"][keep])):  # fmt: skip
-                if comp is not None:
-                    comp.add_to(C, teeth, uv[:, 0], uv[:, 1])
+            uv_b = sel["uv_b"][keep]
+            bending = [
+                (comp, teeth, uv[0], uv[1])
+                for comp, uv in ((compliance_a, (fu.ravel()[idx], fv.ravel()[idx])),
+                                 (compliance_b, (uv_b[:, 0], uv_b[:, 1])))
+                if comp is not None
+            ]  # fmt: skip
+            C = CellCompliance(P, e1, e2, hu, hv, E_star, teeth, bending)
             keys = list(zip(teeth.tolist(), idx.tolist(), strict=True))
             start = np.array([k in prev for k in keys])
             sol = solve_contact(C, g[keep], lam, T_B, start=start if start.any() else None)
