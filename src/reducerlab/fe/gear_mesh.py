@@ -198,6 +198,20 @@ class GearBodyMesh:
         return from_meshio(meshio.Mesh(self.points, [("tetra10", self.tets)]))
 
 
+def _tet_options(gmsh: Any) -> None:
+    """Meshing options of the gear sectors: sizes from the background field only,
+    Frontal-Delaunay surfaces, HXT tetrahedra (parallel), optimised."""
+    for name, value in (
+        ("Mesh.MeshSizeExtendFromBoundary", 0),
+        ("Mesh.MeshSizeFromPoints", 0),
+        ("Mesh.MeshSizeFromCurvature", 0),
+        ("Mesh.Algorithm", 6),
+        ("Mesh.Algorithm3D", 10),
+        ("Mesh.Optimize", 1),
+    ):
+        gmsh.option.setNumber(name, value)
+
+
 @contextlib.contextmanager
 def _gmsh_session() -> Iterator[Any]:
     import gmsh
@@ -523,15 +537,7 @@ def mesh_gear(
         a, b = sizes.tooth * MM, sizes.body * MM
         field.setString(fid, "F", f"{a!r} + {b - a!r}*Min(1, {d_expr})")
         field.setAsBackgroundMesh(fid)
-        for name, value in (
-            ("Mesh.MeshSizeExtendFromBoundary", 0),
-            ("Mesh.MeshSizeFromPoints", 0),
-            ("Mesh.MeshSizeFromCurvature", 0),
-            ("Mesh.Algorithm", 6),
-            ("Mesh.Algorithm3D", 10),
-            ("Mesh.Optimize", 1),
-        ):
-            gmsh.option.setNumber(name, value)
+        _tet_options(gmsh)
         say("meshing a tooth sector")
         try:
             gmsh.model.mesh.generate(3)

@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 from ..geometry.spur import SpurGear
-from .gear_mesh import GMSH_TO_VTK, MeshError, MeshSizes, _gmsh_session
+from .gear_mesh import GMSH_TO_VTK, MeshError, MeshSizes, _gmsh_session, _tet_options
 
 __all__ = ["SpurSectorMesh", "default_spur_sizes", "mesh_spur_sector"]
 
@@ -332,15 +332,7 @@ def mesh_spur_sector(
         st, sb = sizes.tooth * MM, sizes.body * MM
         field.setString(fid, "F", f"{st!r} + {sb - st!r}*{ramp}")
         field.setAsBackgroundMesh(fid)
-        for name, value in (
-            ("Mesh.MeshSizeExtendFromBoundary", 0),
-            ("Mesh.MeshSizeFromPoints", 0),
-            ("Mesh.MeshSizeFromCurvature", 0),
-            ("Mesh.Algorithm", 6),
-            ("Mesh.Algorithm3D", 10),
-            ("Mesh.Optimize", 1),
-        ):
-            gmsh.option.setNumber(name, value)
+        _tet_options(gmsh)
         try:
             gmsh.model.mesh.generate(3)
             gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the curved surfaces
