@@ -802,6 +802,14 @@ def response(
         if math.isfinite(dlf)
         else "no mean mesh force (no load on the model): the dynamic load factor is undefined"
     )
+    typer.echo(
+        f"mesh mode {attrs['mesh_mode_hz']:.5g} Hz (forcing / mesh mode = "
+        f"{attrs['frequency_ratio']:.4g}); {attrs['impact_class']}: teeth apart "
+        f"{100 * attrs['separation_fraction']:.1f} % of the time, back-side contact "
+        f"{100 * attrs['back_contact_fraction']:.1f} %, "
+        f"{attrs['contact_losses_per_period']:.3g} contact losses and "
+        f"{attrs['back_impacts_per_period']:.3g} back-side impacts per period"
+    )
     peaks = res.peaks(5)
     typer.echo(
         "spectral peaks at " + ", ".join(f"{m:.3g}x" for m, _ in peaks) + " the forcing frequency"

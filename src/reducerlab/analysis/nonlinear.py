@@ -485,10 +485,20 @@ class ResponseResult(Result):
         fig = Figure(figsize=(11, 3.6), layout="constrained")
         a1, a2, a3 = fig.subplots(1, 3)
         d, v = ds["delta"].values * 1e6, ds["delta_velocity"].values * 1e3
+        b = float(ds.attrs.get("half_backlash_m", 0.0)) * 1e6
+        if b > 0:  # the backlash: no elastic force while the deflection is in it
+            a1.axvspan(-b, b, color="0.85", zorder=0, label="teeth apart")
+            a1.legend(fontsize=7, loc="upper right")
         a1.plot(d, v, lw=0.6)
         a1.set_xlabel("mesh deflection (um)")
         a1.set_ylabel("velocity (mm/s)")
-        a1.set_title("phase trajectory", fontsize=9)
+        cls = ds.attrs.get("impact_class")
+        a1.set_title(
+            f"phase trajectory: {cls}, apart {100 * ds.attrs['separation_fraction']:.0f} %"
+            if cls
+            else "phase trajectory",
+            fontsize=9,
+        )
         a2.plot(ds["poincare_delta"].values * 1e6, ds["poincare_velocity"].values * 1e3, ".k")
         a2.set_xlabel("mesh deflection (um)")
         a2.set_title("Poincaré map", fontsize=9)
@@ -523,15 +533,26 @@ def response(
     steps_per_period: int | None = None,
     line: int = 0,
     period: float | None = None,
+    y0: NDArray[np.float64] | None = None,
 ) -> ResponseResult:
     """Steady nonlinear response of a design or model (compiled kernel, rigid motion
-    removed): mesh deflection, its velocity, mesh force and dynamic load factor over
-    the last ``history`` periods, and the Poincaré points of the last ``keep``.
+    removed): mesh deflection, its velocity, mesh force (and its elastic and damping
+    parts) and dynamic load factor over the last ``history`` periods, and the Poincaré
+    points of the last ``keep``. The attributes report the tooth separation over those
+    periods (``analysis.impacts``: separation and back-contact time shares, contact
+    losses and back-side impacts per period, impact class) and the mesh mode
+    (``mesh_mode_hz``, the natural frequency that strains the line most, and
+    ``frequency_ratio``, the forcing frequency over it: omega-bar).
 
     ``period`` (s) is the forcing (sampling) period; by default the period of the
-    model's first periodic law (a model without one needs it)."""
+    model's first periodic law (a model without one needs it). ``y0`` is the initial
+    state ``(q, dq/dt)`` (2n,) in the coordinates of
+    ``analysis.response.to_system(model)`` (the model's DOFs, less rigid motions when it
+    has any); by default the static equilibrium under the mean loads. Where attractors
+    coexist (gear rattle) the start decides which one the response settles on."""
     from ..drives import build_model
     from ..model.laws import evaluate_flat, flat_mean
+    from .impacts import contact_states, mesh_mode
     from .response import to_system
 
     model = build_model(target) if isinstance(target, Design) else target
@@ -553,8 +574,17 @@ def response(
             f"({', '.join(s.line_names)}), got {line!r}"
         )
     label = repr(model.name) if model.name else "the model"
+    if y0 is None:
+        start = static_state(s)
+    else:
+        start = np.asarray(y0, dtype=float)
+        if start.shape != (2 * s.n,) or not np.all(np.isfinite(start)):
+            raise ReducerlabError(
+                f"response: y0 must be {2 * s.n} finite numbers (q, dq/dt over "
+                f"{', '.join(s.dof_names)}), got shape {start.shape}"
+            )
     res = ensemble([s], periods=periods, keep=keep, history=history,
-                   steps_per_period=steps_per_period, y0=static_state(s),
+                   steps_per_period=steps_per_period, y0=start,
                    period=period, labels=[label])  # fmt: skip
     n = s.n
     t, H = res.history_time[0], res.history[0]
@@ -562,8 +592,18 @@ def response(
     e = np.array([evaluate_flat(int(s.e_kind[line]), s.e_params[line], ti) for ti in t])
     delta = H[:, :n] @ g - e[:, 0]
     dvel = H[:, n:] @ g - e[:, 1]
-    force = np.array([s.mesh_forces(ti, y[:n], y[n:])[line] for ti, y in zip(t, H, strict=True)])
+    parts = np.array(
+        [
+            [p[line] for p in s.mesh_force_parts(ti, y[:n], y[n:])]
+            for ti, y in zip(t, H, strict=True)
+        ]
+    )
+    elastic, damping = parts[:, 0], parts[:, 1]
+    force = elastic + damping
     mean_force = float(np.mean(force))
+    side = -1.0 if np.mean(elastic) < 0 else 1.0  # the loaded flanks: mean elastic force
+    states = contact_states(delta, float(s.half_backlash[line]), float(history), side)
+    mode_hz, mode_share = mesh_mode(s, line)
     # The dynamic load factor is defined against a mean load. Without one (no torque on
     # the model) the force is round-off (1e-15 N), and a ratio of round-off would pass
     # for a result: a mean force below the line's mean stiffness times 1 pm (NOISE_M,
@@ -593,7 +633,21 @@ def response(
             ),
             "static_error": ("time", e[:, 0], {"units": "m", "long_name": "e(t)"}),
             "delta_velocity": ("time", dvel, {"units": "m/s"}),
-            "mesh_force": ("time", force, {"units": "N", "long_name": "dynamic mesh force"}),
+            "mesh_force": (
+                "time",
+                force,
+                {"units": "N", "long_name": "dynamic mesh force (elastic + damping)"},
+            ),
+            "elastic_force": (
+                "time",
+                elastic,
+                {"units": "N", "long_name": "elastic (tooth) mesh force, 0 with the teeth apart"},
+            ),
+            "damping_force": (
+                "time",
+                damping,
+                {"units": "N", "long_name": "viscous mesh force (acts across the gap too)"},
+            ),
             "dynamic_load": (
                 "time",
                 force / mean_force if loaded else np.full_like(force, np.nan),
@@ -609,6 +663,17 @@ def response(
             "dynamic_load_factor": dlf,
             "mean_mesh_force": mean_force,
             "line": s.line_names[line],
+            "half_backlash_m": float(s.half_backlash[line]),
+            "separation_fraction": states.separation_fraction,
+            "back_contact_fraction": states.back_contact_fraction,
+            "contact_losses_per_period": states.contact_losses,
+            "back_impacts_per_period": states.back_impacts,
+            "impact_class": states.impact_class,
+            "mesh_mode_hz": mode_hz,
+            "mesh_mode_share": mode_share,
+            "frequency_ratio": float(1.0 / res.period[0]) / mode_hz
+            if mode_hz > 0
+            else float("nan"),
             **provenance(model.metadata),
         },
     )

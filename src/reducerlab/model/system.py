@@ -218,8 +218,19 @@ class NonlinearSystem:
         self, t: float, q: NDArray[np.float64], v: NDArray[np.float64]
     ) -> NDArray[np.float64]:
         """Scalar mesh forces ``F_m = k_m(t) f(delta_m) + c_m d(delta_m)/dt`` (N)."""
+        elastic, damping = self.mesh_force_parts(t, q, v)
+        return elastic + damping
+
+    def mesh_force_parts(
+        self, t: float, q: NDArray[np.float64], v: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The two parts of each mesh force (N): the elastic (tooth) force
+        ``k_m(t) f(delta_m) + k3_m f^3``, zero while the teeth are apart (``f``: the dead
+        zone of half width ``b_m``), and the viscous force ``c_m d(delta_m)/dt``, which
+        the model applies across the gap too (paper 004's line damping)."""
         nl = self.G.shape[0]
-        out = np.empty(nl)
+        elastic = np.empty(nl)
+        damping = np.empty(nl)
         for m in range(nl):
             k, _ = evaluate_flat(int(self.k_kind[m]), self.k_params[m], t)
             e, de = evaluate_flat(int(self.e_kind[m]), self.e_params[m], t)
@@ -228,8 +239,9 @@ class NonlinearSystem:
             f = delta - min(max(delta, -h), h)
             k3 = self.line_cubic[m]
             cubic = k3 * f * f * f if k3 != 0.0 else 0.0  # no 0 * inf for a huge f
-            out[m] = k * f + cubic + self.line_damping[m] * (self.G[m] @ v - de)
-        return out
+            elastic[m] = k * f + cubic
+            damping[m] = self.line_damping[m] * (self.G[m] @ v - de)
+        return elastic, damping
 
     def external_forces(self, t: float) -> NDArray[np.float64]:
         """Generalised load vector ``F(t)``."""
