@@ -21,6 +21,7 @@ from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
 from .modal import element_blocks
 from .response import (
+    ACCURACY,
     at_rest,
     check_stability,
     elastic_names,
@@ -66,6 +67,7 @@ def bifurcation(
     exponents: bool = False,
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
+    accuracy: float = ACCURACY,
 ) -> BifurcationResult:
     """Bifurcation diagram: Poincaré points of a mesh deflection against a parameter.
 
@@ -76,7 +78,9 @@ def bifurcation(
     deflection ``delta = G q - e`` are kept (paper 004 Fig. 7, 9, 11), in units of
     ``scale`` (m; 1 um = paper 004's b_c). ``period`` (s) is the forcing (sampling)
     period; by default the period of the model's first periodic law (a model without
-    one needs it).
+    one needs it). Unless ``steps_per_period`` is given, each chunk's step count is the
+    smallest that meets ``accuracy`` (target error of the Poincaré points relative to
+    the motion's scale, default 1e-6; ``analysis.response.accurate_steps``).
 
     With ``output``, every finished chunk of parameter values is written to
     ``output/chunks/`` at once (atomically, stamped with the run key, its index and its
@@ -125,6 +129,8 @@ def bifurcation(
                 "design": design.hash if design else None}  # fmt: skip
         if period is not None:  # only when given: earlier run folders keep their key
             spec["period"] = period
+        if steps_per_period is None:  # the step count follows the accuracy (issue 16)
+            spec["accuracy"] = accuracy
         key = open_run(folder, "bifurcation.json", spec, "bifurcation run")
 
     def chunk_file(i: int) -> Path | None:
@@ -149,7 +155,7 @@ def bifurcation(
         check_stability(members(ends), [f"{axis.path} = {v:.6g}" for v in ends])
     job = _BifurcationChunk(
         members, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents),
-        period,
+        period, accuracy,
     )  # fmt: skip
     done = sum(len(chunks[i]) for i in results)
     if progress:
@@ -316,6 +322,7 @@ class _BifurcationChunk:
     scale: float
     exponents: bool = False
     period: float | None = None  # sampling period of systems without a periodic law
+    accuracy: float = ACCURACY
 
     def __call__(self, chunk: NDArray) -> NDArray:
         return self.integrate(chunk, self.members(chunk))
@@ -325,12 +332,14 @@ class _BifurcationChunk:
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
             labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0, period=self.period,
+            accuracy=self.accuracy,
         )  # fmt: skip
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
         if not self.exponents:
             return pts
         lam = lyapunov(systems, periods=self.periods, transient=self.periods - self.keep,
-                       steps_per_period=self.steps, period=self.period)  # fmt: skip
+                       steps_per_period=self.steps, period=self.period,
+                       accuracy=self.accuracy)  # fmt: skip
         return np.concatenate([pts, lam[:, None]], axis=1)
 
 
@@ -534,6 +543,7 @@ def response(
     line: int = 0,
     period: float | None = None,
     y0: NDArray[np.float64] | None = None,
+    accuracy: float = ACCURACY,
 ) -> ResponseResult:
     """Steady nonlinear response of a design or model (compiled kernel, rigid motion
     removed): mesh deflection, its velocity, mesh force (and its elastic and damping
@@ -549,7 +559,10 @@ def response(
     state ``(q, dq/dt)`` (2n,) in the coordinates of
     ``analysis.response.to_system(model)`` (the model's DOFs, less rigid motions when it
     has any); by default the static equilibrium under the mean loads. Where attractors
-    coexist (gear rattle) the start decides which one the response settles on."""
+    coexist (gear rattle) the start decides which one the response settles on.
+    ``accuracy`` is the target error of the Poincaré points relative to the motion's
+    scale (``analysis.response.accurate_steps``; default 1e-6), used unless
+    ``steps_per_period`` is given."""
     from ..drives import build_model
     from ..model.laws import evaluate_flat, flat_mean
     from .impacts import contact_states, mesh_mode
@@ -585,7 +598,7 @@ def response(
             )
     res = ensemble([s], periods=periods, keep=keep, history=history,
                    steps_per_period=steps_per_period, y0=start,
-                   period=period, labels=[label])  # fmt: skip
+                   period=period, labels=[label], accuracy=accuracy)  # fmt: skip
     n = s.n
     t, H = res.history_time[0], res.history[0]
     g = s.G[line]

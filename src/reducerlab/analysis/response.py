@@ -462,6 +462,79 @@ def steps_for(s: NonlinearSystem, T: float, accuracy: float = 0.25) -> int:
     return _steps_batch([s], np.array([T]), accuracy)
 
 
+#: Default target error of Poincaré points, relative to the motion's scale.
+ACCURACY = 1e-6
+
+#: Periods integrated before the step count is checked (the state then lies on or near
+#: the attractor, where the error is measured).
+PILOT_PERIODS = 40
+
+#: Error of the Poincaré points over the one-period error estimate (measured 2-4 on
+#: the rattle oscillators of tests/test_accuracy.py: a stable orbit accumulates the
+#: per-period error over a few periods).
+PERIOD_ERROR_GAIN = 5.0
+
+
+def accurate_steps(
+    prep: _Prepared,
+    systems: Sequence[NonlinearSystem],
+    Y0: NDArray[np.float64],
+    bounds: NDArray[np.float64],
+    accuracy: float = ACCURACY,
+    pilot: int = PILOT_PERIODS,
+    period: float | None = None,
+) -> int:
+    """Steps per forcing period that meet ``accuracy`` on the attractor.
+
+    The members are integrated for ``pilot`` periods with the stability-based step
+    count of ``prep`` (``omega_max h <= 0.25``, at least 32); from there one period is
+    integrated with ``N`` and ``2 N`` steps, and the difference (the error of the
+    ``N``-step period, Richardson) relative to each member's displacement scale
+    (``bounds / BOUND_FACTOR``, velocities by that times the highest frequency) must be
+    below ``accuracy / PERIOD_ERROR_GAIN``; otherwise ``N`` grows by the fourth root of
+    the excess (RK4 is fourth order, kinks of the backlash included, since the kernel
+    steps to each boundary crossing) and the check repeats. The largest over the
+    members is returned, at most :data:`MAX_STEPS`. Members that diverge or have no
+    scale are left to the main run.
+    """
+    from .kernel import block_width, rk4_ensemble
+
+    if not (isinstance(accuracy, int | float) and 0 < accuracy < 1):
+        raise ReducerlabError(f"accuracy must be a number in (0, 1), got {accuracy!r}")
+    E = len(systems)
+    T, N = prep.period, prep.steps
+    scale = bounds / BOUND_FACTOR
+    scale[~np.isfinite(scale) | (scale <= 0)] = np.inf
+    bw = block_width(E)
+    P, _, status = rk4_ensemble(
+        *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
+        pilot, 1, 0, bounds, bw,
+    )  # fmt: skip
+    Y = P[:, 1].copy()
+    ok = (status[:, 0] == 0) & np.all(np.isfinite(Y), axis=1)
+    if not np.any(ok):
+        return N
+    Y[~ok] = Y0[~ok]
+    start = pilot * T
+    target = accuracy / PERIOD_ERROR_GAIN
+    for _ in range(6):
+        ends = []
+        for steps in (N, 2 * N):
+            p = prep if steps == prep.steps else _prepare(systems, steps, period, None)
+            out, _, st = rk4_ensemble(
+                *p.arrays, Y, start, T, p.offs, p.dts, p.periodic, 1, 1, 0, bounds, bw,
+            )  # fmt: skip
+            ok &= st[:, 0] == 0
+            ends.append(out[:, 1])
+        err = np.abs(ends[0] - ends[1]) / scale
+        est = float(np.nanmax(np.where(ok[:, None], err, 0.0)))
+        if not est > target or N >= MAX_STEPS:
+            return N
+        grow = min(8.0, max(1.5, 1.2 * (est / target) ** 0.25))
+        N = min(MAX_STEPS, math.ceil(N * grow))
+    return N
+
+
 def static_states(systems: Sequence[NonlinearSystem]) -> NDArray[np.float64]:
     """:func:`static_state` of every member (one batched solve), shape (E, 2n); a member
     whose mean stiffness is singular starts at rest."""
@@ -505,6 +578,7 @@ def ensemble(
     limit: float | None = None,
     labels: Sequence[str] | None = None,
     period: float | None = None,
+    accuracy: float = ACCURACY,
 ) -> Ensemble:
     """Integrate systems of identical structure with the compiled RK4 kernel.
 
@@ -533,6 +607,11 @@ def ensemble(
         Names of the members for error messages (parameter values).
     period : float, optional
         Sampling period (s) when the systems have no periodic law.
+    accuracy : float
+        Target error of the Poincaré points relative to each member's displacement
+        scale (and that scale times its highest frequency for velocities), default
+        1e-6: the step count is the smallest that meets it on the attractor
+        (:func:`accurate_steps`); ignored when ``steps_per_period`` is given.
 
     Raises
     ------
@@ -572,6 +651,11 @@ def ensemble(
     if not np.all(np.isfinite(Y0)):
         raise ReducerlabError("y0: the initial state must be finite")
     bounds = state_bounds(systems, Y0, T) if limit is None else np.full((E, 2 * n), float(limit))
+    if steps_per_period is None:
+        N = accurate_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS), period)
+        if prep.steps != N:
+            prep = _prepare(systems, N, period, labels)
+            N = prep.steps
     poincare, hist, status = rk4_ensemble(
         *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
         periods, keep, history, bounds, block_width(E),
@@ -746,6 +830,7 @@ def lyapunov(
     d0: float = 1e-9,
     y0: NDArray[np.float64] | None = None,
     period: float | None = None,
+    accuracy: float = ACCURACY,
 ) -> NDArray[np.float64]:
     """Largest Lyapunov exponent (1/s) of each system, by two-trajectory renormalisation.
 
@@ -783,6 +868,10 @@ def lyapunov(
     if not np.all(np.isfinite(Y)):
         raise ReducerlabError("y0: the initial state must be finite")
     bounds = state_bounds(pairs, Y, T)
+    if steps_per_period is None:  # the same accuracy-driven step count as ensemble
+        N = accurate_steps(prep, pairs, Y, bounds, accuracy, min(periods, PILOT_PERIODS), period)
+        if prep.steps != N:
+            prep = _prepare(pairs, N, period, labels)
     elapsed = 0
     # warm up the reference without perturbation to estimate the state scales
     for _ in range(transient):
