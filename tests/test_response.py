@@ -268,13 +268,36 @@ def test_bifurcation_with_exponents_labels_the_motion():
     design = load_design(example_dir() / "khv.toml")
     res = bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 3), periods=200, keep=20,
                       exponents=True)  # fmt: skip
-    # permanent contact (docs/assumptions.md): negative exponents, period-1
+    # one contact loss per mesh period, but a periodic motion (docs/assumptions.md):
+    # negative exponents, period-1
     assert np.all(res.data["exponent"].values < 0)
     assert res.labels() == ["period-1"] * 3
     assert len(res.plot().axes) == 2  # diagram and motion band
     plain = bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 3), periods=50, keep=5)
     with pytest.raises(ReducerlabError, match="no Lyapunov exponents"):
         plain.labels()
+
+
+def test_bifurcation_exponent_follows_the_trajectory_of_its_points(monkeypatch):
+    # issue 16: where attractors coexist, an exponent from another start than the points
+    # labels the wrong attractor. The exponent's run must start where the points' run
+    # starts (static equilibrium of each member) and take the same steps.
+    import reducerlab.analysis.nonlinear as nl
+    from reducerlab.analysis.response import static_states
+
+    seen = {}
+    real = nl.lyapunov
+
+    def spy(systems, **kw):
+        seen.update(kw, systems=systems)
+        return real(systems, **kw)
+
+    monkeypatch.setattr(nl, "lyapunov", spy)
+    design = load_design(example_dir() / "khv.toml")
+    bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 2), periods=60, keep=10,
+                exponents=True)  # fmt: skip
+    np.testing.assert_array_equal(seen["y0"], static_states(seen["systems"]))
+    assert isinstance(seen["steps_per_period"], int) and seen["steps_per_period"] >= 32
 
 
 def test_review_regressions(tmp_path):

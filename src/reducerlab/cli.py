@@ -656,6 +656,15 @@ def bifurcation(
             help="RK4 steps per period (default: from the model).", min=MIN_STEPS, max=MAX_STEPS
         ),
     ] = None,
+    accuracy: Annotated[
+        float,
+        typer.Option(
+            help="Target error of the Poincaré points relative to the motion's scale: the "
+            "step count is chosen to meet it (ignored with --steps).",
+            min=1e-12,
+            max=0.1,
+        ),
+    ] = 1e-6,
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (resumable).")
     ] = Path("bifurcation-output"),
@@ -696,6 +705,7 @@ def bifurcation(
         with _scheduler(scheduler) as client, _busy("bifurcation") as report:
             res = run_bifurcation(
                 d, axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
+                accuracy=accuracy,
                 output=output, scheduler=client, exponents=classify, workers=workers,
                 progress=report,
             )  # fmt: skip
@@ -771,6 +781,15 @@ def response(
     steps: Annotated[
         int | None, typer.Option(help="RK4 steps per period.", min=MIN_STEPS, max=MAX_STEPS)
     ] = None,
+    accuracy: Annotated[
+        float,
+        typer.Option(
+            help="Target error of the Poincaré points relative to the motion's scale: the "
+            "step count is chosen to meet it (ignored with --steps).",
+            min=1e-12,
+            max=0.1,
+        ),
+    ] = 1e-6,
     period: PeriodOption = None,
     frequency: FrequencyOption = None,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
@@ -792,7 +811,7 @@ def response(
         with _busy("response"):
             res = run_response(
                 d, periods=periods, keep=keep, history=history, steps_per_period=steps,
-                period=T,
+                period=T, accuracy=accuracy,
             )  # fmt: skip
         _save_with_figure(res, files, "response")
     attrs = res.data.attrs
@@ -802,6 +821,7 @@ def response(
         if math.isfinite(dlf)
         else "no mean mesh force (no load on the model): the dynamic load factor is undefined"
     )
+    typer.echo(f"{attrs['steps_per_period']} RK4 steps per period")
     typer.echo(
         f"mesh mode {attrs['mesh_mode_hz']:.5g} Hz (forcing / mesh mode = "
         f"{attrs['frequency_ratio']:.4g}); {attrs['impact_class']}: teeth apart "

@@ -337,9 +337,10 @@ class _BifurcationChunk:
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
         if not self.exponents:
             return pts
+        # the exponent of the same trajectory as the points: same start, same steps
         lam = lyapunov(systems, periods=self.periods, transient=self.periods - self.keep,
-                       steps_per_period=self.steps, period=self.period,
-                       accuracy=self.accuracy)  # fmt: skip
+                       steps_per_period=res.steps_per_period, period=self.period,
+                       y0=y0)  # fmt: skip
         return np.concatenate([pts, lam[:, None]], axis=1)
 
 
@@ -677,6 +678,8 @@ def response(
             "mean_mesh_force": mean_force,
             "line": s.line_names[line],
             "half_backlash_m": float(s.half_backlash[line]),
+            "steps_per_period": int(t.size // history),
+            "accuracy": float(accuracy) if steps_per_period is None else float("nan"),
             "separation_fraction": states.separation_fraction,
             "back_contact_fraction": states.back_contact_fraction,
             "contact_losses_per_period": states.contact_losses,

@@ -565,6 +565,7 @@ class Ensemble:
     period: NDArray[np.float64]
     history_time: NDArray[np.float64]  # (member, step), s
     systems: list[NonlinearSystem]
+    steps_per_period: int = 0  # RK4 steps per period used
 
 
 def ensemble(
@@ -682,7 +683,7 @@ def ensemble(
     else:
         dH = np.empty((E, 0, L))
     times = tH
-    return Ensemble(poincare, hist, dP, dH, T, times, list(systems))
+    return Ensemble(poincare, hist, dP, dH, T, times, list(systems), N)
 
 
 def _raise_diverged(
