@@ -367,3 +367,39 @@ def test_round_off_of_an_unloaded_model_is_not_a_load_factor_or_a_spectrum():
     loaded = response(load_design(example_dir() / "gear_pair.toml"), periods=20, keep=5,
                       history=2)  # fmt: skip
     assert loaded.data.attrs["dynamic_load_factor"] > 1.0 and loaded.peaks(3)
+
+
+def damped_mathieu(damping: float) -> Model:
+    """x'' + c x' + (1 + 0.6 cos 2t) x = 1: principal parametric resonance."""
+    from reducerlab.model import Backlash, Fourier, Mesh
+
+    return Model(
+        [Dof("a", "x")],
+        [
+            Inertia("a.x", 1.0),
+            Mesh({"a.x": 1.0}, Fourier(1.0, (0.6,), 2.0), damping, name="mesh",
+                 backlash=Backlash.half(0.0)),
+            Load("a.x", 1.0),
+        ],
+        name="mathieu",
+    )  # fmt: skip
+
+
+def test_a_diverging_value_is_marked_without_aborting_the_bifurcation():
+    # issue 16: the Mathieu oscillator's mean system is stable, so the check before the
+    # run passes, but with little damping (0.002, below the tongue's threshold of about
+    # 0.6 / 2) the motion grows without bound. That value is marked "diverged" (NaN
+    # points), the damped values on either side keep their results; ensemble's default
+    # (on_divergence="raise") still stops a run naming it.
+    from reducerlab.analysis.response import ensemble, to_system
+
+    res = bifurcation(damped_mathieu(0.02), Axis("mesh.damping", [0.5, 0.002, 0.4]), periods=200,
+                      keep=5, exponents=True)  # fmt: skip
+    assert res.diverged.tolist() == [False, True, False]
+    assert res.labels() == ["period-1", "diverged", "period-1"]
+    assert np.isnan(res.data["exponent"].values[1])
+    assert np.all(np.isfinite(res.data["poincare"].values[[0, 2]]))
+    assert res.periodicity().tolist() == [1, 0, 1]
+    assert len(res.plot().axes) == 2
+    with pytest.raises(DivergenceError, match="diverged"):
+        ensemble([to_system(damped_mathieu(0.002))], periods=200, keep=5, y0=np.array([1.0, 0.0]))

@@ -332,15 +332,21 @@ class _BifurcationChunk:
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
             labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0, period=self.period,
-            accuracy=self.accuracy,
+            accuracy=self.accuracy, on_divergence="mark",
         )  # fmt: skip
+        # a diverging value keeps NaN points (labelled "diverged"), the others stand
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
+        pts[res.diverged] = np.nan
         if not self.exponents:
             return pts
         # the exponent of the same trajectory as the points: same start, same steps
-        lam = lyapunov(systems, periods=self.periods, transient=self.periods - self.keep,
-                       steps_per_period=res.steps_per_period, period=self.period,
-                       y0=y0)  # fmt: skip
+        lam = np.full(len(systems), np.nan)
+        ok = np.flatnonzero(~res.diverged)
+        if ok.size:
+            lam[ok] = lyapunov([systems[i] for i in ok], periods=self.periods,
+                               transient=self.periods - self.keep,
+                               steps_per_period=res.steps_per_period, period=self.period,
+                               y0=y0[ok])  # fmt: skip
         return np.concatenate([pts, lam[:, None]], axis=1)
 
 
@@ -353,7 +359,10 @@ class BifurcationResult(Result):
         """Smallest n <= max_period such that the Poincaré sequence repeats every n
         points (to ``tol`` of its range), else 0 (not periodic within max_period)."""
         pts = self.data["poincare"].values
-        return np.array([_period_of(row, tol, max_period) for row in pts], dtype=np.int64)
+        return np.array(
+            [_period_of(row, tol, max_period) if np.all(np.isfinite(row)) else 0 for row in pts],
+            dtype=np.int64,
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary."""
@@ -372,9 +381,14 @@ class BifurcationResult(Result):
             raise ReducerlabError("no Lyapunov exponents: run bifurcation(..., exponents=True)")
         f = ds.attrs["forcing_hz"]
         return [
-            classify(row, float(lam), f)
+            "diverged" if not np.all(np.isfinite(row)) else classify(row, float(lam), f)
             for row, lam in zip(ds["poincare"].values, ds["exponent"].values, strict=True)
         ]
+
+    @property
+    def diverged(self) -> NDArray[np.bool_]:
+        """Parameter values whose motion left its bounds (NaN points)."""
+        return ~np.all(np.isfinite(self.data["poincare"].values), axis=1)
 
     def plot(self) -> Figure:
         """Bifurcation diagram (paper 004 Fig. 7), with the motion classes as a coloured

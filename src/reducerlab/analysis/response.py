@@ -566,6 +566,7 @@ class Ensemble:
     history_time: NDArray[np.float64]  # (member, step), s
     systems: list[NonlinearSystem]
     steps_per_period: int = 0  # RK4 steps per period used
+    diverged: NDArray[np.bool_] | None = None  # (member,), with on_divergence="mark"
 
 
 def ensemble(
@@ -580,6 +581,7 @@ def ensemble(
     labels: Sequence[str] | None = None,
     period: float | None = None,
     accuracy: float = ACCURACY,
+    on_divergence: str = "raise",
 ) -> Ensemble:
     """Integrate systems of identical structure with the compiled RK4 kernel.
 
@@ -613,6 +615,10 @@ def ensemble(
         scale (and that scale times its highest frequency for velocities), default
         1e-6: the step count is the smallest that meets it on the attractor
         (:func:`accurate_steps`); ignored when ``steps_per_period`` is given.
+    on_divergence : {"raise", "mark"}
+        A member that leaves its bounds during the run raises ``DivergenceError``
+        (default), or with ``"mark"`` is flagged in :attr:`Ensemble.diverged` with NaN
+        rows from the divergence on, and the other members' results are kept.
 
     Raises
     ------
@@ -642,6 +648,8 @@ def ensemble(
             )
     if limit is not None and not (isinstance(limit, int | float) and limit > 0):
         raise ReducerlabError(f"limit must be a number > 0, got {limit!r}")
+    if on_divergence not in ("raise", "mark"):
+        raise ReducerlabError(f"on_divergence must be 'raise' or 'mark', got {on_divergence!r}")
     prep = _prepare(systems, steps_per_period, period, labels)
     T, N = prep.period, prep.steps
     Y0 = (
@@ -661,7 +669,9 @@ def ensemble(
         *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
         periods, keep, history, bounds, block_width(E),
     )  # fmt: skip
-    _raise_diverged(systems, status, bounds, labels, N)
+    diverged = status[:, 0] != 0
+    if on_divergence == "raise":
+        _raise_diverged(systems, status, bounds, labels, N)
     G = prep.arrays[3]
     L = G.shape[1]
     # mesh deflections G q - e(t) at the Poincare times and along the history
@@ -683,7 +693,7 @@ def ensemble(
     else:
         dH = np.empty((E, 0, L))
     times = tH
-    return Ensemble(poincare, hist, dP, dH, T, times, list(systems), N)
+    return Ensemble(poincare, hist, dP, dH, T, times, list(systems), N, diverged)
 
 
 def _raise_diverged(
