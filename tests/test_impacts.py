@@ -202,3 +202,44 @@ def test_paper_004_drive_separates_at_1500_rpm():
     elastic = res.data["elastic_force"].values
     assert np.mean(elastic == 0.0) == pytest.approx(a["separation_fraction"])
     assert np.all(res.data["mesh_force"].values != 0.0)
+
+
+def test_continuation_shows_the_hysteresis_of_the_no_impact_boundary():
+    # Kahraman and Singh's jump: F_a fixed so that the linear amplitude is A = 0.09, the
+    # mean force F_m swept. Above A the no-impact orbit exists; below it the teeth must
+    # separate. Descending from F_m = 0.3 (no impact from rest), the sweep stays on the
+    # no-impact orbit down to F_m = 0.1 (its Poincare point is the closed form
+    # 1 + F_m + A cos(phi) at t = kT); ascending from F_m = 0.06 (rattle), it stays on
+    # the rattle up to 0.12 although the no-impact orbit exists there: two attractors,
+    # reached only by continuation, drawn as two sweeps.
+    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.sweep import Axis
+
+    omega, A = 0.8, 0.09
+    fa = A * math.hypot(1 - omega**2, 2 * ZETA * omega)
+    model = Model(
+        [Dof("a", "x")],
+        [
+            Inertia("a.x", 1.0),
+            Mesh({"a.x": 1.0}, 1.0, 2 * ZETA, name="mesh", backlash=Backlash.half(1.0)),
+            Load("a.x", 0.1, name="mean"),
+            Load("a.x", Fourier(0.0, (fa,), omega), name="alt"),
+        ],
+        name="rattle",
+    )
+    vals = [0.06, 0.08, 0.1, 0.12, 0.2, 0.3]
+    res = bifurcation(model, Axis("mean.value", vals), periods=300, keep=6, scale=1.0,
+                      continuation="both")  # fmt: skip
+    up, down = res.data["poincare"].values, res.data["poincare_down"].values
+    phi = math.atan2(2 * ZETA * omega, 1 - omega**2)
+    for i, fm in enumerate(vals):
+        if fm > A:  # the descending sweep: the no-impact orbit, exactly
+            np.testing.assert_allclose(down[i], 1 + fm + A * math.cos(phi), atol=1e-6)
+    for i in (2, 3):  # F_m = 0.1, 0.12: coexistence, the ascending sweep rattles
+        assert np.all(up[i] < 1.0) and np.all(down[i] > 1.0)
+    # where only one attractor exists the sweeps agree
+    np.testing.assert_allclose(up[[0, 1, 4, 5]], down[[0, 1, 4, 5]], atol=1e-6)
+    assert res.data.attrs["continuation"] == "both"
+    assert len(res.plot().axes[0].get_legend().get_texts()) == 2
+    with pytest.raises(ReducerlabError, match="continuation must be"):
+        bifurcation(model, Axis("mean.value", vals), periods=10, keep=2, continuation="left")

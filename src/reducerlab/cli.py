@@ -674,6 +674,13 @@ def bifurcation(
     classify: Annotated[
         bool, typer.Option(help="Lyapunov exponents and motion classes (slower).")
     ] = False,
+    continuation: Annotated[
+        ContinuationChoice | None,
+        typer.Option(
+            help="Sweep the values in order, each from the previous end state (up, down or "
+            "both: shows jumps and coexisting attractors; sequential, not resumable)."
+        ),
+    ] = None,
     workers: Annotated[
         int | None,
         typer.Option(
@@ -707,6 +714,7 @@ def bifurcation(
                 d, axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
                 accuracy=accuracy,
                 output=output, scheduler=client, exponents=classify, workers=workers,
+                continuation=None if continuation is None else continuation.value,
                 progress=report,
             )  # fmt: skip
         _save_with_figure(res, files, "bifurcation")
@@ -836,6 +844,12 @@ def response(
         if peaks
         else "no spectral peaks: the mesh deflection is constant (nothing excites the model)"
     )
+
+
+class ContinuationChoice(StrEnum):
+    up = "up"
+    down = "down"
+    both = "both"
 
 
 class ProfileChoice(StrEnum):

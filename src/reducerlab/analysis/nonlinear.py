@@ -68,6 +68,7 @@ def bifurcation(
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
     accuracy: float = ACCURACY,
+    continuation: str | None = None,
 ) -> BifurcationResult:
     """Bifurcation diagram: Poincaré points of a mesh deflection against a parameter.
 
@@ -81,6 +82,14 @@ def bifurcation(
     one needs it). Unless ``steps_per_period`` is given, each chunk's step count is the
     smallest that meets ``accuracy`` (target error of the Poincaré points relative to
     the motion's scale, default 1e-6; ``analysis.response.accurate_steps``).
+
+    With ``continuation`` (``"up"``, ``"down"`` or ``"both"``) the values are swept in
+    ascending (descending) order and each starts from the state the previous one ended
+    in (sequential continuation: it follows one attractor through the range, so jumps and
+    hysteresis show where attractors coexist); ``"both"`` runs the two sweeps side by
+    side and stores the descending one as ``poincare_down`` (and ``exponent_down``).
+    The first value starts from static equilibrium. A continuation run is sequential
+    and not resumable (``output``, ``scheduler`` and ``workers`` are not used).
 
     With ``output``, every finished chunk of parameter values is written to
     ``output/chunks/`` at once (atomically, stamped with the run key, its index and its
@@ -116,6 +125,11 @@ def bifurcation(
         raise ReducerlabError(f"bifurcation: line must be in 0..{n_lines - 1}, got {line}")
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
         raise ReducerlabError(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if continuation not in (None, "up", "down", "both"):
+        raise ReducerlabError(f"continuation must be 'up', 'down' or 'both', got {continuation!r}")
+    if continuation is not None:
+        output = scheduler = None  # sequential, not resumable
+        workers = 1
     if workers is None:
         workers = (os.cpu_count() or 1) if values.size >= 200 else 1
     check_workers(workers, "bifurcation")
@@ -148,9 +162,11 @@ def bifurcation(
     members = _Members(
         ev, rigid_reduction(rest if rest is not None else base, element_blocks(model))
     )
-    if values.size > 8 and todo:
+    if continuation is not None:  # one sequential job instead of the chunks
+        chunks, results, todo = [values], {}, []
+    if values.size > 8 and (todo or continuation):
         members.probe(float(values.min()), float(values.max()))
-    if todo:  # a divergent linear part at either end fails at once, before any chunk
+    if todo or continuation:  # a divergent linear part at either end fails at once
         ends = np.unique([values[0], values[-1]])
         check_stability(members(ends), [f"{axis.path} = {v:.6g}" for v in ends])
     job = _BifurcationChunk(
@@ -171,6 +187,10 @@ def bifurcation(
         if progress:
             progress(done, values.size)
 
+    branches: dict[str, NDArray] = {}
+    if continuation is not None:
+        branches = _continue(job, values, continuation, progress)
+        results[0] = branches["up" if continuation != "down" else "down"]
     if scheduler is not None and todo:
         from dask.distributed import as_completed
 
@@ -226,7 +246,55 @@ def bifurcation(
             exponent,
             {"units": "1/s", "long_name": "largest Lyapunov exponent"},
         )
+    if continuation is not None:
+        data.attrs["continuation"] = continuation
+    if continuation == "both":
+        down = branches["down"]
+        data["poincare_down"] = (
+            ("p0", "point"),
+            down[:, :keep],
+            {"units": f"{scale:g} m", "long_name": "mesh deflection, descending sweep"},
+        )
+        if exponents:
+            data["exponent_down"] = (
+                "p0",
+                down[:, keep],
+                {"units": "1/s", "long_name": "largest Lyapunov exponent, descending sweep"},
+            )
     return BifurcationResult(data)
+
+
+def _continue(
+    job: _BifurcationChunk,
+    values: NDArray,
+    direction: str,
+    progress: Callable[[int, int], None] | None,
+) -> dict[str, NDArray]:
+    """Sequential continuation: rows (value, points [+ exponent]) in the order of
+    ``values`` for the ascending (``"up"``) and/or descending (``"down"``) sweep, each
+    value started from the end state of the previous one; the two sweeps run side by
+    side as a two-member ensemble."""
+    order = np.argsort(values, kind="stable")
+    sweeps = {"up": order, "down": order[::-1]}
+    names = ["up", "down"] if direction == "both" else [direction]
+    width = job.keep + (1 if job.exponents else 0)
+    out = {name: np.full((values.size, width), np.nan) for name in names}
+    state: dict[str, NDArray | None] = dict.fromkeys(names)
+    for step in range(values.size):
+        idx = [int(sweeps[name][step]) for name in names]
+        chunk = values[idx]
+        systems = job.members(chunk)
+        y0 = static_states(systems)
+        for k, name in enumerate(names):
+            if state[name] is not None and np.all(np.isfinite(state[name])):
+                y0[k] = state[name]
+        rows, ends = job.integrate(chunk, systems, y0=y0, with_end=True)
+        for k, name in enumerate(names):
+            out[name][idx[k]] = rows[k]
+            state[name] = ends[k]
+        if progress:
+            progress(step + 1, values.size)
+    return out
 
 
 def _fingerprint(s: NonlinearSystem) -> str:
@@ -327,8 +395,15 @@ class _BifurcationChunk:
     def __call__(self, chunk: NDArray) -> NDArray:
         return self.integrate(chunk, self.members(chunk))
 
-    def integrate(self, chunk: NDArray, systems: list[NonlinearSystem]) -> NDArray:
-        y0 = static_states(systems)
+    def integrate(
+        self,
+        chunk: NDArray,
+        systems: list[NonlinearSystem],
+        y0: NDArray | None = None,
+        with_end: bool = False,
+    ) -> Any:
+        """Rows (value, points [+ exponent]); with ``with_end`` also the end states."""
+        y0 = static_states(systems) if y0 is None else y0
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
             labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0, period=self.period,
@@ -337,8 +412,9 @@ class _BifurcationChunk:
         # a diverging value keeps NaN points (labelled "diverged"), the others stand
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
         pts[res.diverged] = np.nan
+        end = res.poincare[:, -1]
         if not self.exponents:
-            return pts
+            return (pts, end) if with_end else pts
         # the exponent of the same trajectory as the points: same start, same steps
         lam = np.full(len(systems), np.nan)
         ok = np.flatnonzero(~res.diverged)
@@ -347,7 +423,8 @@ class _BifurcationChunk:
                                transient=self.periods - self.keep,
                                steps_per_period=res.steps_per_period, period=self.period,
                                y0=y0[ok])  # fmt: skip
-        return np.concatenate([pts, lam[:, None]], axis=1)
+        rows = np.concatenate([pts, lam[:, None]], axis=1)
+        return (rows, end) if with_end else rows
 
 
 class BifurcationResult(Result):
@@ -402,7 +479,15 @@ class BifurcationResult(Result):
         else:
             ax, band = fig.subplots(), None
         p = np.repeat(ds["p0"].values, ds.sizes["point"])
-        ax.plot(p, ds["poincare"].values.ravel(), ".k", ms=1.0, alpha=0.6)
+        way = ds.attrs.get("continuation")
+        first = {"up": "ascending sweep", "both": "ascending sweep", "down": "descending sweep"}
+        ax.plot(p, ds["poincare"].values.ravel(), ".k", ms=1.0 if way is None else 2.5,
+                alpha=0.6, label=first.get(way))  # fmt: skip
+        if "poincare_down" in ds:  # the other sweep, drawn so that both stay visible
+            ax.plot(p, ds["poincare_down"].values.ravel(), "x", color="C3", ms=3.0,
+                    alpha=0.7, label="descending sweep")  # fmt: skip
+        if way is not None:
+            ax.legend(fontsize=7, markerscale=2)
         if band is not None:
             labels = self.labels()
             kinds = sorted(set(labels))
