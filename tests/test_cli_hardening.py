@@ -243,7 +243,7 @@ def test_error_text_is_printed_verbatim(tmp_path):
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["bifurcation", KHV, "-p", "gears.x1", "-v", "5 kg"], "--values: bifurcation takes"),
+        (["bifurcation", KHV, "-p", "gears.x1", "-v", "5 kg"], "'gears.x1': value '5 kg'"),
         (["bifurcation", KHV, "-p", "gears.x1", "-v", "lin:0.4:0.8:1000000"], "at most 100000"),
         (["bifurcation", KHV, "-p", "gears.x1", "-v", "0.5", "--steps", "0"], "'--steps'"),
         (["bifurcation", KHV, "-p", "gears.x1", "-v", "0.5", "--steps", "3"], "'--steps'"),

@@ -361,3 +361,21 @@ def test_affinity_probe_is_element_by_element():
         members.probe(lo, hi)
         found[path] = members.affine is not None
     assert found == {"mesh.half_backlash": True, "input_speed": False, "gears.x1": False}
+
+
+def test_bifurcation_takes_units_and_tied_paths():
+    # issue 16: values with units (the design field's unit) and tied paths, as in sweep
+    from reducerlab.analysis.sweep import parse_values
+
+    design = load_design(example_dir() / "khv.toml")
+    rpm = bifurcation(design, parse_values("input_speed", "1400 rpm,1500 rpm"), periods=20,
+                      keep=2)  # fmt: skip
+    np.testing.assert_allclose(rpm.data["p0"].values, [1400 * math.pi / 30, 1500 * math.pi / 30])
+    si = bifurcation(design, Axis("input_speed", [1400 * math.pi / 30, 1500 * math.pi / 30]),
+                     periods=20, keep=2)  # fmt: skip
+    np.testing.assert_allclose(rpm.data["poincare"].values, si.data["poincare"].values)
+    tied = bifurcation(design, Axis("inertia.drive+inertia.load", [0.02, 0.04]), periods=20,
+                       keep=2)  # fmt: skip
+    assert tied.data["poincare"].shape == (2, 2)
+    with pytest.raises(ReducerlabError, match="lists a parameter twice"):
+        bifurcation(design, Axis("gears.x1+gears.x1", [0.5]), periods=20, keep=2)

@@ -703,12 +703,6 @@ def bifurcation(
         files = OutputSet(output, "-o", report=_note)
         d = load_design(design)
         axis = _axis("--values", param, values, MAX_VALUES)
-        quantities = [v for v in axis.values if isinstance(v, str)]
-        if quantities:
-            raise ReducerlabError(
-                "--values: bifurcation takes plain SI numbers or factors (rel:, %), not "
-                f"quantities with units such as {quantities[0]!r}"
-            )
         with _scheduler(scheduler) as client, _busy("bifurcation") as report:
             res = run_bifurcation(
                 d, axis, periods=periods, keep=keep, steps_per_period=steps, period=T,

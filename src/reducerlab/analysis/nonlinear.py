@@ -34,7 +34,7 @@ from .response import (
     to_system,
 )
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
-from .sweep import Axis, _Evaluator, _resolve
+from .sweep import Axis, _Evaluator, axis_targets
 from .workers import check_workers, dask_client, worker_pool
 
 if TYPE_CHECKING:
@@ -113,12 +113,8 @@ def bifurcation(
         design, model = None, target
     else:
         raise ReducerlabError("bifurcation: target must be a Design or a Model")
-    t = _resolve(design, model, axis.path)
-    if any(isinstance(v, str) for v in axis.values):
-        raise ReducerlabError("bifurcation: give SI numbers for the values")
-    vals = [float(v) * (t.base if axis.relative else 1.0) for v in axis.values]
-    ev = _Evaluator(design.model_dump(mode="python") if design else None, model, (t,))
-    values = np.asarray(vals, float)
+    group, values = axis_targets(design, model, axis, 0, "bifurcation")
+    ev = _Evaluator(design.model_dump(mode="python") if design else None, model, tuple(group))
     base = model.nonlinear()
     n_lines = base.G.shape[0]
     if not 0 <= line < n_lines:

@@ -182,6 +182,41 @@ def parse_values(
     return Axis(path, tuple(values), relative=relative)
 
 
+def axis_targets(
+    design: Design | None, model: Model, a: Axis, index: int = 0, what: str = "sweep"
+) -> tuple[list[_Target], NDArray]:
+    """The parameters an axis drives and its values in SI units.
+
+    A path ``a+b`` ties parameters (same value; relative values scale each by its own
+    base value); values may be quantities with units (``"500 rpm"``) for design fields,
+    converted by the field's unit; integer fields take whole numbers.
+    """
+    members = [_resolve(design, model, p.strip()) for p in a.path.split("+")]
+    if len({(t.where, t.path) for t in members}) != len(members):
+        raise ReducerlabError(f"{what} {a.path!r}: a tied path lists a parameter twice")
+    first = members[0].base
+    group = [
+        dataclasses.replace(
+            t, axis=index, scale=(t.base / first if (a.relative and first) else 1.0)
+        )
+        for t in members
+    ]
+    t = group[0]
+    vals = list(a.values)
+    if a.relative:
+        vals = [float(v) * t.base for v in vals]
+    if any(isinstance(v, str) for v in vals):
+        if any(m.where != "design" for m in group):
+            raise ReducerlabError(
+                f"{what} {a.path!r}: a model parameter takes SI numbers, not {vals[0]!r}"
+            )
+        vals = [_si_of(design, t, v, what) for v in vals]
+    col = np.asarray(vals, dtype=float)
+    if any(m.integer for m in group) and not np.all(col == np.round(col)):
+        raise ReducerlabError(f"{what} {a.path!r}: an integer field takes whole numbers")
+    return group, col
+
+
 # ----------------------------------------------------------------------------- targets
 @dataclass(frozen=True)
 class _Target:
@@ -580,35 +615,10 @@ def sweep(
         design, model = None, target
     else:
         raise ReducerlabError(f"sweep: target must be a Design or a Model, got {type(target)}")
-    groups = []
+    groups, columns = [], []
     for i, a in enumerate(axes):
-        members = [_resolve(design, model, p.strip()) for p in a.path.split("+")]
-        if len({(t.where, t.path) for t in members}) != len(members):
-            raise ReducerlabError(f"sweep {a.path!r}: a tied path lists a parameter twice")
-        first = members[0].base
-        groups.append(
-            [
-                dataclasses.replace(
-                    t, axis=i, scale=(t.base / first if (a.relative and first) else 1.0)
-                )
-                for t in members
-            ]
-        )
-    columns: list[NDArray] = []
-    for a, group in zip(axes, groups, strict=True):
-        t = group[0]
-        vals = list(a.values)
-        if a.relative:
-            vals = [float(v) * t.base for v in vals]
-        if any(isinstance(v, str) for v in vals):
-            if any(m.where != "design" for m in group):
-                raise ReducerlabError(
-                    f"sweep {a.path!r}: a model parameter takes SI numbers, not {vals[0]!r}"
-                )
-            vals = [_si_of(design, t, v) for v in vals]
-        col = np.asarray(vals, dtype=float)
-        if any(m.integer for m in group) and not np.all(col == np.round(col)):
-            raise ReducerlabError(f"sweep {a.path!r}: an integer field takes whole numbers")
+        group, col = axis_targets(design, model, a, i, "sweep")
+        groups.append(group)
         columns.append(col)
     targets = tuple(t for group in groups for t in group)
     firsts = tuple(group[0] for group in groups)
@@ -668,15 +678,15 @@ def _tempdir() -> str:
     return tempfile.mkdtemp(prefix="reducerlab-sweep-")
 
 
-def _si_of(design: Design, t: _Target, value: str) -> float:
+def _si_of(design: Design, t: _Target, value: str, what: str = "sweep") -> float:
     from ..drives import design_from_dict
 
     data = design.model_dump(mode="python")
     _walk(data, t.keys[:-1])[t.keys[-1]] = value
     try:
-        new = design_from_dict(data, "sweep value").model_dump(mode="python")
+        new = design_from_dict(data, f"{what} value").model_dump(mode="python")
     except DesignError as exc:
-        raise ReducerlabError(f"sweep {t.path!r}: value {value!r} rejected:\n{exc}") from None
+        raise ReducerlabError(f"{what} {t.path!r}: value {value!r} rejected:\n{exc}") from None
     return float(_walk(new, t.keys))
 
 
