@@ -39,6 +39,18 @@ WRITERS = {
     "sweep": ["sweep", GEAR, "-p", "mesh.stiffness", "-v", "150%,200%", "--workers", "1"],
     "bifurcation": ["bifurcation", KHV, "-p", "gears.x1", "-v", "0.5,0.6", *SHORT],
     "response": ["response", GEAR, *SHORT, "--history", "2"],
+    "frequency-response": [
+        "frequency-response",
+        KHV,
+        "-p",
+        "input_speed",
+        "-v",
+        "1400 rpm,1500 rpm",
+        "--periods",
+        "20",
+        "--history",
+        "2",
+    ],
     "khv closed-graph": ["khv", "closed-graph", KHV],
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
     "contact": [
@@ -342,6 +354,7 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.body_modal
     import reducerlab.analysis.campbell
     import reducerlab.analysis.contact
+    import reducerlab.analysis.frequency_response
     import reducerlab.analysis.kinematics
     import reducerlab.analysis.modal
     import reducerlab.analysis.nonlinear
@@ -401,7 +414,7 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
                 assert text["design_hash"] == design.hash, png
     assert seen == {
         "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response",
-        "contact",
+        "contact", "frequency-response",
     }  # fmt: skip
 
 

@@ -632,6 +632,12 @@ def _write_check(d, report: dict, components: list, files: OutputSet) -> None:
                  d.provenance)  # fmt: skip
 
 
+class ContinuationChoice(StrEnum):
+    up = "up"
+    down = "down"
+    both = "both"
+
+
 @app.command()
 def bifurcation(
     design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
@@ -716,6 +722,54 @@ def bifurcation(
     if classify:
         summary["motion"] = res.labels()
     typer.echo(json.dumps(summary))
+
+
+@app.command("frequency-response")
+def frequency_response(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    param: Annotated[str, typer.Option("--param", "-p", help="Parameter path, e.g. input_speed.")],
+    values: Annotated[
+        str,
+        typer.Option(
+            "--values", "-v", help="'lin:START:STOP:N', a list (units allowed: '1000 rpm,...')."
+        ),
+    ],
+    periods: Annotated[
+        int, typer.Option(help="Forcing periods integrated per value.", min=2, max=MAX_PERIODS)
+    ] = 300,
+    history: Annotated[int, typer.Option(help="Last periods measured (<= --periods).", min=1)] = 10,
+    continuation: Annotated[
+        ContinuationChoice,
+        typer.Option(help="Sweep direction(s); each value starts from the previous end state."),
+    ] = ContinuationChoice.both,
+    accuracy: Annotated[
+        float,
+        typer.Option(
+            help="Target error of the Poincaré points relative to the motion's scale.",
+            min=1e-12,
+            max=0.1,
+        ),
+    ] = 1e-6,
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "frequency-response-output"
+    ),
+) -> None:
+    """Frequency-response curves: RMS dynamic transmission error, dynamic load factor and
+    tooth separation against a parameter, swept up and down (jumps, hysteresis)."""
+    from .analysis.frequency_response import frequency_response as run_fr
+    from .drives import load_design
+
+    with _user_errors():
+        _check_periods(periods, history=history)
+        files = OutputSet(output, "-o", report=_note)
+        d = load_design(design)
+        axis = _axis("--values", param, values, MAX_VALUES)
+        with _busy("frequency-response") as report:
+            res = run_fr(d, axis, periods=periods, history=history,
+                         continuation=continuation.value, accuracy=accuracy,
+                         progress=report)  # fmt: skip
+        _save_with_figure(res, files, "frequency-response")
+    typer.echo(json.dumps(res.to_dict()))
 
 
 def _check_periods(periods: int, **counts: int) -> None:
@@ -838,12 +892,6 @@ def response(
         if peaks
         else "no spectral peaks: the mesh deflection is constant (nothing excites the model)"
     )
-
-
-class ContinuationChoice(StrEnum):
-    up = "up"
-    down = "down"
-    both = "both"
 
 
 class ProfileChoice(StrEnum):

@@ -39,6 +39,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "sweep": "reducerlab.analysis.sweep",
     "bifurcation": "reducerlab.analysis.nonlinear",
     "response": "reducerlab.analysis.nonlinear",
+    "frequency-response": "reducerlab.analysis.frequency_response",
     "kinematics": "reducerlab.analysis.kinematics",
     "body-modal": "reducerlab.analysis.body_modal",
     "contact": "reducerlab.analysis.contact",
