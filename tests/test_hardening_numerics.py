@@ -400,6 +400,7 @@ def test_a_diverging_value_is_marked_without_aborting_the_bifurcation():
     assert np.isnan(res.data["exponent"].values[1])
     assert np.all(np.isfinite(res.data["poincare"].values[[0, 2]]))
     assert res.periodicity().tolist() == [1, 0, 1]
-    assert len(res.plot().axes) == 2
+    assert len(res.plot().axes) == 3
+    assert res.impacts() == ["no impact", "diverged", "no impact"]
     with pytest.raises(DivergenceError, match="diverged"):
         ensemble([to_system(damped_mathieu(0.002))], periods=200, keep=5, y0=np.array([1.0, 0.0]))

@@ -272,7 +272,10 @@ def test_bifurcation_with_exponents_labels_the_motion():
     # negative exponents, period-1
     assert np.all(res.data["exponent"].values < 0)
     assert res.labels() == ["period-1"] * 3
-    assert len(res.plot().axes) == 2  # diagram and motion band
+    assert len(res.plot().axes) == 3  # diagram, motion band and impact band
+    # the teeth leave contact once per mesh period at every value (docs/assumptions.md)
+    assert res.impacts() == ["single-sided impact"] * 3
+    assert np.all(res.data["contact_losses"].values == 1.0)
     plain = bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 3), periods=50, keep=5)
     with pytest.raises(ReducerlabError, match="no Lyapunov exponents"):
         plain.labels()

@@ -19,6 +19,7 @@ from ..design import Design
 from ..errors import DivergenceError, ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
+from .impacts import IMPACT_CLASSES, contact_states
 from .modal import element_blocks
 from .response import (
     ACCURACY,
@@ -215,6 +216,8 @@ def bifurcation(
                         pending = submit(todo[k + 1])  # built while this chunk integrates
                 finish(i, job.integrate(chunks[i], systems))
     points = np.concatenate([results[i] for i in range(len(chunks))])
+    n_imp = len(IMPACT_COLUMNS)
+    impacts, points = points[:, -n_imp:], points[:, :-n_imp]
     exponent = points[:, keep] if exponents else None
     points = points[:, :keep]
     data = xr.Dataset(
@@ -242,6 +245,9 @@ def bifurcation(
             exponent,
             {"units": "1/s", "long_name": "largest Lyapunov exponent"},
         )
+    for q, (name, unit) in enumerate(IMPACT_COLUMNS):
+        data[name] = ("p0", impacts[:, q], {"units": unit, "over_periods": IMPACT_PERIODS})
+    data.attrs["impact_classes"] = list(IMPACT_CLASSES)
     if continuation is not None:
         data.attrs["continuation"] = continuation
     if continuation == "both":
@@ -257,6 +263,7 @@ def bifurcation(
                 down[:, keep],
                 {"units": "1/s", "long_name": "largest Lyapunov exponent, descending sweep"},
             )
+        data["impact_class_down"] = ("p0", down[:, -1], {"units": IMPACT_COLUMNS[-1][1]})
     return BifurcationResult(data)
 
 
@@ -273,7 +280,7 @@ def _continue(
     order = np.argsort(values, kind="stable")
     sweeps = {"up": order, "down": order[::-1]}
     names = ["up", "down"] if direction == "both" else [direction]
-    width = job.keep + (1 if job.exponents else 0)
+    width = job.keep + (1 if job.exponents else 0) + len(IMPACT_COLUMNS)
     out = {name: np.full((values.size, width), np.nan) for name in names}
     state: dict[str, NDArray | None] = dict.fromkeys(names)
     for step in range(values.size):
@@ -373,6 +380,19 @@ class _Members:
         ]
 
 
+#: Periods at the end of each value's run read for its tooth-separation statistics.
+IMPACT_PERIODS = 10
+
+#: Per-value separation statistics of a bifurcation (``analysis.impacts``): name, unit.
+IMPACT_COLUMNS = (
+    ("separation_fraction", "1"),
+    ("back_contact_fraction", "1"),
+    ("contact_losses", "1/period"),
+    ("back_impacts", "1/period"),
+    ("impact_class", "index into attrs impact_classes"),
+)
+
+
 @dataclass
 class _BifurcationChunk:
     """Poincare points of one chunk of parameter values (picklable for Dask)."""
@@ -400,17 +420,28 @@ class _BifurcationChunk:
     ) -> Any:
         """Rows (value, points [+ exponent]); with ``with_end`` also the end states."""
         y0 = static_states(systems) if y0 is None else y0
+        hist = min(self.keep, IMPACT_PERIODS)
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
             labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0, period=self.period,
-            accuracy=self.accuracy, on_divergence="mark",
+            accuracy=self.accuracy, on_divergence="mark", history=hist,
         )  # fmt: skip
         # a diverging value keeps NaN points (labelled "diverged"), the others stand
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
         pts[res.diverged] = np.nan
         end = res.poincare[:, -1]
+        imp = np.full((len(systems), len(IMPACT_COLUMNS)), np.nan)
+        for k, s in enumerate(systems):
+            if not res.diverged[k]:
+                d = res.delta_history[k, :, self.line]
+                st = contact_states(d, float(s.half_backlash[self.line]), float(hist),
+                                    -1.0 if d.mean() < 0 else 1.0)  # fmt: skip
+                imp[k] = (st.separation_fraction, st.back_contact_fraction,
+                          st.contact_losses, st.back_impacts,
+                          IMPACT_CLASSES.index(st.impact_class))  # fmt: skip
         if not self.exponents:
-            return (pts, end) if with_end else pts
+            rows = np.concatenate([pts, imp], axis=1)
+            return (rows, end) if with_end else rows
         # the exponent of the same trajectory as the points: same start, same steps
         lam = np.full(len(systems), np.nan)
         ok = np.flatnonzero(~res.diverged)
@@ -419,7 +450,7 @@ class _BifurcationChunk:
                                transient=self.periods - self.keep,
                                steps_per_period=res.steps_per_period, period=self.period,
                                y0=y0[ok])  # fmt: skip
-        rows = np.concatenate([pts, lam[:, None]], axis=1)
+        rows = np.concatenate([pts, lam[:, None], imp], axis=1)
         return (rows, end) if with_end else rows
 
 
@@ -458,6 +489,15 @@ class BifurcationResult(Result):
             for row, lam in zip(ds["poincare"].values, ds["exponent"].values, strict=True)
         ]
 
+    def impacts(self) -> list[str]:
+        """Impact class of every value (``analysis.impacts``: no impact, single- or
+        double-sided), "diverged" where the motion left its bounds."""
+        ds = self.data
+        if "impact_class" not in ds:
+            raise ReducerlabError("no impact statistics in this result (an older run)")
+        names = list(ds.attrs["impact_classes"])
+        return [names[int(c)] if np.isfinite(c) else "diverged" for c in ds["impact_class"].values]
+
     @property
     def diverged(self) -> NDArray[np.bool_]:
         """Parameter values whose motion left its bounds (NaN points)."""
@@ -469,11 +509,16 @@ class BifurcationResult(Result):
         from matplotlib.figure import Figure
 
         ds = self.data
-        fig = Figure(figsize=(7.5, 4.6), layout="constrained")
-        if "exponent" in ds:
-            ax, band = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [12, 1]})
-        else:
-            ax, band = fig.subplots(), None
+        fig = Figure(figsize=(7.5, 5.0), layout="constrained")
+        has_imp = "impact_class" in ds
+        rows = 1 + ("exponent" in ds) + has_imp
+        axes = fig.subplots(
+            rows, 1, sharex=True, gridspec_kw={"height_ratios": [12] + [1] * (rows - 1)}
+        )
+        axes = np.atleast_1d(axes)
+        ax = axes[0]
+        band = axes[1] if "exponent" in ds else None
+        imp_band = axes[-1] if has_imp else None
         p = np.repeat(ds["p0"].values, ds.sizes["point"])
         way = ds.attrs.get("continuation")
         first = {"up": "ascending sweep", "both": "ascending sweep", "down": "descending sweep"}
@@ -484,27 +529,42 @@ class BifurcationResult(Result):
                     alpha=0.7, label="descending sweep")  # fmt: skip
         if way is not None:
             ax.legend(fontsize=7, markerscale=2)
+        x = ds["p0"].values
+        edges = (
+            np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
+            if x.size > 1
+            else np.array([x[0] - 0.5, x[0] + 0.5])
+        )
         if band is not None:
-            labels = self.labels()
-            kinds = sorted(set(labels))
-            colours = {k: f"C{i}" for i, k in enumerate(kinds)}
-            x = ds["p0"].values
-            edges = np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
-            for i, lab in enumerate(labels):
-                band.axvspan(edges[i], edges[i + 1], color=colours[lab], lw=0)
-            from matplotlib.patches import Patch
-
-            handles = [Patch(color=colours[k], label=k) for k in kinds]
-            band.legend(handles=handles, fontsize=7, ncol=len(kinds), loc="upper center",
-                        bbox_to_anchor=(0.5, -0.6))  # fmt: skip
-            band.set_yticks([])
-            band.set_xlabel(ds.attrs["parameter"])
-        else:
-            ax.set_xlabel(ds.attrs["parameter"])
+            _class_band(band, edges, self.labels(), "motion", "C")
+        if imp_band is not None:
+            _class_band(imp_band, edges, self.impacts(), "teeth", "tab:")
+        axes[-1].set_xlabel(ds.attrs["parameter"])
         ax.set_ylabel(f"Poincaré points of mesh deflection ({ds['poincare'].attrs['units']})")
         ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
         ax.grid(alpha=0.3)
         return fig
+
+
+def _class_band(band, edges: NDArray, labels: list[str], title: str, palette: str) -> None:
+    """A strip coloured by class per parameter value, its legend beside it (no clipping)."""
+    from matplotlib.patches import Patch
+
+    colours_c = ["C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "C9"]
+    colours_t = ["tab:green", "tab:orange", "tab:red", "tab:gray"]
+    palette_list = colours_c if palette == "C" else colours_t
+    order = sorted(set(labels), key=lambda k: (k == "diverged", k))
+    if palette != "C":
+        order = [k for k in (*IMPACT_CLASSES, "diverged") if k in set(labels)]
+    colours = {k: palette_list[i % len(palette_list)] for i, k in enumerate(order)}
+    if "diverged" in colours:
+        colours["diverged"] = "black"
+    for i, lab in enumerate(labels):
+        band.axvspan(edges[i], edges[i + 1], color=colours[lab], lw=0)
+    handles = [Patch(color=colours[k], label=k) for k in order]
+    band.legend(handles=handles, fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5),
+                frameon=False, title=title, title_fontsize=6)  # fmt: skip
+    band.set_yticks([])
 
 
 def _period_of(row: NDArray, tol: float, max_period: int) -> int:
@@ -661,7 +721,7 @@ def response(
     ``steps_per_period`` is given."""
     from ..drives import build_model
     from ..model.laws import evaluate_flat, flat_mean
-    from .impacts import contact_states, mesh_mode
+    from .impacts import mesh_mode
     from .response import to_system
 
     model = build_model(target) if isinstance(target, Design) else target
