@@ -163,6 +163,22 @@ def test_motion_classification():
     assert classify(quasi.poincare[0, :40, 0], 5.0, f) == "chaotic"
 
 
+def test_a_decaying_transient_is_unsettled_not_quasi_periodic():
+    # issue 16: a lightly damped oscillator x'' + 0.004 x' + x = cos(1.3 t) from rest:
+    # its free vibration at 1 rad/s decays as exp(-0.002 t), so after 150 periods
+    # (720 s) the Poincare points still spiral in (labelled quasi-periodic before);
+    # with 10x the damping the same run has settled on period 1
+    def osc(c):
+        els = [Inertia("a.x", 1.0), Support("a.x", 1.0, c), Load("a.x", Fourier(0.0, (1.0,), 1.3))]
+        return Model([Dof("a", "x")], els).nonlinear()
+
+    f = 1.3 / (2 * math.pi)
+    slow = ensemble([osc(0.004)], periods=150, keep=60)
+    assert classify(slow.poincare[0, :60, 0], -0.002, f) == "unsettled"
+    fast = ensemble([osc(0.2)], periods=150, keep=60)
+    assert classify(fast.poincare[0, :60, 0], -0.1, f) == "period-1"
+
+
 def test_response_outputs_and_cli(tmp_path):
     from typer.testing import CliRunner
 

@@ -5,6 +5,7 @@ with spectra whose peaks are labelled as multiples of the mesh frequency."""
 from __future__ import annotations
 
 import contextlib
+import itertools
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -589,12 +590,29 @@ def classify(
     ``"chaotic"`` when the exponent exceeds ``chaos`` x the forcing frequency (1/s per
     Hz: a separation growing by e within ~100 periods), else ``"period-n"`` when the
     Poincaré sequence repeats every n <= ``max_period`` points (to ``tol`` of its
-    range), else ``"quasi-periodic"``.
+    range), else ``"unsettled"`` when the points still converge (their spread shrinks
+    from quarter to quarter of the sequence, the last below :data:`SETTLE` times the
+    first: a transient of a lightly damped mode, not an attractor; run more periods),
+    else ``"quasi-periodic"``.
     """
     if exponent > chaos * frequency:
         return "chaotic"
-    n = _period_of(np.asarray(poincare, float), tol, max_period)
-    return f"period-{n}" if n else "quasi-periodic"
+    pts = np.asarray(poincare, float)
+    n = _period_of(pts, tol, max_period)
+    if n:
+        return f"period-{n}"
+    if pts.size >= 16:
+        spread = [np.ptp(q) for q in np.array_split(pts, 4)]
+        if spread[3] < SETTLE * spread[0] and all(a >= b for a, b in itertools.pairwise(spread)):
+            return "unsettled"
+    return "quasi-periodic"
+
+
+#: A Poincaré sequence whose spread shrinks from quarter to quarter, the last below this
+#: fraction of the first, is still converging (``classify``: "unsettled"). A
+#: quasi-periodic sequence fills its closed curve in every quarter (no steady shrinking);
+#: a transient decaying by a factor 2 over the kept points ends at ~0.6.
+SETTLE = 0.8
 
 
 def spectrum_peaks(
