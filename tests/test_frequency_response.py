@@ -54,6 +54,8 @@ def test_no_impact_curve_is_the_linear_closed_form():
         up["dynamic_load_factor"].values, 1 + amp * math.hypot(1, C) / 5.0, rtol=1e-3
     )
     assert np.all(up["separation_fraction"].values == 0)
+    # omega-bar: forcing 1 rad/s over the mode sqrt(1/m)
+    np.testing.assert_allclose(up["frequency_ratio"].values, np.sqrt(masses), rtol=1e-12)
 
 
 def test_up_and_down_sweeps_jump_at_the_no_impact_boundary():

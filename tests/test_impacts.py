@@ -240,6 +240,8 @@ def test_continuation_shows_the_hysteresis_of_the_no_impact_boundary():
     # where only one attractor exists the sweeps agree
     np.testing.assert_allclose(up[[0, 1, 4, 5]], down[[0, 1, 4, 5]], atol=1e-6)
     assert res.data.attrs["continuation"] == "both"
+    np.testing.assert_allclose(res.data["frequency_ratio"].values, omega, rtol=1e-12)
+    np.testing.assert_allclose(res.data["mesh_mode_hz"].values, 1 / (2 * math.pi), rtol=1e-12)
     assert len(res.plot().axes[0].get_legend().get_texts()) == 2
     with pytest.raises(ReducerlabError, match="continuation must be"):
         bifurcation(model, Axis("mean.value", vals), periods=10, keep=2, continuation="left")

@@ -21,7 +21,7 @@ from ..design import Design
 from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
-from .impacts import contact_states
+from .impacts import contact_states, mesh_mode
 from .modal import element_blocks
 from .response import (
     ACCURACY,
@@ -45,6 +45,7 @@ QUANTITIES = (
     ("dynamic_load_factor", "1", "largest |mesh force| / mean mesh force"),
     ("separation_fraction", "1", "share of the time with the teeth apart"),
     ("back_impacts", "1/period", "back-side impacts per period"),
+    ("frequency_ratio", "1", "forcing frequency / mesh mode frequency (omega-bar)"),
 )
 
 
@@ -210,10 +211,12 @@ def _measures(s, res, k: int, line: int, history: int) -> NDArray:
     )
     side = -1.0 if np.mean(elastic) < 0 else 1.0
     st = contact_states(delta, float(s.half_backlash[line]), float(history), side)
+    mode_hz, _ = mesh_mode(s, line)
     return np.array([
         float(np.sqrt(np.mean((dte - dte.mean()) ** 2))),
         float(np.ptp(dte)),
         dlf,
         st.separation_fraction,
         st.back_impacts,
+        1.0 / float(res.period[k]) / mode_hz if mode_hz > 0 else np.nan,
     ])  # fmt: skip

@@ -20,7 +20,7 @@ from ..design import Design
 from ..errors import DivergenceError, ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
-from .impacts import IMPACT_CLASSES, contact_states
+from .impacts import IMPACT_CLASSES, contact_states, mesh_mode
 from .modal import element_blocks
 from .response import (
     ACCURACY,
@@ -390,7 +390,9 @@ IMPACT_COLUMNS = (
     ("back_contact_fraction", "1"),
     ("contact_losses", "1/period"),
     ("back_impacts", "1/period"),
-    ("impact_class", "index into attrs impact_classes"),
+    ("mesh_mode_hz", "Hz"),  # the mode that strains the line most (analysis.impacts)
+    ("frequency_ratio", "1"),  # forcing frequency / mesh mode (omega-bar)
+    ("impact_class", "index into attrs impact_classes"),  # last (read as [:, -1])
 )
 
 
@@ -437,8 +439,10 @@ class _BifurcationChunk:
                 d = res.delta_history[k, :, self.line]
                 st = contact_states(d, float(s.half_backlash[self.line]), float(hist),
                                     -1.0 if d.mean() < 0 else 1.0)  # fmt: skip
+                mode_hz, _ = mesh_mode(s, self.line)
+                ratio = 1.0 / float(res.period[k]) / mode_hz if mode_hz > 0 else np.nan
                 imp[k] = (st.separation_fraction, st.back_contact_fraction,
-                          st.contact_losses, st.back_impacts,
+                          st.contact_losses, st.back_impacts, mode_hz, ratio,
                           IMPACT_CLASSES.index(st.impact_class))  # fmt: skip
         if not self.exponents:
             rows = np.concatenate([pts, imp], axis=1)
@@ -739,7 +743,6 @@ def response(
     ``steps_per_period`` is given."""
     from ..drives import build_model
     from ..model.laws import evaluate_flat, flat_mean
-    from .impacts import mesh_mode
     from .response import to_system
 
     model = build_model(target) if isinstance(target, Design) else target
