@@ -632,6 +632,18 @@ def _write_check(d, report: dict, components: list, files: OutputSet) -> None:
                  d.provenance)  # fmt: skip
 
 
+#: Target error of the Poincaré points (analysis.response.accurate_steps).
+AccuracyOption = Annotated[
+    float,
+    typer.Option(
+        help="Target error of the Poincaré points relative to the motion's scale: the "
+        "step count is chosen to meet it (ignored with --steps).",
+        min=1e-12,
+        max=0.1,
+    ),
+]
+
+
 class ContinuationChoice(StrEnum):
     up = "up"
     down = "down"
@@ -662,15 +674,7 @@ def bifurcation(
             help="RK4 steps per period (default: from the model).", min=MIN_STEPS, max=MAX_STEPS
         ),
     ] = None,
-    accuracy: Annotated[
-        float,
-        typer.Option(
-            help="Target error of the Poincaré points relative to the motion's scale: the "
-            "step count is chosen to meet it (ignored with --steps).",
-            min=1e-12,
-            max=0.1,
-        ),
-    ] = 1e-6,
+    accuracy: AccuracyOption = 1e-6,
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (resumable).")
     ] = Path("bifurcation-output"),
@@ -742,14 +746,7 @@ def frequency_response(
         ContinuationChoice,
         typer.Option(help="Sweep direction(s); each value starts from the previous end state."),
     ] = ContinuationChoice.both,
-    accuracy: Annotated[
-        float,
-        typer.Option(
-            help="Target error of the Poincaré points relative to the motion's scale.",
-            min=1e-12,
-            max=0.1,
-        ),
-    ] = 1e-6,
+    accuracy: AccuracyOption = 1e-6,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "frequency-response-output"
     ),
@@ -837,15 +834,7 @@ def response(
     steps: Annotated[
         int | None, typer.Option(help="RK4 steps per period.", min=MIN_STEPS, max=MAX_STEPS)
     ] = None,
-    accuracy: Annotated[
-        float,
-        typer.Option(
-            help="Target error of the Poincaré points relative to the motion's scale: the "
-            "step count is chosen to meet it (ignored with --steps).",
-            min=1e-12,
-            max=0.1,
-        ),
-    ] = 1e-6,
+    accuracy: AccuracyOption = 1e-6,
     period: PeriodOption = None,
     frequency: FrequencyOption = None,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(

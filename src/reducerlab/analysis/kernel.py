@@ -138,17 +138,36 @@ def law_values(kinds, params, times):
     return out
 
 
+@nb.njit(cache=True, inline="always")
+def _law_row(tab, row, b, e, mb, ts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par, fv):
+    """``tab[row, :, b]`` for member ``e`` at time ``ts``: ``k`` (L), ``e`` (L),
+    ``de/dt`` (L), then the load acceleration ``M^-1 B f`` (n) from ``MB[mb]``."""
+    L = k_kind.shape[0]
+    n = MB.shape[1]
+    nf = f_kind.shape[0]
+    for m in range(L):
+        k, _ = eval_law(k_kind[m], k_par[e, m], ts)
+        v, dv = eval_law(e_kind[m], e_par[e, m], ts)
+        tab[row, m, b] = k
+        tab[row, L + m, b] = v
+        tab[row, 2 * L + m, b] = dv
+    for j in range(nf):
+        fv[j], _ = eval_law(f_kind[j], f_par[e, j], ts)
+    for i in range(n):
+        acc = 0.0
+        for j in range(nf):
+            acc += MB[mb, i, j] * fv[j]
+        tab[row, 3 * L + i, b] = acc
+
+
 @nb.njit(cache=True)
 def _tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par):
     """Fill ``tab[3 N, W, B]`` for members ``lo:hi``: rows ``3q, 3q+1, 3q+2`` are the
     RK4 sample times of step ``q`` (just inside its start, its middle, just inside its
     end, so that a jump at a step boundary is seen from the correct side); columns are
     ``k`` (L), ``e`` (L), ``de/dt`` (L), then the load acceleration ``M^-1 B f`` (n)."""
-    L = k_kind.shape[0]
-    n = MB.shape[1]
-    nf = f_kind.shape[0]
     N = offs.shape[1]
-    fv = np.empty(nf)
+    fv = np.empty(f_kind.shape[0])
     for e in range(lo, hi):
         b = e - lo
         for q in range(N):
@@ -157,20 +176,8 @@ def _tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, 
             t = t_base[e] + offs[e, q]
             for s in range(3):
                 ts = t + inside if s == 0 else (t + 0.5 * dt if s == 1 else t + dt - inside)
-                row = 3 * q + s
-                for m in range(L):
-                    k, _ = eval_law(k_kind[m], k_par[e, m], ts)
-                    v, dv = eval_law(e_kind[m], e_par[e, m], ts)
-                    tab[row, m, b] = k
-                    tab[row, L + m, b] = v
-                    tab[row, 2 * L + m, b] = dv
-                for j in range(nf):
-                    fv[j], _ = eval_law(f_kind[j], f_par[e, j], ts)
-                for i in range(n):
-                    acc = 0.0
-                    for j in range(nf):
-                        acc += MB[b, i, j] * fv[j]
-                    tab[row, 3 * L + i, b] = acc
+                _law_row(tab, 3 * q + s, b, e, b, ts, k_kind, k_par, e_kind, e_par, MB,
+                         f_kind, f_par, fv)  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=_FM)
@@ -319,28 +326,12 @@ def _tabulate_at(sub, times, lo, width, k_kind, k_par, e_kind, e_par, MB, f_kind
     """Law rows ``sub[s, :, b]`` at the member times ``times[s, b]`` (s = 0, 1, 2), as
     :func:`_tabulate` does for the fixed sample times; slots past ``width`` repeat the
     last member."""
-    L = k_kind.shape[0]
-    n = MB.shape[1]
-    nf = f_kind.shape[0]
-    nb_ = times.shape[1]
-    fv = np.empty(nf)
-    for b in range(nb_):
-        e = lo + min(b, width - 1)
+    fv = np.empty(f_kind.shape[0])
+    for b in range(times.shape[1]):
+        mb = min(b, width - 1)
         for s in range(3):
-            ts = times[s, b]
-            for m in range(L):
-                k, _ = eval_law(k_kind[m], k_par[e, m], ts)
-                v, dv = eval_law(e_kind[m], e_par[e, m], ts)
-                sub[s, m, b] = k
-                sub[s, L + m, b] = v
-                sub[s, 2 * L + m, b] = dv
-            for j in range(nf):
-                fv[j], _ = eval_law(f_kind[j], f_par[e, j], ts)
-            for i in range(n):
-                acc = 0.0
-                for j in range(nf):
-                    acc += MB[min(b, width - 1), i, j] * fv[j]
-                sub[s, 3 * L + i, b] = acc
+            _law_row(sub, s, b, lo + mb, mb, times[s, b], k_kind, k_par, e_kind, e_par, MB,
+                     f_kind, f_par, fv)  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=_FM, inline="always")
