@@ -272,3 +272,21 @@ def test_a_range_count_that_is_not_a_whole_number_is_named():
         parse_values("mesh.stiffness", "lin:1e8:2e9:1e99")
     with pytest.raises(ReducerlabError, match=r"write lin:START:STOP:N with SI numbers"):
         parse_values("mesh.stiffness", "lin:a:2e9:10")
+
+
+def test_a_range_with_units_is_converted_by_the_design_field():
+    # issue 16: lin:1300 rpm:1700 rpm:N, as a list with units is: each value converted
+    # by the field's unit (input_speed is stored in rad/s)
+    import math
+
+    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.drives import load_design
+
+    ax = parse_values("input_speed", "lin:1300 rpm:1700 rpm:3")
+    design = load_design(example_dir() / "khv.toml")
+    res = bifurcation(design, ax, periods=10, keep=2)
+    np.testing.assert_allclose(res.data["p0"].values, np.array([1300, 1500, 1700]) * math.pi / 30)
+    with pytest.raises(ReducerlabError, match="different dimensions"):
+        parse_values("input_speed", "lin:1300 rpm:2 m:3")
+    with pytest.raises(ReducerlabError, match="with SI numbers, or both ends as quantities"):
+        parse_values("input_speed", "lin:fast:slow:3")

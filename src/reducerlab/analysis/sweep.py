@@ -123,13 +123,41 @@ def _check_range(path: str, start: Any, stop: Any, num: Any) -> None:
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 
 
+def _range_quantities(path: str, spec: str, kind: str, a: str, b: str) -> tuple:
+    """START and STOP of a range written with units (``lin:1300 rpm:1700 rpm:41``): their
+    magnitudes in START's unit, and that unit."""
+    from ..units import registry
+
+    ureg = registry()
+    rule = (
+        f"sweep {path!r}: {spec!r}: write {kind}:START:STOP:N with SI numbers, or both ends "
+        "as quantities with units such as 1300 rpm"
+    )
+    number = re.compile(r"\s*[-+]?(\d|\.\d)")
+    if not (number.match(a) and number.match(b)):
+        raise ReducerlabError(rule)
+    try:
+        qa, qb = ureg.Quantity(a.strip()), ureg.Quantity(b.strip())
+    except Exception:
+        raise ReducerlabError(rule) from None
+    if not (hasattr(qa, "units") and hasattr(qb, "units")) or qa.dimensionless:
+        raise ReducerlabError(rule)
+    if qa.dimensionality != qb.dimensionality:
+        raise ReducerlabError(
+            f"sweep {path!r}: {spec!r}: START and STOP have different dimensions "
+            f"({qa.units} and {qb.units})"
+        )
+    return float(qa.magnitude), float(qb.to(qa.units).magnitude), str(qa.units)
+
+
 def parse_values(
     path: str, spec: str, *, limit: int | None = None, option: str | None = None
 ) -> Axis:
     """Parse a command-line value specification.
 
     ``"1e8,2e8,3e8"`` (a list; items may carry units: ``"2e8 N/m, 3e8 N/m"``),
-    ``"lin:START:STOP:N"``, ``"log:START:STOP:N"`` (SI numbers), or
+    ``"lin:START:STOP:N"``, ``"log:START:STOP:N"`` (SI numbers, or both ends with units:
+    ``"lin:1300 rpm:1700 rpm:41"``), or
     ``"rel:1.5,2,2.5"`` / ``"150%,200%,250%"`` (factors of the design value). With
     ``limit``, a range of more than ``limit`` values is refused before any is made
     (the message names ``option``, the command-line option, when given).
@@ -140,12 +168,11 @@ def parse_values(
     m = re.fullmatch(r"(lin|log):([^:]+):([^:]+):([^:]+)", s)
     if m:
         kind, a, b, n = m.groups()
+        unit = None
         try:
             a_, b_ = float(a), float(b)
         except ValueError:
-            raise ReducerlabError(
-                f"sweep {path!r}: {spec!r}: write {kind}:START:STOP:N with SI numbers"
-            ) from None
+            a_, b_, unit = _range_quantities(path, spec, kind, a, b)
         try:
             n_ = int(n)
         except ValueError:
@@ -158,7 +185,11 @@ def parse_values(
                 f"{option or f'sweep {path!r}'}: {spec!r} asks for {n_} values; at most "
                 f"{limit} are allowed"
             )
-        return Axis.linspace(path, a_, b_, n_) if kind == "lin" else Axis.logspace(path, a_, b_, n_)
+        ax = Axis.linspace(path, a_, b_, n_) if kind == "lin" else Axis.logspace(path, a_, b_, n_)
+        if unit is None:
+            return ax
+        # the design field converts each value from its unit (as for a list with units)
+        return Axis(path, [f"{float(v)!r} {unit}" for v in ax.values])
     if s.startswith(("lin:", "log:")):
         raise ReducerlabError(f"sweep {path!r}: {spec!r}: write lin:START:STOP:N or log:...")
     relative = s.startswith("rel:")
