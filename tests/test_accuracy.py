@@ -22,41 +22,7 @@ from reducerlab.analysis.response import (
     state_bounds,
 )
 from reducerlab.errors import ReducerlabError
-from reducerlab.model import (
-    Backlash,
-    CubicSpring,
-    Dof,
-    Fourier,
-    Inertia,
-    Load,
-    Mesh,
-    Model,
-    Support,
-)
-
-
-def rattle(omega: float, fa: float):
-    return Model(
-        [Dof("a", "x")],
-        [
-            Inertia("a.x", 1.0),
-            Mesh({"a.x": 1.0}, 1.0, 0.1, backlash=Backlash.half(1.0)),
-            Load("a.x", Fourier(0.1, (fa,), omega)),
-        ],
-    ).nonlinear()
-
-
-def duffing(gamma: float):
-    return Model(
-        [Dof("a", "x")],
-        [
-            Inertia("a.x", 1.0),
-            Support("a.x", 0.0, 0.3),
-            CubicSpring({"a.x": 1.0}, -1.0, 1.0),
-            Load("a.x", Fourier(0.0, (gamma,), 1.2)),
-        ],
-    ).nonlinear()
-
+from test_chaos_literature import duffing, rattle  # the same literature systems
 
 CASES = {
     # (system, forcing frequency): impact cases first

@@ -22,16 +22,12 @@ from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
 from .impacts import contact_states, mesh_mode
-from .modal import element_blocks
 from .response import (
     ACCURACY,
-    at_rest,
     check_stability,
     ensemble,
-    rigid_reduction,
-    static_states,
 )
-from .sweep import Axis, _Evaluator, axis_targets
+from .sweep import Axis
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -133,47 +129,33 @@ def frequency_response(
             raise ReducerlabError(f"frequency_response: {name} must be an integer >= {lo}")
     if history > periods:
         raise ReducerlabError("frequency_response: history must be <= periods")
-    group, values = axis_targets(design, model, axis, 0, "frequency_response")
-    ev = _Evaluator(design.model_dump(mode="python") if design else None, model, tuple(group))
-    base = model.nonlinear()
+    from .nonlinear import _continue, axis_members
+
+    values, members, base = axis_members(design, model, axis, "frequency_response")
     if not 0 <= line < base.G.shape[0]:
         raise ReducerlabError(
             f"frequency_response: line must be in 0..{base.G.shape[0] - 1}, got {line}"
         )
-    from .nonlinear import _Members
-
-    rest = at_rest(model)
-    members = _Members(
-        ev, rigid_reduction(rest if rest is not None else base, element_blocks(model))
-    )
     ends = np.unique([values.min(), values.max()])
     check_stability(members(ends), [f"{axis.path} = {v:.6g}" for v in ends])
-    order = np.argsort(values, kind="stable")
-    sweeps = {"up": order, "down": order[::-1]}
-    names = ["up", "down"] if continuation == "both" else [continuation]
-    out = {n: np.full((len(QUANTITIES), values.size), np.nan) for n in names}
-    state: dict[str, NDArray | None] = dict.fromkeys(names)
-    for step in range(values.size):
-        idx = [int(sweeps[n][step]) for n in names]
-        systems = members(values[idx])
-        y0 = static_states(systems)
-        for k, n in enumerate(names):
-            if state[n] is not None and np.all(np.isfinite(state[n])):
-                y0[k] = state[n]
+
+    def run(chunk: NDArray, systems: list, y0: NDArray) -> tuple[NDArray, NDArray]:
         res = ensemble(systems, periods=periods, keep=1, history=history, y0=y0,
                        accuracy=accuracy, on_divergence="mark",
-                       labels=[f"{axis.path} = {values[i]:.6g}" for i in idx])  # fmt: skip
-        for k, n in enumerate(names):
-            state[n] = res.poincare[k, -1]
+                       labels=[f"{axis.path} = {v:.6g}" for v in chunk])  # fmt: skip
+        rows = np.full((len(systems), len(QUANTITIES)), np.nan)
+        for k, s in enumerate(systems):
             if not res.diverged[k]:
-                out[n][:, idx[k]] = _measures(systems[k], res, k, line, history)
-        if progress:
-            progress(step + 1, values.size)
+                rows[k] = _measures(s, res, k, line, history)
+        return rows, res.poincare[:, -1]
+
+    out = _continue(members, values, continuation, run, progress)
+    names = list(out)
     data = xr.Dataset(
         {
             name: (
                 ("branch", "p0"),
-                np.stack([out[n][q] for n in names]),
+                np.stack([out[n][:, q] for n in names]),
                 {"units": unit, "long_name": long},
             )
             for q, (name, unit, long) in enumerate(QUANTITIES)

@@ -115,9 +115,7 @@ def bifurcation(
         design, model = None, target
     else:
         raise ReducerlabError("bifurcation: target must be a Design or a Model")
-    group, values = axis_targets(design, model, axis, 0, "bifurcation")
-    ev = _Evaluator(design.model_dump(mode="python") if design else None, model, tuple(group))
-    base = model.nonlinear()
+    values, members, base = axis_members(design, model, axis, "bifurcation")
     n_lines = base.G.shape[0]
     if not 0 <= line < n_lines:
         raise ReducerlabError(f"bifurcation: line must be in 0..{n_lines - 1}, got {line}")
@@ -156,10 +154,6 @@ def bifurcation(
             results[i] = load_chunk(f, key, i, chunks[i], ("poincare",))["poincare"]
         else:
             todo.append(i)
-    rest = at_rest(model)
-    members = _Members(
-        ev, rigid_reduction(rest if rest is not None else base, element_blocks(model))
-    )
     if continuation is not None:  # one sequential job instead of the chunks
         chunks, results, todo = [values], {}, []
     if values.size > 8 and (todo or continuation):
@@ -187,7 +181,11 @@ def bifurcation(
 
     branches: dict[str, NDArray] = {}
     if continuation is not None:
-        branches = _continue(job, values, continuation, progress)
+        branches = _continue(
+            members, values, continuation,
+            lambda chunk, systems, y0: job.integrate(chunk, systems, y0=y0, with_end=True),
+            progress,
+        )  # fmt: skip
         results[0] = branches["up" if continuation != "down" else "down"]
     if scheduler is not None and todo:
         from dask.distributed import as_completed
@@ -269,36 +267,54 @@ def bifurcation(
 
 
 def _continue(
-    job: _BifurcationChunk,
+    members: Callable[[NDArray], list[NonlinearSystem]],
     values: NDArray,
     direction: str,
+    run: Callable[[NDArray, list[NonlinearSystem], NDArray], tuple[NDArray, NDArray]],
     progress: Callable[[int, int], None] | None,
 ) -> dict[str, NDArray]:
-    """Sequential continuation: rows (value, points [+ exponent]) in the order of
-    ``values`` for the ascending (``"up"``) and/or descending (``"down"``) sweep, each
-    value started from the end state of the previous one; the two sweeps run side by
-    side as a two-member ensemble."""
+    """Sequential continuation: the rows ``run(chunk, systems, y0)`` returns (one per
+    member, with the end states), in the order of ``values``, for the ascending
+    (``"up"``) and/or descending (``"down"``) sweep, each value started from the end
+    state of the previous one, the first from static equilibrium; the two sweeps run
+    side by side as a two-member ensemble."""
     order = np.argsort(values, kind="stable")
     sweeps = {"up": order, "down": order[::-1]}
     names = ["up", "down"] if direction == "both" else [direction]
-    width = job.keep + (1 if job.exponents else 0) + len(IMPACT_COLUMNS)
-    out = {name: np.full((values.size, width), np.nan) for name in names}
+    out: dict[str, NDArray] = {}
     state: dict[str, NDArray | None] = dict.fromkeys(names)
     for step in range(values.size):
         idx = [int(sweeps[name][step]) for name in names]
         chunk = values[idx]
-        systems = job.members(chunk)
+        systems = members(chunk)
         y0 = static_states(systems)
         for k, name in enumerate(names):
             if state[name] is not None and np.all(np.isfinite(state[name])):
                 y0[k] = state[name]
-        rows, ends = job.integrate(chunk, systems, y0=y0, with_end=True)
+        rows, ends = run(chunk, systems, y0)
         for k, name in enumerate(names):
+            if name not in out:
+                out[name] = np.full((values.size, rows.shape[1]), np.nan)
             out[name][idx[k]] = rows[k]
             state[name] = ends[k]
         if progress:
             progress(step + 1, values.size)
     return out
+
+
+def axis_members(
+    design: Design | None, model: Model, axis: Axis, what: str
+) -> tuple[NDArray, _Members, NonlinearSystem]:
+    """The SI values of ``axis``, the flat systems (rigid motion removed) of its values
+    and the base flat system of the model."""
+    group, values = axis_targets(design, model, axis, 0, what)
+    ev = _Evaluator(design.model_dump(mode="python") if design else None, model, tuple(group))
+    base = model.nonlinear()
+    rest = at_rest(model)
+    members = _Members(
+        ev, rigid_reduction(rest if rest is not None else base, element_blocks(model))
+    )
+    return values, members, base
 
 
 def _fingerprint(s: NonlinearSystem) -> str:

@@ -366,8 +366,6 @@ def _prepare(
     lam_max = check_stability(systems, labels)
     if period is not None and not (isinstance(period, int | float) and period > 0):
         raise ReducerlabError(f"period must be > 0 s, got {period!r}")
-    from .kernel import step_grid
-
     E = len(systems)
     T = np.array([period if period is not None else forcing_period(s) for s in systems])
     Minv = np.linalg.inv(np.stack([s.M for s in systems]))  # M is positive definite (above)
@@ -378,16 +376,7 @@ def _prepare(
         raise ReducerlabError(_too_many_steps(systems, T, N))
     for s, t in zip(systems, T, strict=True):
         _check_commensurate(s, t)
-    brk = [_breaks(s, t) for s, t in zip(systems, T, strict=True)]
-    N = max(N, max(len(b) for b in brk))
-    edges = np.ones((E, max(len(b) for b in brk) + 1))
-    counts = np.empty(E, np.int64)
-    for e, b in enumerate(brk):
-        edges[e, : len(b)] = b
-        counts[e] = len(b) + 1
-    offs, dts = step_grid(edges, counts, N)
-    offs *= T[:, None]
-    dts *= T[:, None]
+    offs, dts, N = _grid(systems, T, N)
     widths = {
         name: max(getattr(s, name).shape[1] if getattr(s, name).ndim == 2 else 1 for s in systems)
         for name in ("k_params", "e_params", "f_params")
@@ -412,6 +401,30 @@ def _prepare(
     )  # fmt: skip
     periodic = all(_repeats_within(s, t) for s, t in zip(systems, T, strict=True))
     return _Prepared(arrays, T, offs, dts, periodic, N)
+
+
+def _grid(systems: Sequence[NonlinearSystem], T: NDArray, N: int) -> tuple[NDArray, NDArray, int]:
+    """Step starts and lengths (E, N) (s, from each period's start), at least one step
+    per law segment and aligned with the law jumps, and the step count."""
+    from .kernel import step_grid
+
+    brk = [_breaks(s, t) for s, t in zip(systems, T, strict=True)]
+    N = max(N, max(len(b) for b in brk))
+    edges = np.ones((len(systems), max(len(b) for b in brk) + 1))
+    counts = np.empty(len(systems), np.int64)
+    for e, b in enumerate(brk):
+        edges[e, : len(b)] = b
+        counts[e] = len(b) + 1
+    offs, dts = step_grid(edges, counts, N)
+    return offs * T[:, None], dts * T[:, None], N
+
+
+def _with_steps(prep: _Prepared, systems: Sequence[NonlinearSystem], N: int) -> _Prepared:
+    """``prep`` with ``N`` steps per period (its checks and stacked arrays kept)."""
+    if prep.steps == N:
+        return prep
+    offs, dts, N = _grid(systems, prep.period, N)
+    return replace(prep, offs=offs, dts=dts, steps=N)
 
 
 #: Most RK4 steps per forcing period chosen automatically (the command line's bound on
@@ -482,7 +495,6 @@ def accurate_steps(
     bounds: NDArray[np.float64],
     accuracy: float = ACCURACY,
     pilot: int = PILOT_PERIODS,
-    period: float | None = None,
 ) -> int:
     """Steps per forcing period that meet ``accuracy`` on the attractor.
 
@@ -520,7 +532,7 @@ def accurate_steps(
     for _ in range(6):
         ends = []
         for steps in (N, 2 * N):
-            p = prep if steps == prep.steps else _prepare(systems, steps, period, None)
+            p = _with_steps(prep, systems, steps)
             out, _, st = rk4_ensemble(
                 *p.arrays, Y, start, T, p.offs, p.dts, p.periodic, 1, 1, 0, bounds, bw,
             )  # fmt: skip
@@ -661,10 +673,9 @@ def ensemble(
         raise ReducerlabError("y0: the initial state must be finite")
     bounds = state_bounds(systems, Y0, T) if limit is None else np.full((E, 2 * n), float(limit))
     if steps_per_period is None:
-        N = accurate_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS), period)
-        if prep.steps != N:
-            prep = _prepare(systems, N, period, labels)
-            N = prep.steps
+        N = accurate_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS))
+        prep = _with_steps(prep, systems, N)
+        N = prep.steps
     poincare, hist, status = rk4_ensemble(
         *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
         periods, keep, history, bounds, block_width(E),
@@ -880,9 +891,8 @@ def lyapunov(
         raise ReducerlabError("y0: the initial state must be finite")
     bounds = state_bounds(pairs, Y, T)
     if steps_per_period is None:  # the same accuracy-driven step count as ensemble
-        N = accurate_steps(prep, pairs, Y, bounds, accuracy, min(periods, PILOT_PERIODS), period)
-        if prep.steps != N:
-            prep = _prepare(pairs, N, period, labels)
+        N = accurate_steps(prep, pairs, Y, bounds, accuracy, min(periods, PILOT_PERIODS))
+        prep = _with_steps(prep, pairs, N)
     elapsed = 0
     # warm up the reference without perturbation to estimate the state scales
     for _ in range(transient):
