@@ -69,6 +69,18 @@ SCHEDULER_TIMEOUT_S = 10.0
 """Seconds allowed to connect to a Dask scheduler (``--scheduler``)."""
 
 
+SetOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--set",
+        metavar="PATH=VALUE",
+        help="Override a design field, units allowed (repeatable): --set 'input_speed=670 rpm'.",
+    ),
+]
+"""``--set PATH=VALUE``: design fields overridden before validation (every command that
+reads a design file takes it; see :func:`reducerlab.design.apply_overrides`)."""
+
+
 class Format(StrEnum):
     table = "table"
     json = "json"
@@ -175,10 +187,10 @@ def _write_json(result, path: Path) -> None:
     path.write_text(json.dumps({**result.to_dict(), **result.provenance}, indent=2) + "\n")
 
 
-def _model_from(design_path: Path):
+def _model_from(design_path: Path, sets: list[str] | None = None):
     from .drives import build_model, load_design
 
-    design = load_design(design_path)
+    design = load_design(design_path, sets or ())
     return design, build_model(design)
 
 
@@ -217,6 +229,7 @@ def modal(
             callback=_rigid_tol,
         ),
     ] = 1e-10,
+    sets: SetOption = None,
 ) -> None:
     """Natural frequencies, mode shapes and energy classification of a design."""
     from .analysis.modal import modal as run_modal
@@ -224,7 +237,7 @@ def modal(
     with _user_errors():
         files = _outputs(output)
         with _busy("modal analysis"):
-            _, model = _model_from(design)
+            _, model = _model_from(design, sets)
             result = run_modal(model, rigid_tol=rigid_tol)
         if files is not None:
             with files:
@@ -249,6 +262,7 @@ def sensitivity(
         Path | None, typer.Option("--output", "-o", help="Write results and figure here.")
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    sets: SetOption = None,
 ) -> None:
     """Sensitivity of every natural frequency to model parameters (analytic)."""
     from .analysis.modal import frequency_sensitivity
@@ -256,7 +270,7 @@ def sensitivity(
 
     with _user_errors():
         files = None if list_params else _outputs(output)
-        _, model = _model_from(design)
+        _, model = _model_from(design, sets)
         if list_params:
             for path, value in parameter_paths(model):
                 typer.echo(f"{path} = {value:.6g}")
@@ -315,13 +329,14 @@ def kinematics(
         Path | None, typer.Option("--output", "-o", help="Write results and figure here.")
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    sets: SetOption = None,
 ) -> None:
     """Transmission ratio, member speeds, mesh frequencies and cone angles of a drive."""
     from .drives import load_design
 
     with _user_errors():
         files = _outputs(output)
-        result = _run_kinematics(load_design(design))
+        result = _run_kinematics(load_design(design, sets or ()))
         if files is not None:
             with files:
                 _add_kinematics(result, files)
@@ -433,6 +448,7 @@ def sweep(
         str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    sets: SetOption = None,
 ) -> None:
     """Natural frequencies over a parameter (tracked modes, veerings) or a grid of two.
 
@@ -442,7 +458,7 @@ def sweep(
 
     with _user_errors():
         files = OutputSet(output, "-o", report=_note)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         axes = [_axis("--values", param, values, MAX_SWEEP_POINTS)]
         if grid is not None:
             if "=" not in grid:
@@ -497,6 +513,7 @@ def campbell(
         Path | None, typer.Option("--output", "-o", help="Write results and figure here.")
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    sets: SetOption = None,
 ) -> None:
     """Campbell diagram: natural frequencies and excitation lines against input speed
     (at most 100000 speeds)."""
@@ -505,7 +522,7 @@ def campbell(
 
     with _user_errors():
         files = _outputs(output)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         omegas = _parse_speeds(speeds)
         with _busy("campbell"):
             res = run_campbell(d, omegas)
@@ -551,6 +568,7 @@ def check(
             "diagram with the body lines (PNG) here.",
         ),
     ] = None,
+    sets: SetOption = None,
 ) -> None:
     """Resonance verdict: exits 1 when a natural frequency meets an excitation, or a gear
     body's mode meets an excitation or a system mode (paper 000 Table 5)."""
@@ -570,7 +588,7 @@ def check(
             if parts is None or len(parts) != 2:
                 raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
             rng = (parts[0], parts[1])
-        d = load_design(design)
+        d = load_design(design, sets or ())
         if bodies:
             components += _all_body_modes(d, design, {c.label for c in components})
         with _busy("resonance check"):
@@ -699,6 +717,7 @@ def bifurcation(
     ] = None,
     period: PeriodOption = None,
     frequency: FrequencyOption = None,
+    sets: SetOption = None,
 ) -> None:
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter.
 
@@ -711,7 +730,7 @@ def bifurcation(
         _check_periods(periods, keep=keep)
         T = _forcing_period(period, frequency)
         files = OutputSet(output, "-o", report=_note)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         axis = _axis("--values", param, values, MAX_VALUES)
         with _scheduler(scheduler) as client, _busy("bifurcation") as report:
             res = run_bifurcation(
@@ -750,6 +769,7 @@ def frequency_response(
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "frequency-response-output"
     ),
+    sets: SetOption = None,
 ) -> None:
     """Frequency-response curves: RMS dynamic transmission error, dynamic load factor and
     tooth separation against a parameter, swept up and down (jumps, hysteresis)."""
@@ -759,7 +779,7 @@ def frequency_response(
     with _user_errors():
         _check_periods(periods, history=history)
         files = OutputSet(output, "-o", report=_note)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         axis = _axis("--values", param, values, MAX_VALUES)
         with _busy("frequency-response") as report:
             res = run_fr(d, axis, periods=periods, history=history,
@@ -840,6 +860,7 @@ def response(
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "response-output"
     ),
+    sets: SetOption = None,
 ) -> None:
     """Steady nonlinear response: phase trajectory, Poincaré map, spectrum, load factor."""
     from .analysis.nonlinear import response as run_response
@@ -852,7 +873,7 @@ def response(
         _check_periods(periods, keep=keep, history=history)
         T = _forcing_period(period, frequency)
         files = OutputSet(output, "-o", report=_note)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         with _busy("response"):
             res = run_response(
                 d, periods=periods, keep=keep, history=history, steps_per_period=steps,
@@ -917,6 +938,7 @@ def surface(
         Path | None, typer.Option("--cloud", help="Write the flank point clouds (PLY, mm).")
     ] = None,
     png: Annotated[Path | None, typer.Option("--png", help="Render the tooth (PNG).")] = None,
+    sets: SetOption = None,
 ) -> None:
     """Generate a gear's tooth surfaces (paper 001), check them, export a closed solid."""
     import numpy as np
@@ -936,7 +958,7 @@ def surface(
         ):
             if path is not None:
                 prepare_output_file(path, option, suffixes)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         if not hasattr(d, "tooth_generation"):
             raise ReducerlabError(
                 f"{design}: type = {d.type!r}: tooth surfaces need a nutation design"
@@ -1011,15 +1033,16 @@ def khv_closed_graph(
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (writes closed-graph.png).")
     ] = Path("."),
+    sets: SetOption = None,
 ) -> None:
     """Draw the closed graph (x1 vs x2, limit lines, feasible region) and mark the design."""
-    from .design import read_toml, validate_design
+    from .design import apply_overrides, read_toml, validate_design
     from .drives.khv import Gears
     from .plot.khv import plot_closed_graph
 
     with _user_errors():
         files = OutputSet(output, "-o", report=_note)
-        data = read_toml(design)
+        data = apply_overrides(read_toml(design), sets or ())
         if data.get("type") != "khv":
             raise ReducerlabError(f"{design}: type = {data.get('type')!r}: not a KHV design")
         gears = validate_design(Gears, data.get("gears", {}), f"{design}: gears")
@@ -1043,6 +1066,7 @@ def khv_stiffness(
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (writes mesh-stiffness.png).")
     ] = Path("."),
+    sets: SetOption = None,
 ) -> None:
     """Time-varying mesh stiffness for several x1 on the design's shift line (Fig. 5)."""
     from .drives import design_from_dict, load_design
@@ -1060,7 +1084,7 @@ def khv_stiffness(
             raise ReducerlabError(f"--x1: {x1!r}: the values must be finite numbers")
         if len(values) > 20:
             raise ReducerlabError(f"--x1: {len(values)} values; at most 20 are allowed")
-        d = load_design(design)
+        d = load_design(design, sets or ())
         if d.type != "khv":
             raise ReducerlabError(f"{design}: type = {d.type!r}: not a KHV design")
         laws = {}
@@ -1110,6 +1134,7 @@ def body_modal(
         typer.Option(help="Also solve a 1.5x coarser mesh and report each mode's change."),
     ] = True,
     renders: Annotated[bool, typer.Option(help="One PNG render per mode.")] = True,
+    sets: SetOption = None,
 ) -> None:
     """Finite-element modes of one gear body (paper 000 §4, Table 4): frequencies, mode
     types, renders, netCDF/JSON and a VTU file of the mesh and mode shapes (ParaView)."""
@@ -1122,7 +1147,7 @@ def body_modal(
 
     with _user_errors():
         files = OutputSet(output, "-o", report=_note)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         try:
             check_bodies(d)
         except ReducerlabError as exc:
@@ -1230,6 +1255,7 @@ def contact(
             "fitted k_m, harmonics and phases (paper 000 Eq. 8)."
         ),
     ] = None,
+    sets: SetOption = None,
 ) -> None:
     """Loaded tooth contact analysis of a gear pair over one mesh cycle (papers 001, 000
     §2.3): contact pattern and pressure, transmission error, contact force, subsurface
@@ -1240,7 +1266,7 @@ def contact(
 
     with _user_errors():
         files = OutputSet(output, "-o", report=_note)
-        d = load_design(design)
+        d = load_design(design, sets or ())
         P = _quantity_option(power, "--power", "power")
         T = _quantity_option(torque, "--torque", "torque")
         if (P is None) == (T is None):

@@ -52,6 +52,7 @@ __all__ = [
     "Stiffness",
     "Torque",
     "angle_between",
+    "apply_overrides",
     "field_rules",
     "quantity",
     "read_toml",
@@ -394,6 +395,72 @@ def _line(
         "" if not show or value is None or isinstance(value, dict | list) else f" = {shown(value)}"
     )
     return f"{source}: {path}{text}: {rule}"
+
+
+def _override_value(text: str) -> Any:
+    """The value of a ``PATH=VALUE`` override: a TOML literal (``670``, ``true``,
+    ``"involute"``, ``[1, 2]``) where it reads as one, else the text itself (``670 rpm``,
+    ``involute``), which a quantity or text field parses."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text.strip()
+
+
+def apply_overrides(
+    data: Mapping[str, Any], overrides: typing.Sequence[str], option: str = "--set"
+) -> dict[str, Any]:
+    """A copy of raw design data with ``PATH=VALUE`` overrides applied, before validation.
+
+    ``PATH`` is a dotted path into the design (``input_speed``, ``gears.x1``,
+    ``elements.4.stiffness``); ``VALUE`` is what the design file would hold there, with
+    units where the field is a quantity (``670 rpm``, ``2.5e8 N/m``). A field the file
+    leaves at its default may be set too (its table is created); the design's schema
+    then checks the value and names the field and the rule when it is wrong.
+
+    Raises
+    ------
+    DesignError
+        For an override that is not ``PATH=VALUE``, or whose path runs through a value
+        that is not a table or list, or past the end of a list.
+    """
+    import copy
+
+    out: dict[str, Any] = copy.deepcopy(dict(data))
+    for item in overrides:
+        if not isinstance(item, str) or "=" not in item:
+            raise DesignError(f"{option} {item!r}: write PATH=VALUE, e.g. input_speed=670rpm")
+        path, _, text = item.partition("=")
+        path = path.strip()
+        keys = path.split(".")
+        if not path or any(not k.strip() for k in keys):
+            raise DesignError(f"{option} {item!r}: the path before '=' names no field")
+        if not text.strip():
+            raise DesignError(f"{option} {item!r}: no value after '='")
+        node: Any = out
+        for depth, key in enumerate(keys):
+            last = depth == len(keys) - 1
+            where = ".".join(keys[:depth]) or "the design"
+            if isinstance(node, list):
+                if not key.isdigit() or int(key) >= len(node):
+                    raise DesignError(
+                        f"{option} {item!r}: {where} is a list of {len(node)}; "
+                        f"{key!r} is not an index in it"
+                    )
+                if last:
+                    node[int(key)] = _override_value(text)
+                else:
+                    node = node[int(key)]
+            elif isinstance(node, dict):
+                if last:
+                    node[key] = _override_value(text)
+                else:
+                    node = node.setdefault(key, {})
+            else:
+                raise DesignError(
+                    f"{option} {item!r}: {where} = {shown(node)} is a value, not a table"
+                )
+    return out
 
 
 def validate_design(model: type[D], data: Mapping[str, Any], source: str = "<design>") -> D:

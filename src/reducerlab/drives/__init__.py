@@ -6,11 +6,11 @@ its ``type`` field names; :func:`build_model` dispatches to that drive's builder
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from ..design import Design, read_toml, validate_design
+from ..design import Design, apply_overrides, read_toml, validate_design
 from ..errors import DesignError, names_source
 from ..kinematics import DriveKinematics
 from ..model import Model
@@ -90,15 +90,26 @@ def design_from_dict(data: Mapping[str, Any], source: str = "<design>") -> Desig
     return design
 
 
-def load_design(path: str | Path) -> Design:
+def load_design(path: str | Path, overrides: Sequence[str] = ()) -> Design:
     """Read and validate a TOML design file; quantities are converted to SI.
+
+    Parameters
+    ----------
+    path : str or Path
+    overrides : sequence of str
+        ``PATH=VALUE`` settings applied to the file's fields before validation
+        (``"input_speed=670 rpm"``, ``"gears.x1=0.5"``), as the command line's ``--set``;
+        see :func:`reducerlab.design.apply_overrides`.
 
     Raises
     ------
     DesignError
         Naming the file, the field path, the value and the rule for every problem.
     """
-    return design_from_dict(read_toml(path), str(path))
+    data = read_toml(path)
+    if not overrides:
+        return design_from_dict(data, str(path))
+    return design_from_dict(apply_overrides(data, overrides), f"{path} (with --set)")
 
 
 def _entry(design: Design) -> DriveType:
