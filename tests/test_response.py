@@ -15,10 +15,11 @@ from reducerlab.analysis.response import (
     forcing_period,
     lyapunov,
     simulate_reference,
+    static_states,
     to_system,
 )
 from reducerlab.analysis.sweep import Axis
-from reducerlab.drives import load_design
+from reducerlab.drives import build_model, load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
 from reducerlab.model import (
@@ -297,26 +298,28 @@ def test_bifurcation_with_exponents_labels_the_motion():
         plain.labels()
 
 
-def test_bifurcation_exponent_follows_the_trajectory_of_its_points(monkeypatch):
+def test_bifurcation_exponent_follows_the_trajectory_of_its_points():
     # issue 16: where attractors coexist, an exponent from another start than the points
-    # labels the wrong attractor. The exponent's run must start where the points' run
-    # starts (static equilibrium of each member) and take the same steps.
-    import reducerlab.analysis.nonlinear as nl
-    from reducerlab.analysis.response import static_states
+    # labels the wrong attractor. The exponent is computed inside the kernel beside the
+    # points' own trajectory: the points are those of a run without exponents, and the
+    # exponent is that of lyapunov() from the same start with the same steps.
+    from reducerlab.analysis.nonlinear import _Members, axis_members
 
-    seen = {}
-    real = nl.lyapunov
-
-    def spy(systems, **kw):
-        seen.update(kw, systems=systems)
-        return real(systems, **kw)
-
-    monkeypatch.setattr(nl, "lyapunov", spy)
     design = load_design(example_dir() / "khv.toml")
-    bifurcation(design, Axis.linspace("gears.x1", 0.5, 0.7, 2), periods=60, keep=10,
-                exponents=True)  # fmt: skip
-    np.testing.assert_array_equal(seen["y0"], static_states(seen["systems"]))
-    assert isinstance(seen["steps_per_period"], int) and seen["steps_per_period"] >= 32
+    axis = Axis.linspace("gears.x1", 0.5, 0.7, 2)
+    res = bifurcation(design, axis, periods=60, keep=10, exponents=True)
+    values, members, _ = axis_members(design, build_model(design), axis, "test")
+    assert isinstance(members, _Members)
+    systems = members(values)
+    y0 = static_states(systems)
+    plain = ensemble(systems, periods=60, keep=10, y0=y0)
+    both = ensemble(systems, periods=60, keep=10, y0=y0, exponents=True)
+    assert both.steps_per_period == plain.steps_per_period
+    np.testing.assert_array_equal(both.poincare, plain.poincare)
+    lam = lyapunov(systems, periods=60, transient=50, y0=y0,
+                   steps_per_period=plain.steps_per_period)  # fmt: skip
+    np.testing.assert_allclose(both.exponent, lam, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(res.data["exponent"].values, lam, rtol=1e-12, atol=1e-9)
 
 
 def test_review_regressions(tmp_path):

@@ -337,10 +337,15 @@ def _tabulate_at(sub, times, lo, width, k_kind, k_par, e_kind, e_par, MB, f_kind
 @nb.njit(cache=True, fastmath=_FM, inline="always")
 def _block(
     lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B_, f_kind, f_par,
-    y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit,
-    poincare, hist, status, nb_,
+    y0, t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0,
+    lyap, nb_,
 ):  # fmt: skip
-    """Integrate members ``lo:hi`` (at most ``nb_``) in lock-step."""
+    """Integrate members ``lo:hi`` (at most ``nb_``) in lock-step; with ``lyap_from >= 0``
+    members come in pairs (reference, perturbed) whose separation is logged into
+    ``lyap`` and renormalised after every period from ``lyap_from`` on. ``counts`` is
+    ``(n_periods, n_keep, n_hist, lyap_from)`` (one argument: CPython passes calls of
+    more than 30 arguments as ``*args``, which numba cannot inline)."""
+    n_periods, n_keep, n_hist, lyap_from = counts[0], counts[1], counts[2], counts[3]
     E = y0.shape[0]
     n = Minv.shape[1]
     L = G.shape[1]
@@ -434,6 +439,9 @@ def _block(
     t_base = np.empty(E)
     width = hi - lo
     h_index = 0
+    sc = np.ones((n2, nb_))  # state scales of the pairs (Lyapunov exponents)
+    if lyap_from == 0:
+        _perturb(y, sc, lo, width, n, period, d0)
     for p in range(n_periods):
         if p == 0 or not periodic:
             for e in range(lo, hi):
@@ -517,10 +525,55 @@ def _block(
                         for i in range(n2):
                             hist[lo + b, h_index, i] = y[i, b]
                 h_index += 1
+        if lyap_from >= 0:
+            if p + 1 == lyap_from:
+                _perturb(y, sc, lo, width, n, period, d0)
+            elif p + 1 > lyap_from:
+                _renormalise(y, sc, lo, width, failed, d0, lyap)
     for b in range(width):
         if not failed[b]:
             for i in range(n2):
                 poincare[lo + b, n_keep, i] = y[i, b]
+
+
+@nb.njit(cache=True)
+def _perturb(y, sc, lo, width, n, period, d0):
+    """Start each pair's separation: the state scales from the reference (displacements
+    by their largest amplitude, velocities by that times the forcing frequency) and the
+    perturbed member displaced by ``d0`` scales in its first coordinate."""
+    n2 = y.shape[0]
+    for b in range(0, width - 1, 2):
+        amp = 1e-12
+        for i in range(n):
+            amp = max(amp, abs(y[i, b]))
+        w = 2.0 * math.pi / period[lo + b]
+        for i in range(n):
+            sc[i, b] = amp
+            sc[n + i, b] = amp * w
+        for i in range(n2):
+            y[i, b + 1] = y[i, b]
+        y[0, b + 1] += d0 * sc[0, b]
+
+
+@nb.njit(cache=True)
+def _renormalise(y, sc, lo, width, failed, d0, lyap):
+    """Benettin's step for each pair: log the scaled separation, reset it to ``d0``
+    along its direction."""
+    n2 = y.shape[0]
+    for b in range(0, width - 1, 2):
+        if failed[b] or failed[b + 1]:
+            continue
+        dist = 0.0
+        for i in range(n2):
+            r = (y[i, b + 1] - y[i, b]) / sc[i, b]
+            dist += r * r
+        dist = math.sqrt(dist)
+        if not dist > 0.0:
+            continue  # no separation (log 1 = 0)
+        lyap[lo + b] += math.log(dist / d0)
+        f = d0 / dist
+        for i in range(n2):
+            y[i, b + 1] = y[i, b] + (y[i, b + 1] - y[i, b]) * f
 
 
 # the block width is a compile-time constant in each of these (numba inlines _block),
@@ -528,26 +581,24 @@ def _block(
 @nb.njit(cache=True, fastmath=_FM)
 def _block_narrow(
     lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
-    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
-    status,
+    t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
 ):  # fmt: skip
     _block(
         lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
-    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
-    status, 8,
+    t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
+    8,
     )  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=_FM)
 def _block_wide(
     lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
-    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
-    status,
+    t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
 ):  # fmt: skip
     _block(
         lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
-    t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, poincare, hist,
-    status, BLOCK,
+    t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
+    BLOCK,
     )  # fmt: skip
 
 
@@ -555,6 +606,7 @@ def _block_wide(
 def rk4_ensemble(
     Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par,
     y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, width,
+    lyap_from, d0,
 ):  # fmt: skip
     """Integrate every member for ``n_periods`` forcing periods.
 
@@ -571,8 +623,17 @@ def rk4_ensemble(
     state) when a state component became non-finite or exceeded its bound ``limit``
     (E, 2n; inf for none). Rows after a failure stay NaN.
     Members run in blocks of ``width``: 8 or :data:`BLOCK` (see :func:`block_width`).
+
+    With ``lyap_from >= 0`` the members come in pairs (even: reference, odd: its copy,
+    same system and start): at the end of period ``lyap_from - 1`` the copy is displaced
+    by ``d0`` state scales, and after every later period the scaled separation is
+    logged and reset to ``d0`` along its direction (Benettin's method, no linearisation
+    needed across the backlash kink). ``lyap`` (E,) returns the sum of the logs at each
+    reference (divide by the time to get the largest Lyapunov exponent).
     """
     E, n2 = y0.shape
+    lyap = np.zeros(E)
+    counts = np.array([n_periods, n_keep, n_hist, lyap_from], np.int64)
     N = offs.shape[1]
     poincare = np.full((E, n_keep + 1, n2), np.nan)
     hist = np.full((E, max(n_hist, 0) * N, n2), np.nan)
@@ -584,13 +645,13 @@ def rk4_ensemble(
         if width == BLOCK:
             _block_wide(
                 lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
-                f_par, y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist,
-                limit, poincare, hist, status,
+                f_par, y0, t_start, period, offs, dts, periodic, counts, limit, poincare, hist,
+                status, d0, lyap,
             )  # fmt: skip
         else:
             _block_narrow(
                 lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
-                f_par, y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist,
-                limit, poincare, hist, status,
+                f_par, y0, t_start, period, offs, dts, periodic, counts, limit, poincare, hist,
+                status, d0, lyap,
             )  # fmt: skip
-    return poincare, hist, status
+    return poincare, hist, status, lyap

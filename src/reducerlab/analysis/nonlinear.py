@@ -29,7 +29,6 @@ from .response import (
     elastic_names,
     ensemble,
     forcing_period,
-    lyapunov,
     rigid_reduction,
     static_state,
     static_states,
@@ -444,6 +443,7 @@ class _BifurcationChunk:
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
             labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0, period=self.period,
             accuracy=self.accuracy, on_divergence="mark", history=hist,
+            exponents=self.exponents,
         )  # fmt: skip
         # a diverging value keeps NaN points (labelled "diverged"), the others stand
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
@@ -463,15 +463,8 @@ class _BifurcationChunk:
         if not self.exponents:
             rows = np.concatenate([pts, imp], axis=1)
             return (rows, end) if with_end else rows
-        # the exponent of the same trajectory as the points: same start, same steps
-        lam = np.full(len(systems), np.nan)
-        ok = np.flatnonzero(~res.diverged)
-        if ok.size:
-            lam[ok] = lyapunov([systems[i] for i in ok], periods=self.periods,
-                               transient=self.periods - self.keep,
-                               steps_per_period=res.steps_per_period, period=self.period,
-                               y0=y0[ok])  # fmt: skip
-        rows = np.concatenate([pts, lam[:, None], imp], axis=1)
+        # the exponent of the same trajectory as the points (computed beside it)
+        rows = np.concatenate([pts, res.exponent[:, None], imp], axis=1)
         return (rows, end) if with_end else rows
 
 

@@ -487,6 +487,10 @@ PILOT_PERIODS = 40
 #: per-period error over a few periods).
 PERIOD_ERROR_GAIN = 5.0
 
+#: Initial (and renormalised) separation of the perturbed copies that measure Lyapunov
+#: exponents, in state scales (:func:`lyapunov`, :func:`ensemble` with ``exponents``).
+LYAPUNOV_D0 = 1e-9
+
 
 def accurate_steps(
     prep: _Prepared,
@@ -518,9 +522,9 @@ def accurate_steps(
     scale = bounds / BOUND_FACTOR
     scale[~np.isfinite(scale) | (scale <= 0)] = np.inf
     bw = block_width(E)
-    P, _, status = rk4_ensemble(
+    P, _, status, _ = rk4_ensemble(
         *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
-        pilot, 1, 0, bounds, bw,
+        pilot, 1, 0, bounds, bw, -1, 0.0,
     )  # fmt: skip
     Y = P[:, 1].copy()
     ok = (status[:, 0] == 0) & np.all(np.isfinite(Y), axis=1)
@@ -533,8 +537,8 @@ def accurate_steps(
         ends = []
         for steps in (N, 2 * N):
             p = _with_steps(prep, systems, steps)
-            out, _, st = rk4_ensemble(
-                *p.arrays, Y, start, T, p.offs, p.dts, p.periodic, 1, 1, 0, bounds, bw,
+            out, _, st, _ = rk4_ensemble(
+                *p.arrays, Y, start, T, p.offs, p.dts, p.periodic, 1, 1, 0, bounds, bw, -1, 0.0,
             )  # fmt: skip
             ok &= st[:, 0] == 0
             ends.append(out[:, 1])
@@ -579,6 +583,7 @@ class Ensemble:
     systems: list[NonlinearSystem]
     steps_per_period: int = 0  # RK4 steps per period used
     diverged: NDArray[np.bool_] | None = None  # (member,), with on_divergence="mark"
+    exponent: NDArray[np.float64] | None = None  # (member,), 1/s, with exponents=True
 
 
 def ensemble(
@@ -594,6 +599,7 @@ def ensemble(
     period: float | None = None,
     accuracy: float = ACCURACY,
     on_divergence: str = "raise",
+    exponents: bool = False,
 ) -> Ensemble:
     """Integrate systems of identical structure with the compiled RK4 kernel.
 
@@ -631,6 +637,12 @@ def ensemble(
         A member that leaves its bounds during the run raises ``DivergenceError``
         (default), or with ``"mark"`` is flagged in :attr:`Ensemble.diverged` with NaN
         rows from the divergence on, and the other members' results are kept.
+    exponents : bool
+        Also the largest Lyapunov exponent of each member (1/s) over its last ``keep``
+        periods, from the same trajectory as the points (:attr:`Ensemble.exponent`):
+        every member runs beside a perturbed copy inside the compiled kernel
+        (Benettin's renormalisation after every period, as :func:`lyapunov`), at twice
+        the cost of the trajectory alone.
 
     Raises
     ------
@@ -676,10 +688,23 @@ def ensemble(
         N = accurate_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS))
         prep = _with_steps(prep, systems, N)
         N = prep.steps
-    poincare, hist, status = rk4_ensemble(
-        *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
-        periods, keep, history, bounds, block_width(E),
-    )  # fmt: skip
+    exponent = None
+    if exponents:  # each member beside its perturbed copy: pairs in one kernel call
+        pairs = [x for x in systems for _ in range(2)]
+        pprep = _with_steps(_prepare(pairs, N, period, None), pairs, N)
+        poincare, hist, status, logs = rk4_ensemble(
+            *pprep.arrays, np.repeat(Y0, 2, axis=0), np.zeros(2 * E), np.repeat(T, 2),
+            pprep.offs, pprep.dts, pprep.periodic, periods, keep, history,
+            np.repeat(bounds, 2, axis=0), block_width(2 * E), periods - keep, LYAPUNOV_D0,
+        )  # fmt: skip
+        poincare, hist, status = poincare[0::2], hist[0::2], status[0::2]
+        exponent = logs[0::2] / (keep * T)
+        exponent[status[:, 0] != 0] = np.nan
+    else:
+        poincare, hist, status, _ = rk4_ensemble(
+            *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
+            periods, keep, history, bounds, block_width(E), -1, 0.0,
+        )  # fmt: skip
     diverged = status[:, 0] != 0
     if on_divergence == "raise":
         _raise_diverged(systems, status, bounds, labels, N)
@@ -704,7 +729,7 @@ def ensemble(
     else:
         dH = np.empty((E, 0, L))
     times = tH
-    return Ensemble(poincare, hist, dP, dH, T, times, list(systems), N, diverged)
+    return Ensemble(poincare, hist, dP, dH, T, times, list(systems), N, diverged, exponent)
 
 
 def _raise_diverged(
@@ -849,7 +874,7 @@ def lyapunov(
     periods: int = 600,
     transient: int = 200,
     steps_per_period: int | None = None,
-    d0: float = 1e-9,
+    d0: float = LYAPUNOV_D0,
     y0: NDArray[np.float64] | None = None,
     period: float | None = None,
     accuracy: float = ACCURACY,
@@ -857,7 +882,7 @@ def lyapunov(
     """Largest Lyapunov exponent (1/s) of each system, by two-trajectory renormalisation.
 
     A reference and a perturbed trajectory (initial separation ``d0`` in the first
-    displacement) are integrated one forcing period at a time by the compiled kernel;
+    displacement) are integrated side by side in one call of the compiled kernel;
     after each period the separation is measured in a scaled state norm (displacements
     by their reference amplitude, velocities by amplitude x frequency), logged and reset
     to ``d0`` along the current separation direction (Benettin's method; it needs no
@@ -893,37 +918,14 @@ def lyapunov(
     if steps_per_period is None:  # the same accuracy-driven step count as ensemble
         N = accurate_steps(prep, pairs, Y, bounds, accuracy, min(periods, PILOT_PERIODS))
         prep = _with_steps(prep, pairs, N)
-    elapsed = 0
-    # warm up the reference without perturbation to estimate the state scales
-    for _ in range(transient):
-        P, _, status = rk4_ensemble(
-            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0,
-            bounds, bw,
-        )  # fmt: skip
-        _raise_diverged(pairs, status, bounds, labels, prep.steps)
-        Y = P[:, 1].copy()
-        elapsed += 1
-    ref = Y[0::2]
-    amp = np.maximum(np.abs(ref[:, :n]).max(axis=1, keepdims=True), 1e-12)
-    w = 2 * math.pi / T[0::2, None]
-    scale = np.concatenate([np.repeat(amp, n, 1), np.repeat(amp * w, n, 1)], axis=1)
-    Y[1::2] = Y[0::2]
-    Y[1::2, 0] += d0 * scale[:, 0]
-    total = np.zeros(len(systems))
-    for _ in range(periods - transient):
-        P, _, status = rk4_ensemble(
-            *prep.arrays, Y, elapsed * T, T, prep.offs, prep.dts, prep.periodic, 1, 1, 0,
-            bounds, bw,
-        )  # fmt: skip
-        _raise_diverged(pairs, status, bounds, labels, prep.steps)
-        Y = P[:, 1].copy()
-        elapsed += 1
-        diff = (Y[1::2] - Y[0::2]) / scale
-        d = np.linalg.norm(diff, axis=1)
-        d = np.where(d > 0, d, d0)
-        total += np.log(d / d0)
-        Y[1::2] = Y[0::2] + (diff * (d0 / d)[:, None]) * scale
-    return total / ((periods - transient) * T[0::2])
+    # one compiled run: each pair separates at the end of the transient and is
+    # renormalised after every later period inside the kernel
+    _, _, status, logs = rk4_ensemble(
+        *prep.arrays, Y, np.zeros(E2), T, prep.offs, prep.dts, prep.periodic, periods, 1,
+        0, bounds, bw, transient, d0,
+    )  # fmt: skip
+    _raise_diverged(pairs, status, bounds, labels, prep.steps)
+    return logs[0::2] / ((periods - transient) * T[0::2])
 
 
 def _scale_law(kind: int, p: NDArray, value: float, omega_n: float) -> NDArray:
