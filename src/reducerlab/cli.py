@@ -1,5 +1,7 @@
 """Command line: ``reducerlab modal``, ``sensitivity``, ``kinematics``, ``sweep``,
-``campbell``, ``check``, ``bifurcation``, ``response``, ``surface``, ``khv``, ``demo``.
+``campbell``, ``check``, ``bifurcation``, ``frequency-response``, ``regime-map``,
+``response``, ``surface``, ``khv``, ``body-modal``, ``contact``, ``demo``. Every command
+that reads a design file takes ``--set PATH=VALUE`` to override a field.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
 never as a traceback. Text from the user (paths, values, design fields) is printed
@@ -787,6 +789,88 @@ def frequency_response(
                          progress=report)  # fmt: skip
         _save_with_figure(res, files, "frequency-response")
     typer.echo(json.dumps(res.to_dict()))
+
+
+class RegimeContinuation(StrEnum):
+    up = "up"
+    down = "down"
+    both = "both"
+    none = "none"
+
+
+def _path_values(option: str, text: str, limit: int):
+    """``PATH=VALUES`` of ``regime-map -x/-y`` as an axis."""
+    if "=" not in text:
+        raise ReducerlabError(
+            f"{option} must be 'PATH=VALUES', e.g. 'input_speed=lin:300 rpm:2000 rpm:41'"
+        )
+    path, values = text.split("=", 1)
+    if not path.strip():
+        raise ReducerlabError(f"{option} {text!r}: no parameter path before '='")
+    return _axis(option, path.strip(), values.strip(), limit)
+
+
+@app.command("regime-map")
+def regime_map(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    x: Annotated[
+        str,
+        typer.Option(
+            "-x", help="Swept parameter (continuation): 'input_speed=lin:300 rpm:2000 rpm:41'."
+        ),
+    ],
+    y: Annotated[
+        str, typer.Option("-y", help="Second parameter (rows): 'gears.x1=lin:0.42:0.83:21'.")
+    ],
+    periods: Annotated[
+        int, typer.Option(help="Forcing periods integrated per point.", min=1, max=MAX_PERIODS)
+    ] = 600,
+    keep: Annotated[
+        int, typer.Option(help="Poincaré points kept per point (<= --periods).", min=1)
+    ] = 64,
+    continuation: Annotated[
+        RegimeContinuation,
+        typer.Option(help="Sweep direction(s) along -x; 'none': every point from rest."),
+    ] = RegimeContinuation.up,
+    accuracy: AccuracyOption = 1e-6,
+    rows_per_chunk: Annotated[
+        int, typer.Option(help="Rows (-y values) per chunk of the run folder.", min=1)
+    ] = 4,
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Output folder (resumable).")
+    ] = Path("regime-map-output"),
+    scheduler: Annotated[
+        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
+    ] = None,
+    fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    sets: SetOption = None,
+) -> None:
+    """Regime map: motion class (period-n, quasi-periodic, chaotic) and impact class of
+    the steady response over two parameters.
+
+    At most 250000 points; the output folder is resumable (regime_map_run.json, chunks/)."""
+    from .analysis.regime_map import MAX_POINTS
+    from .analysis.regime_map import regime_map as run_regime_map
+    from .drives import load_design
+
+    with _user_errors():
+        _check_periods(periods, keep=keep)
+        files = OutputSet(output, "-o", report=_note)
+        d = load_design(design, sets or ())
+        ax = _path_values("-x", x, MAX_POINTS)
+        ay = _path_values("-y", y, MAX_POINTS)
+        way = None if continuation is RegimeContinuation.none else continuation.value
+        with _scheduler(scheduler) as client, _busy("regime map") as report:
+            res = run_regime_map(
+                d, ax, ay, periods=periods, keep=keep, continuation=way, accuracy=accuracy,
+                rows_per_chunk=rows_per_chunk, output=output, scheduler=client,
+                progress=report,
+            )  # fmt: skip
+        with files:
+            _add_with_figure(res, files, "regime_map")
+            _write_json(res, files.path("regime_map.json"))
+            files.path("regime_map.txt").write_text(res.table() + "\n")
+    typer.echo(json.dumps(res.to_dict()) if fmt is Format.json else res.table())
 
 
 def _check_periods(periods: int, **counts: int) -> None:

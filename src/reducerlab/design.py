@@ -53,6 +53,7 @@ __all__ = [
     "Torque",
     "angle_between",
     "apply_overrides",
+    "field_kind",
     "field_rules",
     "quantity",
     "read_toml",
@@ -67,7 +68,39 @@ def _si(kind: str) -> BeforeValidator:
         except ValueError as exc:
             raise PydanticCustomError("quantity", str(exc)) from None
 
+    convert.quantity_kind = kind  # type: ignore[attr-defined]  # read by field_kind
     return BeforeValidator(convert)
+
+
+def field_kind(design: BaseModel, path: str) -> str | None:
+    """The quantity kind (a key of :data:`reducerlab.units.QUANTITIES`) of the design
+    field at dotted ``path`` (``"input_speed"`` -> ``"angular velocity"``), ``None`` for
+    a plain number or a path that is not a quantity field."""
+    node: Any = design
+    info = None
+    for key in path.split("."):
+        if isinstance(node, list | tuple):
+            if not key.isdigit() or int(key) >= len(node):
+                return None
+            node = node[int(key)]
+            continue
+        fields = getattr(type(node), "model_fields", None)
+        if fields is None or key not in fields:
+            return None
+        info = fields[key]
+        node = getattr(node, key)
+    if info is None:
+        return None
+    for meta in info.metadata:
+        kind = getattr(getattr(meta, "func", None), "quantity_kind", None)
+        if kind is not None:
+            return kind
+    for arg in typing.get_args(info.annotation):  # Optional[quantity]
+        for meta in getattr(arg, "__metadata__", ()):
+            kind = getattr(getattr(meta, "func", None), "quantity_kind", None)
+            if kind is not None:
+                return kind
+    return None
 
 
 def quantity(kind: str, **constraints: float) -> Any:

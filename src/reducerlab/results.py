@@ -40,6 +40,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "bifurcation": "reducerlab.analysis.nonlinear",
     "response": "reducerlab.analysis.nonlinear",
     "frequency-response": "reducerlab.analysis.frequency_response",
+    "regime-map": "reducerlab.analysis.regime_map",
     "kinematics": "reducerlab.analysis.kinematics",
     "body-modal": "reducerlab.analysis.body_modal",
     "contact": "reducerlab.analysis.contact",

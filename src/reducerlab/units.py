@@ -39,11 +39,15 @@ from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
+import numpy as np
+
 __all__ = [
+    "DISPLAY",
     "MAX_CHARS",
     "QUANTITIES",
     "SHOW_CHARS",
     "QuantityKind",
+    "display_unit",
     "parse_quantity",
     "registry",
     "shown",
@@ -163,6 +167,30 @@ def shown(value: Any, limit: int = SHOW_CHARS) -> str:
     """
     text = repr(value)
     return text if len(text) <= limit else f"{text[: limit - 4]}...{text[-1]}"
+
+
+#: Units in which tables and figures show a quantity kind (SI inside): name, factor
+#: from SI. Lengths below 1 mm are shown in um (backlash, transmission error).
+DISPLAY: dict[str, tuple[str, float]] = {
+    "angular velocity": ("rpm", 60.0 / (2.0 * math.pi)),
+    "angle": ("deg", 180.0 / math.pi),
+    "frequency": ("Hz", 1.0),
+    "time": ("ms", 1e3),
+}
+
+
+def display_unit(kind: str | None, values: Any = None) -> tuple[str, float]:
+    """``(unit, factor)`` to show values of quantity ``kind`` (SI times ``factor``):
+    rpm for speeds, deg for angles, um or mm for lengths (by the largest of ``values``),
+    else the SI unit; ``("", 1.0)`` for a plain number."""
+    if kind is None or kind not in QUANTITIES:
+        return "", 1.0
+    if kind == "length":
+        big = float(np.nanmax(np.abs(values))) if values is not None and np.size(values) else 0.0
+        return ("um", 1e6) if big < 1e-3 else ("mm", 1e3)
+    if kind in DISPLAY:
+        return DISPLAY[kind]
+    return QUANTITIES[kind].si_unit.replace("**", "^"), 1.0
 
 
 @cache

@@ -338,9 +338,10 @@ class _Members:
     ev: _Evaluator
     T: NDArray | None  # rigid-motion reduction of the base model, shared by the members
     affine: tuple[float, NonlinearSystem, dict[str, NDArray]] | None = None
+    fixed: tuple[float, ...] = ()  # values of the evaluator's further axes (regime maps)
 
     def one(self, v: float) -> NonlinearSystem:
-        model = self.ev.model_at([v])
+        model = self.ev.model_at([v, *self.fixed])
         s = model.nonlinear()
         if self.T is not None:
             rest = at_rest(model)
