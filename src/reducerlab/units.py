@@ -48,6 +48,7 @@ __all__ = [
     "SHOW_CHARS",
     "QuantityKind",
     "display_unit",
+    "length_unit",
     "parse_quantity",
     "registry",
     "shown",
@@ -177,6 +178,16 @@ DISPLAY: dict[str, tuple[str, float]] = {
     "frequency": ("Hz", 1.0),
     "time": ("ms", 1e3),
 }
+
+
+def length_unit(scale: float) -> str:
+    """The unit name of lengths stored in multiples of ``scale`` (m): ``"um"`` for 1e-6,
+    ``"m"`` for 1, ``"2.5e-06 m"`` for a scale with no unit name."""
+    names = {1.0: "m", 1e-3: "mm", 1e-6: "um", 1e-9: "nm"}
+    for value, name in names.items():
+        if math.isclose(scale, value, rel_tol=1e-12):
+            return name
+    return f"{scale:g} m"
 
 
 def display_unit(kind: str | None, values: Any = None) -> tuple[str, float]:

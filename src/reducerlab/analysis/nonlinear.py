@@ -20,6 +20,7 @@ from ..design import Design
 from ..errors import DivergenceError, ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
+from ..units import length_unit
 from .impacts import IMPACT_CLASSES, contact_states, mesh_mode
 from .modal import element_blocks
 from .response import (
@@ -223,7 +224,7 @@ def bifurcation(
             "poincare": (
                 ("p0", "point"),
                 points,
-                {"units": f"{scale:g} m", "long_name": "mesh deflection"},
+                {"units": length_unit(scale), "long_name": "mesh deflection"},
             )
         },
         coords={"p0": ("p0", values, {"path": axis.path}), "point": np.arange(keep)},
@@ -253,7 +254,7 @@ def bifurcation(
         data["poincare_down"] = (
             ("p0", "point"),
             down[:, :keep],
-            {"units": f"{scale:g} m", "long_name": "mesh deflection, descending sweep"},
+            {"units": length_unit(scale), "long_name": "mesh deflection, descending sweep"},
         )
         if exponents:
             data["exponent_down"] = (

@@ -36,7 +36,7 @@ from ..design import Design, field_kind
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
-from ..units import display_unit
+from ..units import display_unit, length_unit
 from .impacts import IMPACT_CLASSES
 from .modal import element_blocks
 from .nonlinear import (
@@ -317,7 +317,7 @@ def _assemble(
             "poincare": (
                 (*dims, "point"),
                 rows[..., :keep],
-                {"units": f"{job.scale:g} m", "long_name": "mesh deflection"},
+                {"units": length_unit(job.scale), "long_name": "mesh deflection"},
             ),
             "exponent": (
                 dims,

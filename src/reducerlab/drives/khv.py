@@ -44,6 +44,7 @@ from ..errors import ReducerlabError
 from ..geometry import InternalGearPair
 from ..kinematics import KHVDrive
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
+from ..model.forcing import inertial_error
 
 __all__ = ["PAPER_LINE", "KHVDesign", "build_model", "relative_coordinates"]
 
@@ -119,12 +120,19 @@ class Shafts(Spec):
 
 
 class MeshSpec(Spec):
-    """Mesh damping ratio, backlash (half width, as paper 004 Eq. 11) and error Eq. 12."""
+    """Mesh damping ratio, backlash (half width, as paper 004 Eq. 11) and error Eq. 12.
+
+    ``error_forcing`` is how the error excites the drive: ``"stiffness"`` inside the mesh
+    deflection (paper 004 Eq. 2), or ``"omega2"`` / ``"j-omega2"`` as the inertial load
+    ``-/+ m_e e''(t)`` on the mesh line, whose amplitude grows with the square of the
+    speed (:mod:`reducerlab.model.forcing`).
+    """
 
     damping_ratio: Ratio = 0.0
     half_backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
     error_amplitude: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
     error_phase: angle_between(-360, 360, closed=True) = 0.0  # type: ignore[valid-type]
+    error_forcing: Literal["stiffness", "omega2", "j-omega2"] = "stiffness"
     time_varying: bool = True
 
 
@@ -236,13 +244,14 @@ def build_model(design: KHVDesign) -> Model:
         elements.append(Load("drive.u", design.input_torque / rbH, name="drive_torque"))
     if design.load_torque:
         elements.append(Load("load.u", -design.load_torque / rbV, name="load_torque"))
-    return Model(
+    model = Model(
         dofs,
         elements,
         speed=design.input_speed,
         name=design.name or "KHV drive",
         metadata=design.provenance,
     )
+    return inertial_error(model, mesh.error_forcing, ["mesh"])
 
 
 def relative_coordinates() -> tuple[NDArray[np.float64], list[str]]:

@@ -139,6 +139,14 @@ class Fourier(TimeLaw):
         Harmonic phases ``phi_r`` (rad); zeros if omitted.
     omega : float
         Fundamental angular frequency (rad/s), e.g. the mesh frequency.
+    ref_speed : float, optional
+        Model speed (rad/s) at which ``omega`` holds; at another speed ``omega`` scales
+        with it (:meth:`at_speed`).
+    speed_power : int
+        With ``ref_speed``, the amplitudes scale as ``(speed / ref_speed)**speed_power``
+        too: 2 for a force that grows with the square of the speed, such as the inertial
+        excitation ``-m e''(t)`` of a transmission error
+        (:func:`reducerlab.model.forcing.inertial_error`); 0 (default) keeps them.
     """
 
     mean: float
@@ -146,6 +154,7 @@ class Fourier(TimeLaw):
     omega: float
     phases: tuple[float, ...] = field(default=())
     ref_speed: float | None = None
+    speed_power: int = 0
 
     def __post_init__(self) -> None:
         try:
@@ -171,6 +180,16 @@ class Fourier(TimeLaw):
             and self.ref_speed > 0
         ):  # fmt: skip
             raise ModelError(f"Fourier: ref_speed must be > 0 rad/s, got {self.ref_speed!r}")
+        if (
+            isinstance(self.speed_power, bool)
+            or not isinstance(self.speed_power, int)
+            or not (0 <= self.speed_power <= 4)
+        ):
+            raise ModelError(
+                f"Fourier: speed_power must be an integer in 0..4, got {self.speed_power!r}"
+            )
+        if self.speed_power and self.ref_speed is None:
+            raise ModelError("Fourier: speed_power needs ref_speed (the speed of the amplitudes)")
         object.__setattr__(self, "amplitudes", amps)
         object.__setattr__(self, "phases", phases)
 
@@ -179,8 +198,11 @@ class Fourier(TimeLaw):
             return self
         if speed == 0:
             return Constant(self.mean)
-        return Fourier(self.mean, self.amplitudes, self.omega * speed / self.ref_speed,
-                       self.phases)  # fmt: skip
+        ratio = speed / self.ref_speed
+        amps = self.amplitudes
+        if self.speed_power:
+            amps = tuple(a * ratio**self.speed_power for a in amps)
+        return Fourier(self.mean, amps, self.omega * ratio, self.phases)
 
     def lower_bound(self) -> float:
         # attained when the phases line up (always for one harmonic)
