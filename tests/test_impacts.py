@@ -245,3 +245,31 @@ def test_continuation_shows_the_hysteresis_of_the_no_impact_boundary():
     assert len(res.plot().axes[0].get_legend().get_texts()) == 2
     with pytest.raises(ReducerlabError, match="continuation must be"):
         bifurcation(model, Axis("mean.value", vals), periods=10, keep=2, continuation="left")
+
+
+def test_random_starts_reveal_the_coexisting_rattle():
+    # bifurcation(seeds=...): each value also runs from random starts around its static
+    # equilibrium. On the softening side of the resonance (k = 1.1, the linear amplitude
+    # inside the no-impact boundary) the run from rest finds the no-impact orbit and
+    # random starts find the coexisting rattle (Kahraman and Singh's two attractors);
+    # far on the hardening side (k = 0.45) the no-impact orbit is the only attractor.
+    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.sweep import Axis
+
+    omega = 0.8
+    model = rattle_model(omega, 0.9 * FM * math.hypot(1 - omega**2, 2 * ZETA * omega))
+    res = bifurcation(model, Axis("mesh:a.x.stiffness", (0.45, 1.1)), periods=300, keep=16,
+                      seeds=12, exponents=True)  # fmt: skip
+    assert res.impacts() == ["no impact", "no impact"]
+    seeds = res.data["impact_class_seeds"].values
+    assert np.all(seeds[0] == 0)  # every start ends without impacts at k = 0.45
+    assert np.any(seeds[1] > 0)
+    assert res.coexisting().tolist() == [False, True]
+    assert res.data["poincare_seeds"].shape == (2, 12, 16)
+    # the same value gets the same starts in any chunk and run
+    again = bifurcation(model, Axis("mesh:a.x.stiffness", (1.1,)), periods=300, keep=16,
+                        seeds=12, exponents=True)  # fmt: skip
+    np.testing.assert_array_equal(again.data["poincare_seeds"].values[0],
+                                  res.data["poincare_seeds"].values[1])  # fmt: skip
+    with pytest.raises(ReducerlabError, match="seeds must be an integer >= 0"):
+        bifurcation(model, Axis("mesh:a.x.stiffness", (1.1,)), periods=10, keep=2, seeds=-1)

@@ -719,6 +719,14 @@ def bifurcation(
     ] = None,
     period: PeriodOption = None,
     frequency: FrequencyOption = None,
+    seeds: Annotated[
+        int,
+        typer.Option(
+            help="Further runs per value from random starts (coexisting attractors).",
+            min=0,
+            max=1000,
+        ),
+    ] = 0,
     sets: SetOption = None,
 ) -> None:
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter.
@@ -740,12 +748,14 @@ def bifurcation(
                 accuracy=accuracy,
                 output=output, scheduler=client, exponents=classify, workers=workers,
                 continuation=None if continuation is None else continuation.value,
-                progress=report,
+                progress=report, seeds=seeds,
             )  # fmt: skip
         _save_with_figure(res, files, "bifurcation")
     summary = res.to_dict()
     if classify:
         summary["motion"] = res.labels()
+    if seeds or continuation is ContinuationChoice.both:
+        summary["coexisting"] = res.coexisting().tolist()
     typer.echo(json.dumps(summary))
 
 

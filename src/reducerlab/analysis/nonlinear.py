@@ -31,6 +31,7 @@ from .response import (
     ensemble,
     forcing_period,
     rigid_reduction,
+    seed_states,
     static_state,
     static_states,
     to_system,
@@ -71,6 +72,8 @@ def bifurcation(
     workers: int | None = None,
     accuracy: float = ACCURACY,
     continuation: str | None = None,
+    seeds: int = 0,
+    seed: int = 0,
 ) -> BifurcationResult:
     """Bifurcation diagram: Poincaré points of a mesh deflection against a parameter.
 
@@ -101,6 +104,13 @@ def bifurcation(
     computed over the kept periods and :meth:`BifurcationResult.labels` / the figure's
     band give period-n, quasi-periodic or chaotic.
 
+    With ``seeds``, every value is also integrated from that many random starts around
+    its static equilibrium (:func:`~reducerlab.analysis.response.seed_states`; the
+    generator is seeded by ``seed`` and the value, so a value gets the same starts in
+    any chunk): ``poincare_seeds`` (p0, seed, point), with ``exponents`` also
+    ``exponent_seeds``, and ``impact_class_seeds``; :meth:`BifurcationResult.coexisting`
+    marks the values where a seed found another attractor than the main run.
+
     Flat systems are built once per value, unless every flat array is affine in the
     value (checked at four values: then they are interpolated, exactly). Per-value
     builds (Python) run in ``workers`` forked processes (default: one per core when
@@ -123,6 +133,9 @@ def bifurcation(
         raise ReducerlabError(f"chunk_size must be a positive integer, got {chunk_size!r}")
     if continuation not in (None, "up", "down", "both"):
         raise ReducerlabError(f"continuation must be 'up', 'down' or 'both', got {continuation!r}")
+    for name, v in (("seeds", seeds), ("seed", seed)):
+        if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v <= 2**31:
+            raise ReducerlabError(f"bifurcation: {name} must be an integer >= 0, got {v!r}")
     if continuation is not None:
         output = scheduler = None  # sequential, not resumable
         workers = 1
@@ -141,6 +154,8 @@ def bifurcation(
             spec["period"] = period
         if steps_per_period is None:  # the step count follows the accuracy (issue 16)
             spec["accuracy"] = accuracy
+        if seeds:
+            spec["seeds"], spec["seed"] = seeds, seed
         key = open_run(folder, "bifurcation.json", spec, "bifurcation run")
 
     def chunk_file(i: int) -> Path | None:
@@ -163,7 +178,7 @@ def bifurcation(
         check_stability(members(ends), [f"{axis.path} = {v:.6g}" for v in ends])
     job = _BifurcationChunk(
         members, axis.path, periods, keep, steps_per_period, line, scale, bool(exponents),
-        period, accuracy,
+        period, accuracy, seeds, seed,
     )  # fmt: skip
     done = sum(len(chunks[i]) for i in results)
     if progress:
@@ -216,6 +231,8 @@ def bifurcation(
                 finish(i, job.integrate(chunks[i], systems))
     points = np.concatenate([results[i] for i in range(len(chunks))])
     n_imp = len(IMPACT_COLUMNS)
+    n_main = keep + bool(exponents) + n_imp
+    points, extra = points[:, :n_main], points[:, n_main:]
     impacts, points = points[:, -n_imp:], points[:, :-n_imp]
     exponent = points[:, keep] if exponents else None
     points = points[:, :keep]
@@ -249,6 +266,22 @@ def bifurcation(
     data.attrs["impact_classes"] = list(IMPACT_CLASSES)
     if continuation is not None:
         data.attrs["continuation"] = continuation
+    if seeds:
+        per = extra.reshape(values.size, seeds, -1)
+        data = data.assign_coords(seed=np.arange(seeds))
+        data["poincare_seeds"] = (
+            ("p0", "seed", "point"),
+            per[:, :, :keep],
+            {"units": length_unit(scale), "long_name": "mesh deflection from random starts"},
+        )
+        if exponents:
+            data["exponent_seeds"] = (("p0", "seed"), per[:, :, keep], {"units": "1/s"})
+        data["impact_class_seeds"] = (
+            ("p0", "seed"),
+            per[:, :, -1],
+            {"units": IMPACT_COLUMNS[-1][1]},
+        )
+        data.attrs["seed"] = seed
     if continuation == "both":
         down = branches["down"]
         data["poincare_down"] = (
@@ -262,7 +295,7 @@ def bifurcation(
                 down[:, keep],
                 {"units": "1/s", "long_name": "largest Lyapunov exponent, descending sweep"},
             )
-        data["impact_class_down"] = ("p0", down[:, -1], {"units": IMPACT_COLUMNS[-1][1]})
+        data["impact_class_down"] = ("p0", down[:, n_main - 1], {"units": IMPACT_COLUMNS[-1][1]})
     return BifurcationResult(data)
 
 
@@ -427,6 +460,8 @@ class _BifurcationChunk:
     exponents: bool = False
     period: float | None = None  # sampling period of systems without a periodic law
     accuracy: float = ACCURACY
+    seeds: int = 0  # further runs per value from random starts (seed_states)
+    seed: int = 0  # of the random generator
 
     def __call__(self, chunk: NDArray) -> NDArray:
         return self.integrate(chunk, self.members(chunk))
@@ -438,19 +473,36 @@ class _BifurcationChunk:
         y0: NDArray | None = None,
         with_end: bool = False,
     ) -> Any:
-        """Rows (value, points [+ exponent]); with ``with_end`` also the end states."""
+        """Rows (value, points [+ exponent], impact columns [, seed columns]); with
+        ``with_end`` also the end states."""
         y0 = static_states(systems) if y0 is None else y0
+        labels = [f"{self.path} = {v:.6g}" for v in chunk]
+        rows, res = self._run(systems, y0, labels)
+        if self.seeds:  # the same values from random starts: other attractors
+            many = [s for s in systems for _ in range(self.seeds)]
+            bits = [np.array([v], np.float64).view(np.uint32).tolist() for v in chunk]
+            rngs = [np.random.default_rng([self.seed, *b, k])
+                    for b in bits for k in range(self.seeds)]  # fmt: skip
+            starts = seed_states(many, np.repeat(res.period, self.seeds), rngs)
+            more, _ = self._run(many, starts, [lab for lab in labels for _ in range(self.seeds)])
+            # per seed: points [+ exponent] and the impact class
+            per = np.concatenate([more[:, : self.keep + self.exponents], more[:, -1:]], axis=1)
+            rows = np.concatenate([rows, per.reshape(len(systems), -1)], axis=1)
+        end = res.poincare[:, -1]
+        return (rows, end) if with_end else rows
+
+    def _run(self, systems: list[NonlinearSystem], y0: NDArray, labels: list[str]) -> tuple:
+        """Rows (points [+ exponent], impact columns) of members from ``y0``, and the
+        ensemble."""
         hist = min(self.keep, IMPACT_PERIODS)
         res = ensemble(
             systems, periods=self.periods, keep=self.keep, steps_per_period=self.steps,
-            labels=[f"{self.path} = {v:.6g}" for v in chunk], y0=y0, period=self.period,
-            accuracy=self.accuracy, on_divergence="mark", history=hist,
-            exponents=self.exponents,
+            labels=labels, y0=y0, period=self.period, accuracy=self.accuracy,
+            on_divergence="mark", history=hist, exponents=self.exponents,
         )  # fmt: skip
         # a diverging value keeps NaN points (labelled "diverged"), the others stand
         pts = res.delta_poincare[:, : self.keep, self.line] / self.scale
         pts[res.diverged] = np.nan
-        end = res.poincare[:, -1]
         imp = np.full((len(systems), len(IMPACT_COLUMNS)), np.nan)
         for k, s in enumerate(systems):
             if not res.diverged[k]:
@@ -462,12 +514,9 @@ class _BifurcationChunk:
                 imp[k] = (st.separation_fraction, st.back_contact_fraction,
                           st.contact_losses, st.back_impacts, mode_hz, ratio,
                           IMPACT_CLASSES.index(st.impact_class))  # fmt: skip
-        if not self.exponents:
-            rows = np.concatenate([pts, imp], axis=1)
-            return (rows, end) if with_end else rows
         # the exponent of the same trajectory as the points (computed beside it)
-        rows = np.concatenate([pts, res.exponent[:, None], imp], axis=1)
-        return (rows, end) if with_end else rows
+        parts = [pts, res.exponent[:, None], imp] if self.exponents else [pts, imp]
+        return np.concatenate(parts, axis=1), res
 
 
 class BifurcationResult(Result):
@@ -514,6 +563,48 @@ class BifurcationResult(Result):
         names = list(ds.attrs["impact_classes"])
         return [names[int(c)] if np.isfinite(c) else "diverged" for c in ds["impact_class"].values]
 
+    def _classes(self, points: NDArray, exponent: NDArray | None) -> list[str]:
+        """Motion classes of rows of points: :func:`classify` with exponents, else the
+        period (``period-n`` or ``aperiodic``)."""
+        f = self.data.attrs["forcing_hz"]
+        out = []
+        for k, row in enumerate(points):
+            if not np.all(np.isfinite(row)):
+                out.append("diverged")
+            elif exponent is not None:
+                out.append(classify(row, float(exponent[k]), f))
+            else:
+                n = _period_of(row, 1e-3, 12)
+                out.append(f"period-{n}" if n else "aperiodic")
+        return out
+
+    def coexisting(self) -> NDArray[np.bool_]:
+        """Values where another run (the descending sweep of ``continuation="both"``, or
+        a random start with ``seeds``) found another attractor than the main one:
+        another motion class, or a mean Poincaré deflection apart by more than
+        :data:`COEXIST_TOL` of the diagram's largest Poincaré spread."""
+        ds = self.data
+        main = ds["poincare"].values
+        lam = ds["exponent"].values if "exponent" in ds else None
+        others: list[tuple[NDArray, NDArray | None]] = []
+        if "poincare_down" in ds:
+            ex_down = ds["exponent_down"].values if "exponent_down" in ds else None
+            others.append((ds["poincare_down"].values, ex_down))
+        if "poincare_seeds" in ds:
+            pts = ds["poincare_seeds"].values
+            ex = ds["exponent_seeds"].values if "exponent_seeds" in ds else None
+            for k in range(pts.shape[1]):
+                others.append((pts[:, k], None if ex is None else ex[:, k]))
+        out = np.zeros(main.shape[0], bool)
+        if not others:
+            return out
+        every = np.concatenate([main[None], *[o[0][None] for o in others]])
+        size = attractor_scale(every)
+        lab = self._classes(main, lam)
+        for pts, ex in others:
+            out |= different_attractors(main, lab, pts, self._classes(pts, ex), size)
+        return out
+
     @property
     def diverged(self) -> NDArray[np.bool_]:
         """Parameter values whose motion left its bounds (NaN points)."""
@@ -540,10 +631,14 @@ class BifurcationResult(Result):
         first = {"up": "ascending sweep", "both": "ascending sweep", "down": "descending sweep"}
         ax.plot(p, ds["poincare"].values.ravel(), ".k", ms=1.0 if way is None else 2.5,
                 alpha=0.6, label=first.get(way))  # fmt: skip
+        if "poincare_seeds" in ds:  # runs from random starts: coexisting attractors
+            ps = np.repeat(ds["p0"].values, ds.sizes["seed"] * ds.sizes["point"])
+            ax.plot(ps, ds["poincare_seeds"].values.ravel(), "o", color="C0", ms=1.6,
+                    alpha=0.35, mew=0, label="random starts")  # fmt: skip
         if "poincare_down" in ds:  # the other sweep, drawn so that both stay visible
             ax.plot(p, ds["poincare_down"].values.ravel(), "x", color="C3", ms=3.0,
                     alpha=0.7, label="descending sweep")  # fmt: skip
-        if way is not None:
+        if way is not None or "poincare_seeds" in ds:
             ax.legend(fontsize=7, markerscale=2)
         x = ds["p0"].values
         edges = (
@@ -581,6 +676,35 @@ def _class_band(band, edges: NDArray, labels: list[str], title: str, palette: st
     band.legend(handles=handles, fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5),
                 frameon=False, title=title, title_fontsize=6)  # fmt: skip
     band.set_yticks([])
+
+
+#: Two runs hold different attractors when their motion classes differ or their mean
+#: Poincaré deflections differ by more than this share of the largest Poincaré spread
+#: (:func:`different_attractors`).
+COEXIST_TOL = 0.02
+
+
+def attractor_scale(points: NDArray) -> float:
+    """The size against which mean Poincaré deflections are compared: the largest spread
+    of a Poincaré sequence (last axis) in ``points``, at least 1e-3 of the largest mean."""
+    with np.errstate(all="ignore"):
+        if not np.any(np.isfinite(points)):
+            return 1e-300
+        spread = float(np.nanmax(np.ptp(points, axis=-1)))
+        mean = float(np.nanmax(np.abs(np.nanmean(points, axis=-1))))
+    spread = spread if np.isfinite(spread) else 0.0
+    return max(spread, 1e-3 * mean, 1e-300)
+
+
+def different_attractors(
+    a: NDArray, labels_a: Any, b: NDArray, labels_b: Any, size: float
+) -> NDArray[np.bool_]:
+    """Rows of Poincaré points ``a``, ``b`` (..., point) with their motion classes that
+    belong to different attractors: different classes, or mean deflections apart by more
+    than :data:`COEXIST_TOL` ``* size``."""
+    with np.errstate(all="ignore"):
+        apart = np.abs(np.nanmean(a, axis=-1) - np.nanmean(b, axis=-1)) > COEXIST_TOL * size
+    return (np.asarray(labels_a, object) != np.asarray(labels_b, object)) | apart
 
 
 def _period_of(row: NDArray, tol: float, max_period: int) -> int:

@@ -44,7 +44,9 @@ from .nonlinear import (
     _BifurcationChunk,
     _fingerprint,
     _Members,
+    attractor_scale,
     classify,
+    different_attractors,
 )
 from .response import ACCURACY, at_rest, check_stability, rigid_reduction, static_states
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
@@ -58,11 +60,6 @@ __all__ = ["RegimeMapResult", "motion_order", "regime_map"]
 
 #: Most points of a regime map (both axes together).
 MAX_POINTS = 250_000
-
-#: Two branches of a point hold different attractors when their motion classes differ
-#: or their mean Poincaré deflections differ by more than this share of the largest
-#: Poincaré spread of the map (:meth:`RegimeMapResult.coexisting`).
-COEXIST_TOL = 0.02
 
 
 @names_source
@@ -411,21 +408,15 @@ class RegimeMapResult(Result):
 
     def coexisting(self) -> NDArray[np.bool_]:
         """Points (p1, p0) where the ascending and descending sweeps hold different
-        attractors: different motion classes, or mean Poincaré deflections apart by more
-        than :data:`COEXIST_TOL` of the map's largest Poincaré spread. All False with
-        one branch."""
+        attractors (:func:`~reducerlab.analysis.nonlinear.different_attractors`: other
+        motion classes, or mean Poincaré deflections apart by more than 2 % of the map's
+        largest Poincaré spread). All False with one branch."""
         ds = self.data
-        shape = (ds.sizes["p1"], ds.sizes["p0"])
         if ds.sizes["branch"] < 2:
-            return np.zeros(shape, bool)
+            return np.zeros((ds.sizes["p1"], ds.sizes["p0"]), bool)
         lab = self.labels()
         pts = ds["poincare"].values
-        with np.errstate(all="ignore"):
-            mean = np.nanmean(pts, axis=-1)
-            spread = np.nanmax(np.ptp(pts, axis=-1)) if np.any(np.isfinite(pts)) else 0.0
-            size = max(float(spread), float(np.nanmax(np.abs(mean))) * 1e-3, 1e-300)
-            apart = np.abs(mean[0] - mean[1]) > COEXIST_TOL * size
-        return (lab[0] != lab[1]) | apart
+        return different_attractors(pts[0], lab[0], pts[1], lab[1], attractor_scale(pts))
 
     def regions(self) -> list[dict[str, Any]]:
         """Where each class occurs: for every motion and impact class of every branch,

@@ -42,6 +42,7 @@ __all__ = [
     "ensemble",
     "forcing_period",
     "lyapunov",
+    "seed_states",
     "simulate_reference",
     "state_bounds",
     "static_state",
@@ -205,6 +206,32 @@ def state_bounds(
         out[e, :n] = factor * d
         out[e, n:] = factor * d * w
     return out
+
+
+#: Spread of the random starts of :func:`seed_states`, in displacement scales.
+SEED_SPREAD = 1.0
+
+
+def seed_states(
+    systems: Sequence[NonlinearSystem],
+    period: NDArray[np.float64],
+    rngs: Sequence[np.random.Generator],
+) -> NDArray[np.float64]:
+    """Random initial states ``(E, 2n)`` around each member's static equilibrium, to
+    look for coexisting attractors: displacements uniform within ``+-SEED_SPREAD d``
+    (``d`` the displacement scale of :func:`state_bounds`: static deflection under the
+    peak loads, or the mesh clearance), velocities within ``+-SEED_SPREAD d W`` (``W``
+    the forcing frequency ``2 pi / period``); member ``e`` draws from ``rngs[e]``."""
+    n = systems[0].n
+    Y = static_states(systems)
+    d = state_bounds(systems, None, period, factor=1.0)[:, :1]  # (E, 1)
+    d = np.where(np.isfinite(d), d, 0.0)
+    w = (2 * math.pi / np.asarray(period, float))[:, None]
+    for e, rng in enumerate(rngs):
+        u = rng.uniform(-1.0, 1.0, 2 * n)
+        Y[e, :n] += SEED_SPREAD * d[e] * u[:n]
+        Y[e, n:] += SEED_SPREAD * d[e] * w[e] * u[n:]
+    return Y
 
 
 #: Relative size of ``phi^T K phi`` against ``|phi|^T |K| |phi|`` below which a negative
