@@ -84,3 +84,30 @@ def test_accuracy_is_checked(bad):
     s, _ = CASES["rattle W 0.8, F_a 0.12"]
     with pytest.raises(ReducerlabError, match="accuracy must be a number in"):
         ensemble([s], periods=10, keep=2, y0=np.array([1.1, 0.0]), accuracy=bad)
+
+
+def test_fine_steps_read_the_stiffness_jumps_on_the_right_side():
+    # Regression (issue 16): the step boundaries at the jumps of a piecewise stiffness
+    # law were placed at phases rounded to 1e-12, and with more than ~5000 steps per
+    # period the samples "just inside" a step (1e-9 of it) then read the law on the
+    # wrong side of the jump: a first-order error (6e-6 of the state scale at 8192
+    # steps, where 2048 steps are exact to 1e-14), which made the accuracy-driven step
+    # count run away to its cap. Refinement must now change nothing beyond round-off.
+    from reducerlab.analysis.nonlinear import axis_members
+    from reducerlab.analysis.response import state_bounds, static_states
+    from reducerlab.analysis.sweep import Axis
+    from reducerlab.drives import build_model, load_design
+    from reducerlab.examples import example_dir
+
+    d = load_design(example_dir() / "khv.toml", ["mesh.damping_ratio=0.005"])
+    axis = Axis("input_speed", ("1550 rpm", "1650 rpm"))
+    values, members, _ = axis_members(d, build_model(d), axis, "test")
+    systems = members(values)
+    y0 = static_states(systems)
+    ends = [
+        ensemble(systems, periods=41, keep=1, y0=y0, steps_per_period=n).poincare[:, -1]
+        for n in (2048, 8192)
+    ]
+    res = ensemble(systems, periods=1, keep=1, y0=y0, steps_per_period=32)
+    scale = state_bounds(systems, y0, res.period, factor=1.0)
+    assert np.max(np.abs(ends[0] - ends[1]) / scale) < 1e-11

@@ -172,8 +172,10 @@ def _tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, 
         b = e - lo
         for q in range(N):
             dt = dts[e, q]
-            inside = 1e-9 * dt
             t = t_base[e] + offs[e, q]
+            # just inside the step: 1e-9 of it, and beyond the rounding of t (the law's
+            # phase (t - t0) / period is computed from the absolute time)
+            inside = max(1e-9 * dt, 16.0 * 2.220446049250313e-16 * (abs(t) + dt))
             for s in range(3):
                 ts = t + inside if s == 0 else (t + 0.5 * dt if s == 1 else t + dt - inside)
                 _law_row(tab, 3 * q + s, b, e, b, ts, k_kind, k_par, e_kind, e_par, MB,
