@@ -180,6 +180,22 @@ def test_a_decaying_transient_is_unsettled_not_quasi_periodic():
     assert classify(fast.poincare[0, :60, 0], -0.1, f) == "period-1"
 
 
+def test_a_transient_towards_a_period_3_orbit_is_unsettled():
+    # issue 16 (examples/khv_rattle.toml at x1 = 0.72, 600 periods): a sequence still
+    # converging towards a period-3 orbit has a large spread in every quarter (the three
+    # points), so only its 3-step differences show the transient; they shrink steadily.
+    k = np.arange(100)
+    orbit = np.array([1.0, -0.4, 0.3])[k % 3]
+    f = 1.0
+    converging = orbit + 0.05 * np.exp(-0.02 * k) * np.cos(2.1 * k)
+    assert classify(converging, -0.5, f) == "unsettled"
+    assert classify(orbit + 1e-6 * np.exp(-0.02 * k), -0.5, f) == "period-3"
+    # a quasi-periodic sequence (golden-ratio rotation) on top of the same orbit does not
+    # shrink: still quasi-periodic
+    torus = orbit + 0.05 * np.cos(2 * math.pi * k * (5**0.5 - 1) / 2)
+    assert classify(torus, -0.5, f) == "quasi-periodic"
+
+
 def test_response_outputs_and_cli(tmp_path):
     from typer.testing import CliRunner
 

@@ -729,10 +729,11 @@ def classify(
     ``"chaotic"`` when the exponent exceeds ``chaos`` x the forcing frequency (1/s per
     Hz: a separation growing by e within ~100 periods), else ``"period-n"`` when the
     Poincaré sequence repeats every n <= ``max_period`` points (to ``tol`` of its
-    range), else ``"unsettled"`` when the points still converge (their spread shrinks
-    from quarter to quarter of the sequence, the last below :data:`SETTLE` times the
-    first: a transient of a lightly damped mode, not an attractor; run more periods),
-    else ``"quasi-periodic"``.
+    range), else ``"unsettled"`` when the points still converge (their spread, or for
+    some n <= ``max_period`` their n-step differences ``|x[k+n] - x[k]|``, shrink from
+    quarter to quarter of the sequence, the last below :data:`SETTLE` times the first: a
+    transient of a lightly damped mode towards a fixed point or a period-n orbit, not an
+    attractor; run more periods), else ``"quasi-periodic"``.
     """
     if exponent > chaos * frequency:
         return "chaotic"
@@ -740,11 +741,27 @@ def classify(
     n = _period_of(pts, tol, max_period)
     if n:
         return f"period-{n}"
-    if pts.size >= 16:
-        spread = [np.ptp(q) for q in np.array_split(pts, 4)]
-        if spread[3] < SETTLE * spread[0] and all(a >= b for a, b in itertools.pairwise(spread)):
-            return "unsettled"
+    if pts.size >= 16 and _converging(pts, max_period):
+        return "unsettled"
     return "quasi-periodic"
+
+
+def _converging(pts: NDArray, max_period: int) -> bool:
+    """Whether a Poincaré sequence still converges: the spread of its quarters (a
+    transient towards a fixed point), or for some n <= ``max_period`` the largest n-step
+    difference ``|x[k+n] - x[k]|`` in each quarter (towards a period-n orbit), shrinks
+    from quarter to quarter, the last below :data:`SETTLE` times the first."""
+
+    def shrinking(q: list[float]) -> bool:
+        return q[3] < SETTLE * q[0] and all(a >= b for a, b in itertools.pairwise(q))
+
+    if shrinking([float(np.ptp(part)) for part in np.array_split(pts, 4)]):
+        return True
+    for n in range(1, max_period + 1):
+        diff = np.abs(pts[n:] - pts[:-n])
+        if diff.size >= 8 and shrinking([float(part.max()) for part in np.array_split(diff, 4)]):
+            return True
+    return False
 
 
 #: A Poincaré sequence whose spread shrinks from quarter to quarter, the last below this
