@@ -110,15 +110,17 @@ def test_a_row_is_the_bifurcation_of_its_value():
 
 def test_an_interrupted_map_resumes_from_its_chunks(tmp_path):
     x = Axis.linspace("mesh:a.x.stiffness", 0.5, 1.2, 4)
-    y = Axis("inertia:a.x.value", (1.0, 1.2, 1.4))
-    kw = dict(periods=60, keep=8, continuation="up", rows_per_chunk=1, output=tmp_path)
+    y = Axis("inertia:a.x.value", (1.0, 1.2, 1.4, 1.6))
+    # two sweeps (branches) and three rows per chunk: a chunk read back must keep its
+    # row and branch axes apart
+    kw = dict(periods=60, keep=8, continuation="both", rows_per_chunk=3, output=tmp_path)
     first = regime_map(rattle(), x, y, **kw)
     chunks = sorted((tmp_path / "chunks").glob("chunk_*.npz"))
-    assert len(chunks) == 3
+    assert len(chunks) == 2  # rows 0-2 and row 3
     chunks[1].unlink()
     seen: list[tuple[int, int]] = []
     again = regime_map(rattle(), x, y, progress=lambda d, t: seen.append((d, t)), **kw)
-    assert seen[0] == (8, 12)  # two rows of four points read back, one computed
+    assert seen[0] == (12, 16)  # three rows of four points read back, one computed
     np.testing.assert_array_equal(first.data["poincare"].values, again.data["poincare"].values)
     # other arguments: the folder refuses to mix runs
     with pytest.raises(ReducerlabError, match="regime map run"):

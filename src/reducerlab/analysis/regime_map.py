@@ -175,7 +175,8 @@ def regime_map(
     for i, rows in enumerate(chunks):  # finished chunks are checked before any new work
         f = None if folder is None else chunk_path(folder, i)
         if f is not None and f.exists():
-            results[i] = load_chunk(f, key, i, yv[rows], ("rows",))["rows"]
+            # stored row-first (one entry per y value of the chunk, as load_chunk checks)
+            results[i] = load_chunk(f, key, i, yv[rows], ("rows",))["rows"].swapaxes(0, 1)
         else:
             todo.append(i)
     total = xv.size * yv.size
@@ -193,7 +194,7 @@ def regime_map(
         nonlocal done
         results[i] = rows
         if folder is not None:
-            save_chunk(chunk_path(folder, i), key, i, yv[chunks[i]], {"rows": rows})
+            save_chunk(chunk_path(folder, i), key, i, yv[chunks[i]], {"rows": rows.swapaxes(0, 1)})
         done += len(chunks[i]) * xv.size
         if progress:
             progress(done, total)
