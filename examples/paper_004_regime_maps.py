@@ -56,8 +56,8 @@ def run(output: Path, speeds: int = 39, rows: int = 15, periods: int = 600) -> d
             axes["error"] = Axis.linspace("mesh.error_amplitude", 0.5e-6, 10e-6, rows)
         for name, y in axes.items():
             key = f"{reading}_speed_x_{name}"
-            res = regime_map(design, x, y, periods=periods, keep=64, continuation="both",
-                             output=output / key)  # fmt: skip
+            res = regime_map(design, x, y, periods=periods, keep=min(64, periods),
+                             continuation="both", output=output / key)  # fmt: skip
             res.save(output / f"{key}.nc")
             res.plot().savefig(output / f"{key}.png", dpi=110)
             (output / f"{key}.txt").write_text(res.table() + "\n")

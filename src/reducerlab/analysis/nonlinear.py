@@ -7,6 +7,7 @@ from __future__ import annotations
 import contextlib
 import itertools
 import os
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -687,7 +688,8 @@ COEXIST_TOL = 0.02
 def attractor_scale(points: NDArray) -> float:
     """The size against which mean Poincaré deflections are compared: the largest spread
     of a Poincaré sequence (last axis) in ``points``, at least 1e-3 of the largest mean."""
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows: diverged runs
         if not np.any(np.isfinite(points)):
             return 1e-300
         spread = float(np.nanmax(np.ptp(points, axis=-1)))
@@ -702,7 +704,8 @@ def different_attractors(
     """Rows of Poincaré points ``a``, ``b`` (..., point) with their motion classes that
     belong to different attractors: different classes, or mean deflections apart by more
     than :data:`COEXIST_TOL` ``* size``."""
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows: diverged runs
         apart = np.abs(np.nanmean(a, axis=-1) - np.nanmean(b, axis=-1)) > COEXIST_TOL * size
     return (np.asarray(labels_a, object) != np.asarray(labels_b, object)) | apart
 

@@ -502,7 +502,10 @@ class RegimeMapResult(Result):
         i_classes = [k for k in (*IMPACT_CLASSES, "diverged") if k in set(lab_i.ravel())]
         palette = {"quasi-periodic": "tab:purple", "chaotic": "tab:red",
                    "unsettled": "lightgrey", "diverged": "black"}  # fmt: skip
-        period_colours = ["#1f77b4", "#2ca02c", "#ff7f0e", "#bcbd22", "#17becf", "#8c564b"]
+        # period-n classes: distinct colours (none of the special classes' colours)
+        period_colours = ["#1f77b4", "#2ca02c", "#ff7f0e", "#bcbd22", "#17becf", "#8c564b",
+                          "#e377c2", "#aec7e8", "#98df8a", "#ffbb78", "#dbdb8d", "#9edae5",
+                          "#c49c94", "#f7b6d2"]  # fmt: skip
         m_col = [palette.get(k, period_colours[i % len(period_colours)])
                  for i, k in enumerate(m_classes)]  # fmt: skip
         i_palette = {"no impact": "tab:green", "single-sided impact": "tab:orange",
