@@ -83,6 +83,12 @@ SetOption = Annotated[
 reads a design file takes it; see :func:`reducerlab.design.apply_overrides`)."""
 
 
+SchedulerOption = Annotated[
+    str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
+]
+"""``--scheduler``: run the chunks of a resumable command on a Dask cluster."""
+
+
 class Format(StrEnum):
     table = "table"
     json = "json"
@@ -446,9 +452,7 @@ def sweep(
         int | None,
         typer.Option(help="Worker processes (default: all cores).", min=1, max=MAX_WORKERS),
     ] = None,
-    scheduler: Annotated[
-        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
-    ] = None,
+    scheduler: SchedulerOption = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
     sets: SetOption = None,
 ) -> None:
@@ -698,9 +702,7 @@ def bifurcation(
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (resumable).")
     ] = Path("bifurcation-output"),
-    scheduler: Annotated[
-        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
-    ] = None,
+    scheduler: SchedulerOption = None,
     classify: Annotated[
         bool, typer.Option(help="Lyapunov exponents and motion classes (slower).")
     ] = False,
@@ -849,9 +851,7 @@ def regime_map(
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (resumable).")
     ] = Path("regime-map-output"),
-    scheduler: Annotated[
-        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://HOST:8786.")
-    ] = None,
+    scheduler: SchedulerOption = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
     sets: SetOption = None,
 ) -> None:

@@ -112,14 +112,9 @@ def frequency_response(
     back-side impacts per period (``analysis.impacts``). A value whose motion diverges
     is NaN. Values may carry units and paths may be tied, as in ``sweep``.
     """
-    from ..drives import build_model
+    from .nonlinear import _continue, axis_members, design_and_model
 
-    if isinstance(target, Design):
-        design, model = target, build_model(target)
-    elif isinstance(target, Model):
-        design, model = None, target
-    else:
-        raise ReducerlabError("frequency_response: target must be a Design or a Model")
+    design, model = design_and_model(target, "frequency_response")
     if continuation not in ("up", "down", "both"):
         raise ReducerlabError(
             f"frequency_response: continuation must be 'up', 'down' or 'both', got {continuation!r}"
@@ -129,8 +124,6 @@ def frequency_response(
             raise ReducerlabError(f"frequency_response: {name} must be an integer >= {lo}")
     if history > periods:
         raise ReducerlabError("frequency_response: history must be <= periods")
-    from .nonlinear import _continue, axis_members
-
     values, members, base = axis_members(design, model, axis, "frequency_response")
     if not 0 <= line < base.G.shape[0]:
         raise ReducerlabError(

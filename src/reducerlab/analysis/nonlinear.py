@@ -118,14 +118,7 @@ def bifurcation(
     there are at least 200 values; 1 = in this process), overlapped with the compiled
     integration of the previous chunk.
     """
-    from ..drives import build_model
-
-    if isinstance(target, Design):
-        design, model = target, build_model(target)
-    elif isinstance(target, Model):
-        design, model = None, target
-    else:
-        raise ReducerlabError("bifurcation: target must be a Design or a Model")
+    design, model = design_and_model(target, "bifurcation")
     values, members, base = axis_members(design, model, axis, "bifurcation")
     n_lines = base.G.shape[0]
     if not 0 <= line < n_lines:
@@ -334,6 +327,17 @@ def _continue(
         if progress:
             progress(step + 1, values.size)
     return out
+
+
+def design_and_model(target: Design | Model, what: str) -> tuple[Design | None, Model]:
+    """The design (None for a model) and the model of an analysis's target."""
+    from ..drives import build_model
+
+    if isinstance(target, Design):
+        return target, build_model(target)
+    if isinstance(target, Model):
+        return None, target
+    raise ReducerlabError(f"{what}: target must be a Design or a Model")
 
 
 def axis_members(

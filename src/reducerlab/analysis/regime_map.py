@@ -46,6 +46,7 @@ from .nonlinear import (
     _Members,
     attractor_scale,
     classify,
+    design_and_model,
     different_attractors,
 )
 from .response import ACCURACY, at_rest, check_stability, rigid_reduction, static_states
@@ -124,14 +125,7 @@ def regime_map(
         impact statistics of :data:`~reducerlab.analysis.nonlinear.IMPACT_COLUMNS` over
         (branch, p1, p0); ``p0`` holds the ``x`` values and ``p1`` the ``y`` values (SI).
     """
-    from ..drives import build_model
-
-    if isinstance(target, Design):
-        design, model = target, build_model(target)
-    elif isinstance(target, Model):
-        design, model = None, target
-    else:
-        raise ReducerlabError("regime_map: target must be a Design or a Model")
+    design, model = design_and_model(target, "regime_map")
     if continuation not in (None, "up", "down", "both"):
         raise ReducerlabError(
             f"regime_map: continuation must be 'up', 'down', 'both' or None, got {continuation!r}"
