@@ -10,6 +10,19 @@ matplotlib.use("Agg")
 from reducerlab.model import Dof, Inertia, Mesh, Model, Support
 
 
+@pytest.fixture
+def dask_client():
+    """A Dask client on an in-process cluster of one worker (skipped without dask)."""
+    distributed = pytest.importorskip("dask.distributed")
+    with (
+        distributed.LocalCluster(
+            n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        yield client
+
+
 def torsional_pair(J1=2.0e-3, J2=5.0e-2, r1=0.03, r2=0.09, k=3.0e8) -> Model:
     """Two gears coupled only through a mesh on their rotations."""
     return Model(

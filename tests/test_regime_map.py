@@ -108,7 +108,7 @@ def test_a_row_is_the_bifurcation_of_its_value():
     assert rm.labels()[0, 1].tolist() == bf.labels()
 
 
-def test_an_interrupted_map_resumes_from_its_chunks(tmp_path):
+def test_an_interrupted_map_resumes_from_its_chunks(tmp_path, dask_client):
     x = Axis.linspace("mesh:a.x.stiffness", 0.5, 1.2, 4)
     y = Axis("inertia:a.x.value", (1.0, 1.2, 1.4, 1.6))
     # two sweeps (branches) and three rows per chunk: a chunk read back must keep its
@@ -126,15 +126,8 @@ def test_an_interrupted_map_resumes_from_its_chunks(tmp_path):
     with pytest.raises(ReducerlabError, match="regime map run"):
         regime_map(rattle(), x, y, **{**kw, "periods": 61})
     # the chunks on a Dask cluster give the same map
-    distributed = pytest.importorskip("dask.distributed")
-    with (
-        distributed.LocalCluster(
-            n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
-        ) as cluster,
-        distributed.Client(cluster) as client,
-    ):
-        kw.pop("output")
-        dask = regime_map(rattle(), x, y, scheduler=client, **kw)
+    kw.pop("output")
+    dask = regime_map(rattle(), x, y, scheduler=dask_client, **kw)
     np.testing.assert_array_equal(dask.data["poincare"].values, first.data["poincare"].values)
 
 

@@ -234,7 +234,7 @@ def test_response_outputs_and_cli(tmp_path):
     assert (tmp_path / "b" / "bifurcation.png").exists()
 
 
-def test_bifurcation_resumes_and_runs_on_dask(tmp_path):
+def test_bifurcation_resumes_and_runs_on_dask(tmp_path, dask_client):
     design = load_design(example_dir() / "khv.toml")
     axis = Axis.linspace("gears.x1", 0.45, 0.8, 6)
     kw = dict(periods=40, keep=4, chunk_size=2)
@@ -249,14 +249,7 @@ def test_bifurcation_resumes_and_runs_on_dask(tmp_path):
         assert (tmp_path / "run" / "chunks" / name).stat().st_mtime_ns == stamps[name]
     with pytest.raises(ReducerlabError, match="different bifurcation run"):
         bifurcation(design, axis, output=tmp_path / "run", periods=41, keep=4, chunk_size=2)
-    distributed = pytest.importorskip("dask.distributed")
-    with (
-        distributed.LocalCluster(
-            n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
-        ) as cluster,
-        distributed.Client(cluster) as client,
-    ):
-        dask = bifurcation(design, axis, scheduler=client, **kw)
+    dask = bifurcation(design, axis, scheduler=dask_client, **kw)
     np.testing.assert_array_equal(dask.data["poincare"].values, first.data["poincare"].values)
 
 
