@@ -70,7 +70,9 @@ class FrequencyResponseResult(Result):
         ds = self.data
         fig = Figure(figsize=(7.5, 6.6), layout="constrained")
         axes = fig.subplots(3, 1, sharex=True)
-        x = ds["p0"].values
+        from .nonlinear import axis_label, shown_values
+
+        x = shown_values(ds["p0"])
         style = {"up": ("-o", "k", "ascending sweep"), "down": ("--x", "C3", "descending sweep")}
         for b in ds["branch"].values.tolist():
             fmt, colour, label = style[b]
@@ -81,8 +83,7 @@ class FrequencyResponseResult(Result):
         axes[0].set_ylabel("RMS dynamic TE (um)")
         axes[1].set_ylabel("dynamic load factor")
         axes[2].set_ylabel("teeth apart (% of time)")
-        unit = ds["p0"].attrs.get("units", "SI")
-        axes[2].set_xlabel(f"{ds.attrs['parameter']} ({unit})")
+        axes[2].set_xlabel(axis_label(ds["p0"], ds.attrs["parameter"]))
         axes[0].legend(fontsize=7)
         axes[0].set_title(f"frequency response: {ds.attrs.get('title', '')}", fontsize=9)
         for ax in axes:
@@ -112,7 +113,7 @@ def frequency_response(
     back-side impacts per period (``analysis.impacts``). A value whose motion diverges
     is NaN. Values may carry units and paths may be tied, as in ``sweep``.
     """
-    from .nonlinear import _continue, axis_members, design_and_model
+    from .nonlinear import _continue, axis_coord, axis_members, design_and_model
 
     design, model = design_and_model(target, "frequency_response")
     if continuation not in ("up", "down", "both"):
@@ -153,7 +154,7 @@ def frequency_response(
             )
             for q, (name, unit, long) in enumerate(QUANTITIES)
         },
-        coords={"branch": names, "p0": ("p0", values, {"path": axis.path, "units": "SI"})},
+        coords={"branch": names, "p0": ("p0", values, axis_coord(design, axis, values))},
         attrs={
             "title": (design.name if design else model.name) or "frequency response",
             "parameter": axis.path,

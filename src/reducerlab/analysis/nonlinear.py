@@ -17,11 +17,11 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from ..design import Design
+from ..design import Design, field_kind
 from ..errors import DivergenceError, ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
-from ..units import length_unit
+from ..units import display_unit, length_unit
 from .impacts import IMPACT_CLASSES, contact_states, mesh_mode
 from .modal import element_blocks
 from .response import (
@@ -238,7 +238,7 @@ def bifurcation(
                 {"units": length_unit(scale), "long_name": "mesh deflection"},
             )
         },
-        coords={"p0": ("p0", values, {"path": axis.path}), "point": np.arange(keep)},
+        coords={"p0": ("p0", values, axis_coord(design, axis, values)), "point": np.arange(keep)},
         attrs={
             "title": (design.name if design else model.name) or "bifurcation",
             "parameter": axis.path,
@@ -327,6 +327,27 @@ def _continue(
         if progress:
             progress(step + 1, values.size)
     return out
+
+
+def axis_coord(design: Design | None, axis: Axis, values: NDArray) -> dict[str, Any]:
+    """Attributes of a parameter coordinate: its path, its unit inside (SI) and the unit
+    figures show it in (``display_unit``, ``display_factor``: rpm for a speed, um or mm
+    for a length, deg for an angle; :func:`reducerlab.units.display_unit`)."""
+    path = axis.path.split("+")[0].strip().removeprefix("design:")
+    kind = field_kind(design, path) if design is not None and ":" not in path else None
+    unit, factor = display_unit(kind, values)
+    return {"path": axis.path, "units": "SI", "display_unit": unit, "display_factor": factor}
+
+
+def axis_label(coord: xr.DataArray, name: str) -> str:
+    """``name (unit)`` for a coordinate with display attributes, else ``name``."""
+    unit = coord.attrs.get("display_unit", "")
+    return f"{name} ({unit})" if unit else name
+
+
+def shown_values(coord: xr.DataArray) -> NDArray:
+    """A coordinate's values in its display unit."""
+    return coord.values * coord.attrs.get("display_factor", 1.0)
 
 
 def design_and_model(target: Design | Model, what: str) -> tuple[Design | None, Model]:
@@ -631,13 +652,14 @@ class BifurcationResult(Result):
         ax = axes[0]
         band = axes[1] if "exponent" in ds else None
         imp_band = axes[-1] if has_imp else None
-        p = np.repeat(ds["p0"].values, ds.sizes["point"])
+        x = shown_values(ds["p0"])
+        p = np.repeat(x, ds.sizes["point"])
         way = ds.attrs.get("continuation")
         first = {"up": "ascending sweep", "both": "ascending sweep", "down": "descending sweep"}
         ax.plot(p, ds["poincare"].values.ravel(), ".k", ms=1.0 if way is None else 2.5,
                 alpha=0.6, label=first.get(way))  # fmt: skip
         if "poincare_seeds" in ds:  # runs from random starts: coexisting attractors
-            ps = np.repeat(ds["p0"].values, ds.sizes["seed"] * ds.sizes["point"])
+            ps = np.repeat(x, ds.sizes["seed"] * ds.sizes["point"])
             ax.plot(ps, ds["poincare_seeds"].values.ravel(), "o", color="C0", ms=1.6,
                     alpha=0.35, mew=0, label="random starts")  # fmt: skip
         if "poincare_down" in ds:  # the other sweep, drawn so that both stay visible
@@ -645,7 +667,6 @@ class BifurcationResult(Result):
                     alpha=0.7, label="descending sweep")  # fmt: skip
         if way is not None or "poincare_seeds" in ds:
             ax.legend(fontsize=7, markerscale=2)
-        x = ds["p0"].values
         edges = (
             np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
             if x.size > 1
@@ -655,7 +676,7 @@ class BifurcationResult(Result):
             _class_band(band, edges, self.labels(), "motion", "C")
         if imp_band is not None:
             _class_band(imp_band, edges, self.impacts(), "teeth", "tab:")
-        axes[-1].set_xlabel(ds.attrs["parameter"])
+        axes[-1].set_xlabel(axis_label(ds["p0"], ds.attrs["parameter"]))
         ax.set_ylabel(f"Poincaré points of mesh deflection ({ds['poincare'].attrs['units']})")
         ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
         ax.grid(alpha=0.3)

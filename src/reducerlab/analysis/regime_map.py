@@ -32,11 +32,11 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from ..design import Design, field_kind
+from ..design import Design
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
-from ..units import display_unit, length_unit
+from ..units import length_unit
 from .impacts import IMPACT_CLASSES
 from .modal import element_blocks
 from .nonlinear import (
@@ -45,9 +45,12 @@ from .nonlinear import (
     _fingerprint,
     _Members,
     attractor_scale,
+    axis_coord,
+    axis_label,
     classify,
     design_and_model,
     different_attractors,
+    shown_values,
 )
 from .response import ACCURACY, at_rest, check_stability, rigid_reduction, static_states
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
@@ -283,14 +286,6 @@ class _RegimeChunk:
         return out
 
 
-def _axis_coord(design: Design | None, axis: Axis, values: NDArray) -> dict[str, Any]:
-    """Coordinate attributes: the path, and the unit figures show it in."""
-    path = axis.path.split("+")[0].strip().removeprefix("design:")
-    kind = field_kind(design, path) if design is not None and ":" not in path else None
-    unit, factor = display_unit(kind, values)
-    return {"path": axis.path, "units": "SI", "display_unit": unit, "display_factor": factor}
-
-
 def _assemble(
     rows: NDArray,
     design: Design | None,
@@ -319,8 +314,8 @@ def _assemble(
         },
         coords={
             "branch": job.branches,
-            "p0": ("p0", xv, _axis_coord(design, x, xv)),
-            "p1": ("p1", yv, _axis_coord(design, y, yv)),
+            "p0": ("p0", xv, axis_coord(design, x, xv)),
+            "p1": ("p1", yv, axis_coord(design, y, yv)),
             "point": np.arange(keep),
         },
         attrs={
@@ -419,8 +414,7 @@ class RegimeMapResult(Result):
         covers."""
         ds = self.data
         cx, cy = ds["p0"], ds["p1"]
-        X = cx.values * cx.attrs.get("display_factor", 1.0)
-        Y = cy.values * cy.attrs.get("display_factor", 1.0)
+        X, Y = shown_values(cx), shown_values(cy)
         out = []
         for what, lab in (("motion", self.labels()), ("teeth", self.impacts())):
             for b, branch in enumerate(ds["branch"].values.tolist()):
@@ -488,8 +482,7 @@ class RegimeMapResult(Result):
         fig = Figure(figsize=(4.2 * nb + 2.4, 6.6), layout="constrained")
         axes = np.atleast_2d(fig.subplots(2, nb, sharex=True, sharey=True, squeeze=False))
         cx, cy = ds["p0"], ds["p1"]
-        X = cx.values * cx.attrs.get("display_factor", 1.0)
-        Y = cy.values * cy.attrs.get("display_factor", 1.0)
+        X, Y = shown_values(cx), shown_values(cy)
         lab_m, lab_i = self.labels(), self.impacts()
         co = self.coexisting()
         m_classes = motion_order(np.unique(lab_m).tolist())
@@ -540,13 +533,9 @@ class RegimeMapResult(Result):
                                       title_fontsize=7, loc="center left",
                                       bbox_to_anchor=(1.02, 0.5), frameon=False)  # fmt: skip
 
-        def label(c: Any, path: str) -> str:
-            unit = c.attrs.get("display_unit", "")
-            return f"{path} ({unit})" if unit else path
-
         for ax in axes[-1]:
-            ax.set_xlabel(label(cx, ds.attrs["x"]))
+            ax.set_xlabel(axis_label(cx, ds.attrs["x"]))
         for ax in axes[:, 0]:
-            ax.set_ylabel(label(cy, ds.attrs["y"]))
+            ax.set_ylabel(axis_label(cy, ds.attrs["y"]))
         fig.suptitle(f"regime map: {ds.attrs.get('title', '')}", fontsize=9)
         return fig
