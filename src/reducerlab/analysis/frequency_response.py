@@ -186,7 +186,7 @@ def _measures(s, res, k: int, line: int, history: int) -> NDArray:
         else np.nan
     )
     side = -1.0 if np.mean(elastic) < 0 else 1.0
-    st = contact_states(delta, float(s.half_backlash[line]), float(history), side)
+    st = contact_states(delta, float(s.half_backlash[line]), float(history), side, t)
     mode_hz, _ = mesh_mode(s, line)
     return np.array([
         float(np.sqrt(np.mean((dte - dte.mean()) ** 2))),

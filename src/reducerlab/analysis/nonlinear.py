@@ -534,7 +534,8 @@ class _BifurcationChunk:
             if not res.diverged[k]:
                 d = res.delta_history[k, :, self.line]
                 st = contact_states(d, float(s.half_backlash[self.line]), float(hist),
-                                    -1.0 if d.mean() < 0 else 1.0)  # fmt: skip
+                                    -1.0 if d.mean() < 0 else 1.0,
+                                    res.history_time[k])  # fmt: skip
                 mode_hz, _ = mesh_mode(s, self.line)
                 ratio = 1.0 / float(res.period[k]) / mode_hz if mode_hz > 0 else np.nan
                 imp[k] = (st.separation_fraction, st.back_contact_fraction,
@@ -972,7 +973,7 @@ def response(
     force = elastic + damping
     mean_force = float(np.mean(force))
     side = -1.0 if np.mean(elastic) < 0 else 1.0  # the loaded flanks: mean elastic force
-    states = contact_states(delta, float(s.half_backlash[line]), float(history), side)
+    states = contact_states(delta, float(s.half_backlash[line]), float(history), side, t)
     mode_hz, mode_share = mesh_mode(s, line)
     # The dynamic load factor is defined against a mean load. Without one (no torque on
     # the model) the force is round-off (1e-15 N), and a ratio of round-off would pass
