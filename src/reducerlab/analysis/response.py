@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -378,9 +378,12 @@ def _divides(P: float, T: float) -> bool:
 
 
 def _repeats_within(s: NonlinearSystem, T: float) -> bool:
-    """Every law of ``s`` has a period that divides ``T`` (or is constant)."""
+    """Every law of ``s`` has a period that divides ``T`` (or is constant: a Fourier law
+    whose amplitudes are all zero counts as constant)."""
     for kinds, params in ((s.k_kind, s.k_params), (s.e_kind, s.e_params), (s.f_kind, s.f_params)):
         for kind, p in zip(kinds, params, strict=True):
+            if int(kind) == LAW_FOURIER and not np.any(p[3 : 3 + int(p[2])]):
+                continue
             P = flat_period(int(kind), p)
             if math.isfinite(P) and not _divides(P, T):
                 return False
@@ -552,8 +555,6 @@ def accurate_steps(
         raise ReducerlabError(f"accuracy must be a number in (0, 1), got {accuracy!r}")
     E = len(systems)
     T, N = prep.period, prep.steps
-    scale = bounds / BOUND_FACTOR
-    scale[~np.isfinite(scale) | (scale <= 0)] = np.inf
     bw = block_width(E)
     P, _, status, _ = rk4_ensemble(
         *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
@@ -564,7 +565,29 @@ def accurate_steps(
     if not np.any(ok):
         return N
     Y[~ok] = Y0[~ok]
-    start = pilot * T
+    return refine_steps(prep, systems, Y, pilot * T, ok, bounds, accuracy)
+
+
+def refine_steps(
+    prep: _Prepared,
+    systems: Sequence[NonlinearSystem],
+    Y: NDArray[np.float64],
+    start: NDArray[np.float64],
+    ok: NDArray[np.bool_],
+    bounds: NDArray[np.float64],
+    accuracy: float,
+) -> int:
+    """The check of :func:`accurate_steps` from states ``Y`` at times ``start`` (s) on
+    or near the attractor (members ``ok``): one period with ``N`` and ``2N`` steps, ``N``
+    grown until their difference meets ``accuracy / PERIOD_ERROR_GAIN``."""
+    from .kernel import block_width, rk4_ensemble
+
+    E = len(systems)
+    T, N = prep.period, prep.steps
+    scale = bounds / BOUND_FACTOR
+    scale[~np.isfinite(scale) | (scale <= 0)] = np.inf
+    bw = block_width(E)
+    ok = ok.copy()
     target = accuracy / PERIOD_ERROR_GAIN
     for _ in range(6):
         ends = []
@@ -617,6 +640,7 @@ class Ensemble:
     steps_per_period: int = 0  # RK4 steps per period used
     diverged: NDArray[np.bool_] | None = None  # (member,), with on_divergence="mark"
     exponent: NDArray[np.float64] | None = None  # (member,), 1/s, with exponents=True
+    mapped: NDArray[np.bool_] | None = None  # (member,): fast-forwarded by one-period maps
 
 
 def ensemble(
@@ -633,6 +657,7 @@ def ensemble(
     accuracy: float = ACCURACY,
     on_divergence: str = "raise",
     exponents: bool = False,
+    method: str = "auto",
 ) -> Ensemble:
     """Integrate systems of identical structure with the compiled RK4 kernel.
 
@@ -676,6 +701,14 @@ def ensemble(
         every member runs beside a perturbed copy inside the compiled kernel
         (Benettin's renormalisation after every period, as :func:`lyapunov`), at twice
         the cost of the trajectory alone.
+    method : {"auto", "rk4", "maps"}
+        ``"rk4"`` integrates every period with the compiled RK4 kernel. ``"maps"``
+        first tries the one-period map of the contact system (:mod:`.floquet`): exact
+        while every line with backlash stays in contact, which it checks in every
+        period (members whose teeth would separate are integrated by RK4 from the
+        start); the last ``history`` periods are always RK4's. ``"auto"`` (default)
+        takes the map where it pays: every law repeats within the period, no cubic
+        line, and at least ``4 (2n + 1)`` periods.
 
     Raises
     ------
@@ -717,27 +750,56 @@ def ensemble(
     if not np.all(np.isfinite(Y0)):
         raise ReducerlabError("y0: the initial state must be finite")
     bounds = state_bounds(systems, Y0, T) if limit is None else np.full((E, 2 * n), float(limit))
+    if method not in ("auto", "rk4", "maps"):
+        raise ReducerlabError(f"method must be 'auto', 'rk4' or 'maps', got {method!r}")
+    maps = None
+    cache: dict = {}
+    if method == "maps" or (method == "auto" and _maps_pay(prep, n, periods)):
+        from .floquet import contact_sides
+
+        sides = contact_sides(prep.arrays, static_states(systems))
+        if prep.periodic and not np.any(prep.arrays[8]) and np.any(np.all(sides != 0, axis=1)):
+            maps = sides
     if steps_per_period is None:
-        N = accurate_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS))
+        if maps is not None:
+            N = _map_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS),
+                           maps, cache)  # fmt: skip
+        else:
+            N = accurate_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS))
         prep = _with_steps(prep, systems, N)
         N = prep.steps
-    exponent = None
-    if exponents:  # each member beside its perturbed copy: pairs in one kernel call
-        pairs = [x for x in systems for _ in range(2)]
-        pprep = _with_steps(_prepare(pairs, N, period, None), pairs, N)
-        poincare, hist, status, logs = rk4_ensemble(
-            *pprep.arrays, np.repeat(Y0, 2, axis=0), np.zeros(2 * E), np.repeat(T, 2),
-            pprep.offs, pprep.dts, pprep.periodic, periods, keep, history,
-            np.repeat(bounds, 2, axis=0), block_width(2 * E), periods - keep, LYAPUNOV_D0,
+
+    def rk4_run(idx: NDArray[np.intp], Ys: NDArray[np.float64]) -> tuple:
+        """Poincaré states, history, status and exponents of members ``idx``."""
+        from .floquet import subset as _subset
+
+        sub = _subset(prep, idx)
+        Tk, bk, Ek = T[idx], bounds[idx], idx.size
+        if not exponents:
+            P, H, st, _ = rk4_ensemble(
+                *sub.arrays, Ys, np.zeros(Ek), Tk, sub.offs, sub.dts, sub.periodic,
+                periods, keep, history, bk, block_width(Ek), -1, 0.0,
+            )  # fmt: skip
+            return P, H, st, None
+        # each member beside its perturbed copy: pairs in one kernel call
+        two = _subset(prep, np.repeat(idx, 2))
+        P, H, st, logs = rk4_ensemble(
+            *two.arrays, np.repeat(Ys, 2, axis=0), np.zeros(2 * Ek), np.repeat(Tk, 2),
+            two.offs, two.dts, two.periodic, periods, keep, history,
+            np.repeat(bk, 2, axis=0), block_width(2 * Ek), periods - keep, LYAPUNOV_D0,
         )  # fmt: skip
-        poincare, hist, status = poincare[0::2], hist[0::2], status[0::2]
-        exponent = logs[0::2] / (keep * T)
-        exponent[status[:, 0] != 0] = np.nan
+        P, H, st = P[0::2], H[0::2], st[0::2]
+        lam = logs[0::2] / (keep * Tk)
+        lam[st[:, 0] != 0] = np.nan
+        return P, H, st, lam
+
+    if maps is None:
+        poincare, hist, status, exponent = rk4_run(np.arange(E), Y0)
+        mapped = np.zeros(E, bool)
     else:
-        poincare, hist, status, _ = rk4_ensemble(
-            *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
-            periods, keep, history, bounds, block_width(E), -1, 0.0,
-        )  # fmt: skip
+        poincare, hist, status, exponent, mapped = _map_run(
+            prep, Y0, bounds, periods, keep, history, exponents, maps, rk4_run, cache
+        )
     diverged = status[:, 0] != 0
     if on_divergence == "raise":
         _raise_diverged(systems, status, bounds, labels, N)
@@ -762,7 +824,94 @@ def ensemble(
     else:
         dH = np.empty((E, 0, L))
     times = tH
-    return Ensemble(poincare, hist, dP, dH, T, times, list(systems), N, diverged, exponent)
+    return Ensemble(poincare, hist, dP, dH, T, times, list(systems), N, diverged, exponent,
+                    mapped)  # fmt: skip
+
+
+def _maps_pay(prep: _Prepared, n: int, periods: int) -> bool:
+    """Whether the one-period map is worth trying: it costs ``2n + 1`` periods."""
+    return prep.periodic and periods >= 4 * (2 * n + 1)
+
+
+def _map_steps(
+    prep: _Prepared,
+    systems: Sequence[NonlinearSystem],
+    Y0: NDArray[np.float64],
+    bounds: NDArray[np.float64],
+    accuracy: float,
+    pilot: int,
+    sides: NDArray[np.float64],
+    cache: dict,
+) -> int:
+    """:func:`accurate_steps` with the pilot periods run through the one-period maps
+    (members whose teeth separate in the pilot run them with the RK4 kernel); the maps
+    stay in ``cache`` for the main run."""
+    from .floquet import map_members, subset
+    from .kernel import block_width, rk4_ensemble
+
+    _, Y, failed, _ = map_members(prep, sides, Y0, bounds, pilot, 1, -1, 0.0, cache)
+    ok = np.ones(len(systems), bool)
+    bad = np.flatnonzero(failed >= 0)
+    if bad.size:  # teeth that separate: their pilot by the RK4 kernel
+        sub = subset(prep, bad)
+        P, _, st, _ = rk4_ensemble(
+            *sub.arrays, Y0[bad], np.zeros(bad.size), sub.period, sub.offs, sub.dts,
+            sub.periodic, pilot, 1, 0, bounds[bad], block_width(bad.size), -1, 0.0,
+        )  # fmt: skip
+        Y[bad] = np.where(np.isfinite(P[:, 1]), P[:, 1], Y0[bad])
+        ok[bad] = st[:, 0] == 0
+    if not np.any(ok):
+        return prep.steps
+    return refine_steps(prep, systems, Y, pilot * prep.period, ok, bounds, accuracy)
+
+
+def _map_run(
+    prep: _Prepared,
+    Y0: NDArray[np.float64],
+    bounds: NDArray[np.float64],
+    periods: int,
+    keep: int,
+    history: int,
+    exponents: bool,
+    sides: NDArray[np.float64],
+    rk4_run: Callable[[NDArray[np.intp], NDArray[np.float64]], tuple],
+    cache: dict,
+) -> tuple:
+    """:func:`ensemble`'s outputs with the periods before the history taken by the
+    one-period maps; members whose teeth separate (or that leave their bounds) in any
+    period go to ``rk4_run`` from their start."""
+    from .floquet import map_members, subset
+
+    E, n2 = Y0.shape
+    N = prep.steps
+    n_keep = max(keep, history)
+    P, _, failed, logs = map_members(prep, sides, Y0, bounds, periods, n_keep,
+                                     periods - keep if exponents else -1, LYAPUNOV_D0,
+                                     cache)  # fmt: skip
+    poincare = np.ascontiguousarray(P[:, n_keep - keep :])
+    hist = np.full((E, history * N, n2), np.nan)
+    status = np.zeros((E, 3 + n2))
+    exponent = logs / (keep * prep.period) if exponents else None
+    good = np.flatnonzero(failed < 0)
+    if history and good.size:  # the last periods, every step: the full equations
+        from .kernel import block_width, rk4_ensemble
+
+        sub = subset(prep, good)
+        start = P[good, n_keep - history]
+        _, H, st, _ = rk4_ensemble(
+            *sub.arrays, start, (periods - history) * sub.period, sub.period, sub.offs,
+            sub.dts, sub.periodic, history, 1, history, bounds[good], block_width(good.size),
+            -1, 0.0,
+        )  # fmt: skip
+        hist[good] = H
+        status[good] = st
+    bad = np.flatnonzero(failed >= 0)
+    if bad.size:
+        Pb, Hb, sb, lb = rk4_run(bad, Y0[bad])
+        poincare[bad], hist[bad], status[bad] = Pb, Hb, sb
+        if exponents:
+            exponent[bad] = lb
+    return poincare, hist, status, exponent, failed < 0
 
 
 def _raise_diverged(
