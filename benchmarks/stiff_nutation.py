@@ -1,5 +1,17 @@
 """Benchmark: the 12-DOF nutation drive is stiff (issue 16): what accuracy costs, and
-whether exponential integration of its linear part makes it cheaper.
+what makes it cheaper.
+
+1. One-period maps (``ensemble(method="maps")``, the default where they apply) against
+   the RK4 kernel on every period (``method="rk4"``), side by side, equal step counts
+   (the default's accuracy-driven count), the largest difference of the Poincaré points
+   relative to the state scale:
+
+   * the case of ``benchmarks/bifurcation.py``: ``examples/nutation_double_sided.toml``
+     as bundled, 100 values of ``mesh1.stiffness`` x 600 mesh periods;
+   * loaded and time-varying: the same drive with the input and output torques of a
+     3 kW, 1500 rpm operating point, the mesh variation below, 10 um backlash and 5 um
+     error on both pairs (teeth in contact), 16 values x 300 periods of 7 mesh periods
+     (the common period of its 650 Hz and 742.9 Hz meshes).
 
 The drive of ``examples/nutation_double_sided.toml`` with a time-varying mesh stiffness
 (harmonics 2e7 and 1e7 N/m on a 2.1e8 N/m mean), 2000 N s/m mesh damping, 10 um backlash
@@ -15,6 +27,9 @@ periods 40-59 against the kernel at 2640 steps per period, relative to the state
   error, loads) by the fourth-order exponential Runge-Kutta stages. It would remove the
   step limit of the highest modes if the rest were weak.
 
+2. What RK4's step count buys on the time-varying drive, and the exponential
+   integrator prototype below.
+
 Run: ``.venv/bin/python benchmarks/stiff_nutation.py``.
 """
 
@@ -29,7 +44,7 @@ import numpy as np
 
 from reducerlab.analysis.nonlinear import axis_members
 from reducerlab.analysis.response import ensemble, forcing_period, state_bounds, static_states
-from reducerlab.analysis.sweep import Axis
+from reducerlab.analysis.sweep import Axis, _Evaluator, _resolve
 from reducerlab.drives import build_model, load_design
 from reducerlab.examples import example_dir
 from reducerlab.model.laws import evaluate_flat, flat_mean
@@ -42,10 +57,39 @@ SETS = [
 PERIODS, KEEP = 60, 20
 
 
+LOADS = ["input_torque=19.1 N*m", "output_torque=2005 N*m"]  # 3 kW at 1500 rpm, i = 105
+COMMON = 7 / 650  # s: 7 periods of mesh 1, 8 of mesh 2
+
+
 def system():
     d = load_design(example_dir() / "nutation_double_sided.toml", SETS)
     values, members, _ = axis_members(d, build_model(d), Axis("mesh1.stiffness", (2e8,)), "b")
     return members(values)[0]
+
+
+def members_of(sets: list[str], count: int):
+    d = load_design(example_dir() / "nutation_double_sided.toml", sets)
+    axis = Axis.linspace("mesh1.stiffness", 1.5e8, 3e8, count)
+    values, members, _ = axis_members(d, build_model(d), axis, "benchmark")
+    return members(values)
+
+
+def maps_against_rk4(label: str, systems, periods: int, period: float | None) -> None:
+    # from static equilibrium under the mean loads, as bifurcation() starts
+    kw = dict(periods=periods, keep=100, period=period, y0=static_states(systems))
+    ensemble(systems[:2], periods=30, keep=1, period=period, method="maps")  # compile
+    ensemble(systems[:2], periods=2, keep=1, period=period, method="rk4")
+    t = time.perf_counter()
+    fast = ensemble(systems, method="maps", **kw)
+    t_maps = time.perf_counter() - t
+    t = time.perf_counter()
+    slow = ensemble(systems, method="rk4", **kw)
+    t_rk4 = time.perf_counter() - t
+    scale = state_bounds(systems, kw["y0"], slow.period, factor=1.0)
+    diff = float(np.nanmax(np.abs(fast.poincare - slow.poincare) / scale[:, None, :]))
+    print(f"| {label} | {len(systems)} x {periods} | {slow.steps_per_period} | {t_rk4:.2f} | "
+          f"{t_maps:.2f} ({int(fast.mapped.sum())} mapped) | {t_rk4 / t_maps:.1f}x | "
+          f"{diff:.1e} |")  # fmt: skip
 
 
 class ETD4:
@@ -109,6 +153,19 @@ class ETD4:
 def main() -> None:
     print(f"date: {dt.date.today()}, machine: {platform.machine()}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}")  # fmt: skip
+    print("| case | values x periods | steps/period | RK4 every period (s) | maps (s) | "
+          "speed-up | largest difference |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|")
+    bundled = _Evaluator  # the systems of benchmarks/bifurcation.py
+    d = load_design(example_dir() / "nutation_double_sided.toml")
+    ev = bundled(d.model_dump(mode="python"), build_model(d),
+                 (_resolve(d, build_model(d), "mesh1.stiffness"),))  # fmt: skip
+    from reducerlab.analysis.response import to_system
+
+    plain = [to_system(ev.model_at([v])) for v in np.linspace(1.5e8, 3e8, 100)]
+    maps_against_rk4("bundled (constant stiffness, no load)", plain, 600, None)
+    maps_against_rk4("loaded, time-varying, backlash", members_of(SETS + LOADS, 16), 300,
+                     COMMON)  # fmt: skip
     s = system()
     T = forcing_period(s)
     y0 = static_states([s])

@@ -123,15 +123,24 @@ def affine_maps(prep, sides: NDArray[np.float64]) -> tuple[NDArray, ...]:
     N = prep.offs.shape[1]
     H = H.reshape(E, C, N, n2)
     base = H[:, 0]  # (E, N, 2n): from rest
-    Phi_k = np.transpose(H[:, 1:] - base[:, None], (0, 2, 3, 1))  # (E, N, 2n, 2n)
-    Phi, p = Phi_k[:, -1], base[:, -1]
-    # per-step deflections: G q - e and rates G v - de/dt, affine in the start state
-    Gs = G  # (E, L, n)
-    start = np.broadcast_to(np.eye(n2), (E, 1, n2, n2))
-    Phis = np.concatenate([start, Phi_k], axis=1)  # (E, N + 1, 2n, 2n)
+    # the linear part at each step end, projected on the lines at once (no (E, N, 2n, 2n)
+    # array): D[e, k, l, s] = G[e, l] . (state at step k from unit state s, minus rest)
+    Gq = (
+        np.einsum("eln,eskn->ekls", G, H[:, 1:, :, :n])
+        - np.einsum("eln,ekn->ekl", G, base[:, :, :n])[..., None]
+    )
+    Gv = (
+        np.einsum("eln,eskn->ekls", G, H[:, 1:, :, n:])
+        - np.einsum("eln,ekn->ekl", G, base[:, :, n:])[..., None]
+    )
+    Phi = np.transpose(H[:, 1:, -1, :] - base[:, None, -1, :], (0, 2, 1))  # (E, 2n, 2n)
+    p = base[:, -1]
+    start_q = np.concatenate([G, np.zeros_like(G)], axis=2)[:, None]  # k = 0: the start
+    start_v = np.concatenate([np.zeros_like(G), G], axis=2)[:, None]
+    D = np.concatenate([start_q, Gq], axis=1)  # (E, N + 1, L, 2n)
+    Dv = np.concatenate([start_v, Gv], axis=1)
+    Gs = G
     bases = np.concatenate([np.zeros((E, 1, n2)), base], axis=1)  # (E, N + 1, 2n)
-    D = np.einsum("eln,ekns->ekls", Gs, Phis[:, :, :n, :])
-    Dv = np.einsum("eln,ekns->ekls", Gs, Phis[:, :, n:, :])
     times = np.concatenate([np.zeros((E, 1)), prep.offs + prep.dts], axis=1)
     ev, edot = _law_pairs(prep.arrays[9], prep.arrays[10], np.ascontiguousarray(times))
     d = np.einsum("eln,ekn->ekl", Gs, bases[:, :, :n]) - ev
