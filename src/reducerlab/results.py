@@ -41,6 +41,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "response": "reducerlab.analysis.nonlinear",
     "frequency-response": "reducerlab.analysis.frequency_response",
     "regime-map": "reducerlab.analysis.regime_map",
+    "complex-modal": "reducerlab.analysis.complex_modal",
     "kinematics": "reducerlab.analysis.kinematics",
     "body-modal": "reducerlab.analysis.body_modal",
     "contact": "reducerlab.analysis.contact",

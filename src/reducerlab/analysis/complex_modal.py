@@ -1,0 +1,256 @@
+"""Complex modes of models with damping and gyroscopic terms (issue 17).
+
+The quadratic eigenproblem ``(lambda^2 M + lambda C + K) phi = 0`` of a model whose
+velocity matrix ``C`` holds damping (symmetric) and gyroscopic or Coriolis terms (skew:
+:class:`~reducerlab.model.Gyroscopic`, :class:`~reducerlab.model.Coriolis`, at the model
+speed) is solved by its first-order (state-space) form
+
+    ``A = [[0, I], [-M^-1 K, -M^-1 C]]``,  ``A [phi; lambda phi] = lambda [phi; lambda phi]``
+
+(Friswell et al., *Dynamics of Rotating Machines*, 2010, Sec. 2.5). Each oscillatory mode
+is one eigenvalue ``lambda = -zeta omega_n + i omega_d`` of a conjugate pair: damped
+frequency ``omega_d / 2 pi`` (Hz), natural frequency ``|lambda| / 2 pi``, damping ratio
+``zeta = -Re(lambda) / |lambda|``, logarithmic decrement ``2 pi zeta / sqrt(1 - zeta^2)``.
+A mode with ``Re(lambda) > 0`` grows: it is reported as *unstable*, never as a normal
+frequency. Rigid-body motions (the model's rigid modes, as :func:`.modal.modal` finds
+them) are reported at 0 Hz. Whirl: for the body pair ``(x, y)`` or ``(rx, ry)`` that
+carries most of a mode, its orbit turns with the body's spin (*forward*), against it
+(*backward*), or not at all (*planar*, an orbit narrower than 5 % of its length).
+Without damping and gyroscopic terms the damped frequencies are the undamped ones of
+:func:`.modal.modal`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from ..errors import ModelError, ReducerlabError, names_source
+from ..model import Coriolis, Gyroscopic, Model
+from ..results import Result, provenance
+from .modal import RIGID_TOL, _rigid_and_elastic
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["ComplexModalResult", "complex_modes"]
+
+TWO_PI = 2.0 * math.pi
+
+#: An orbit whose minor axis is below this share of its major axis is planar (no whirl).
+PLANAR = 0.05
+
+#: A mode grows (unstable) when Re(lambda) exceeds this share of |lambda|: round-off of
+#: an undamped mode stays far below it.
+UNSTABLE_TOL = 1e-9
+
+
+def _spin_signs(model: Model) -> dict[str, float]:
+    """Spin sense of each body with a Gyroscopic or Coriolis element (sign of its speed)."""
+    out: dict[str, float] = {}
+    for e in model.elements:
+        if isinstance(e, Gyroscopic):
+            out[e.pair[0].split(".")[0]] = float(np.sign(e.spin_ratio * model.speed))
+        elif isinstance(e, Coriolis):
+            out[e.pair[0].split(".")[0]] = float(np.sign(e.ratio * model.speed))
+    return out
+
+
+def _whirl(model: Model, phi: NDArray[np.complex128], spins: dict[str, float]) -> str:
+    """Whirl of one complex mode shape (see the module docstring)."""
+    best, label = 0.0, "none"
+    default = float(np.sign(model.speed))
+    for body in {d.body for d in model.dofs}:
+        for a, b in (("x", "y"), ("rx", "ry")):
+            ia, ib = model.index.get(f"{body}.{a}"), model.index.get(f"{body}.{b}")
+            if ia is None or ib is None:
+                continue
+            u, v = phi[ia], phi[ib]
+            weight = abs(u) ** 2 + abs(v) ** 2
+            if weight <= best:
+                continue
+            best = weight
+            # orbit (Re u e^{iwt}, Re v e^{iwt}): counterclockwise about +z when
+            # Im(conj(u) v) < 0; its minor / major axis ratio from the singular values
+            sense = -np.imag(np.conj(u) * v)
+            m = np.array([[u.real, -u.imag], [v.real, -v.imag]])
+            sv = np.linalg.svd(m, compute_uv=False)
+            spin = spins.get(body, default)
+            if sv[0] == 0 or sv[1] / sv[0] < PLANAR:
+                label = "planar"
+            elif spin == 0:
+                label = "ccw" if sense > 0 else "cw"
+            else:
+                label = "forward" if sense * spin > 0 else "backward"
+    return label
+
+
+@names_source
+def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModalResult:
+    """Complex modes of ``model`` at its speed: damping and gyroscopic terms included.
+
+    Parameters
+    ----------
+    model : Model
+        Any model; its velocity matrix ``C`` (damping, mesh damping, gyroscopic and
+        Coriolis blocks at the model speed) and stiffness ``K`` (speed terms included)
+        enter the quadratic eigenproblem.
+    rigid_tol : float
+        As in :func:`.modal.modal`: decides the rigid-body modes (reported at 0 Hz).
+
+    Returns
+    -------
+    ComplexModalResult
+        Per mode: ``frequency`` (damped, Hz), ``natural_frequency`` (|lambda| / 2 pi, Hz),
+        ``damping_ratio``, ``log_decrement``, ``growth_rate`` (Re lambda, 1/s), ``whirl``,
+        ``stable``; complex shapes (largest component 1) as ``shape_real`` and
+        ``shape_imag`` (dof, mode).
+    """
+    if not (isinstance(rigid_tol, int | float) and 0 <= rigid_tol < 1):
+        raise ReducerlabError(f"rigid_tol must be a number in [0, 1), got {rigid_tol!r}")
+    mats = model.matrices()
+    M, C, K = mats.M, mats.C, mats.K
+    n = model.n
+    _, _, rigid, _ = _rigid_and_elastic(model, M, K, rigid_tol)
+    n_rigid = int(np.count_nonzero(rigid))
+    try:
+        Minv = np.linalg.inv(M)
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
+        lam, vec = np.linalg.eig(A)
+    except np.linalg.LinAlgError as exc:
+        raise ModelError(
+            f"complex modes of {model.name!r}: the eigen-solver failed ({exc})"
+        ) from None
+    if not np.all(np.isfinite(lam)):
+        raise ModelError(f"complex modes of {model.name!r}: non-finite eigenvalues")
+    order = np.argsort(np.abs(lam))
+    lam, vec = lam[order], vec[:, order]
+    # the rigid motions: the 2 n_rigid eigenvalues nearest zero (a double root each)
+    lam_e, vec_e = lam[2 * n_rigid :], vec[:, 2 * n_rigid :]
+    scale = float(np.max(np.abs(lam_e))) if lam_e.size else 1.0
+    keep = (lam_e.imag > 1e-12 * scale) | (np.abs(lam_e.imag) <= 1e-12 * scale)
+    lam_e, vec_e = lam_e[keep], vec_e[:, keep]
+    spins = _spin_signs(model)
+    rows = []
+    for k in range(lam_e.size):
+        lk = lam_e[k]
+        phi = vec_e[:n, k]
+        i = int(np.argmax(np.abs(phi)))
+        phi = phi / phi[i]
+        mag = abs(lk)
+        zeta = -lk.real / mag + 0.0 if mag > 0 else 0.0  # + 0.0: no "-0" for undamped
+        rows.append((lk, phi, zeta, _whirl(model, phi, spins)))
+    rows.sort(key=lambda r: (abs(r[0].imag), abs(r[0])))
+    m_total = n_rigid + len(rows)
+    freq = np.zeros(m_total)
+    natural = np.zeros(m_total)
+    zeta = np.zeros(m_total)
+    growth = np.zeros(m_total)
+    whirl = ["rigid"] * n_rigid + [r[3] for r in rows]
+    shapes = np.zeros((n, m_total), complex)
+    if n_rigid:
+        # rigid shapes from the real analysis (null space of the stiffness)
+        from .modal import modal
+
+        real = modal(model, rigid_tol=rigid_tol).data
+        rigid_cols = [j for j, f in enumerate(real["frequency"].values) if f == 0.0]
+        shapes[:, :n_rigid] = real["shape_max"].values[:, rigid_cols[:n_rigid]]
+    for j, (lk, phi, z, _) in enumerate(rows, start=n_rigid):
+        freq[j] = abs(lk.imag) / TWO_PI
+        natural[j] = abs(lk) / TWO_PI
+        zeta[j] = z
+        growth[j] = lk.real
+        shapes[:, j] = phi
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logdec = np.where(np.abs(zeta) < 1, TWO_PI * zeta / np.sqrt(1 - zeta**2), np.inf)
+    stable = growth <= UNSTABLE_TOL * np.maximum(natural * TWO_PI, 1e-300)
+    skew = 0.5 * (C - C.T)
+    data = xr.Dataset(
+        {
+            "frequency": ("mode", freq, {"units": "Hz", "long_name": "damped natural frequency"}),
+            "natural_frequency": ("mode", natural, {"units": "Hz", "long_name": "|lambda| / 2 pi"}),
+            "damping_ratio": ("mode", zeta, {"units": "1"}),
+            "log_decrement": ("mode", logdec, {"units": "1"}),
+            "growth_rate": ("mode", growth, {"units": "1/s", "long_name": "Re(lambda)"}),
+            "whirl": ("mode", np.array(whirl, dtype=object).astype(str)),
+            "stable": ("mode", stable),
+            "shape_real": (("dof", "mode"), shapes.real),
+            "shape_imag": (("dof", "mode"), shapes.imag),
+        },
+        coords={"mode": np.arange(1, m_total + 1), "dof": model.dof_names},
+        attrs={
+            "title": model.name or "complex modes",
+            "speed_rad_s": model.speed,
+            "rigid_modes": n_rigid,
+            "gyroscopic": int(np.any(skew)),  # skew velocity terms present (0 or 1)
+            **provenance(model.metadata),
+        },
+    )
+    return ComplexModalResult(data)
+
+
+class ComplexModalResult(Result):
+    """Complex modes: damped frequencies, damping ratios, whirl and stability."""
+
+    kind: ClassVar[str] = "complex-modal"
+
+    @property
+    def frequencies(self) -> NDArray[np.float64]:
+        """Damped natural frequencies (Hz), rigid modes 0."""
+        return self.data["frequency"].values
+
+    def to_dict(self) -> dict[str, Any]:
+        ds = self.data
+        return {
+            "speed_rad_s": ds.attrs["speed_rad_s"],
+            "frequencies_hz": ds["frequency"].values.tolist(),
+            "damping_ratios": ds["damping_ratio"].values.tolist(),
+            "whirl": ds["whirl"].values.tolist(),
+            "stable": ds["stable"].values.tolist(),
+        }
+
+    def table(self) -> str:
+        ds = self.data
+        rpm = ds.attrs["speed_rad_s"] * 60 / TWO_PI
+        lines = [f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm",
+                 f"{'mode':>4}  {'frequency (Hz)':>15}  {'damping ratio':>13}  "
+                 f"{'whirl':<9} stability"]  # fmt: skip
+        for m, f, z, w, s in zip(ds["mode"].values, ds["frequency"].values,
+                                 ds["damping_ratio"].values, ds["whirl"].values,
+                                 ds["stable"].values, strict=True):  # fmt: skip
+            verdict = "stable" if s else "UNSTABLE (grows)"
+            lines.append(f"{int(m):>4}  {f:>15.6g}  {z:>13.4g}  {w:<9} {verdict}")
+        return "\n".join(lines)
+
+    def plot(self) -> Figure:
+        """Damped frequencies (marker by whirl) and damping ratios of every mode."""
+        from matplotlib.figure import Figure
+
+        ds = self.data
+        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+        a1, a2 = fig.subplots(2, 1, sharex=True)
+        modes = ds["mode"].values
+        marks = {"forward": ("^", "C0"), "backward": ("v", "C3"), "planar": ("o", "C2"),
+                 "rigid": ("s", "k")}  # fmt: skip
+        for w in sorted(set(ds["whirl"].values.tolist())):
+            sel = ds["whirl"].values == w
+            mk, col = marks.get(w, ("d", "C7"))
+            a1.plot(modes[sel], ds["frequency"].values[sel], mk, color=col, label=w)
+            a2.plot(modes[sel], ds["damping_ratio"].values[sel], mk, color=col)
+        bad = ~ds["stable"].values
+        if bad.any():
+            a1.plot(modes[bad], ds["frequency"].values[bad], "x", color="red", ms=10,
+                    label="unstable")  # fmt: skip
+        a1.set_ylabel("damped frequency (Hz)")
+        a2.set_ylabel("damping ratio")
+        a2.set_xlabel("mode")
+        a1.legend(fontsize=7)
+        rpm = ds.attrs["speed_rad_s"] * 60 / TWO_PI
+        a1.set_title(f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm", fontsize=9)
+        for ax in (a1, a2):
+            ax.grid(alpha=0.3)
+        return fig

@@ -1,0 +1,164 @@
+"""Complex modes with damping and gyroscopic terms (issue 17, first part).
+
+Oracles: closed forms of rotordynamics textbooks — a rigid disc on isotropic tilt
+springs spinning at Omega (Friswell, Penny, Garvey and Lees, *Dynamics of Rotating
+Machines*, 2010, Sec. 3.4; Genta, *Dynamics of Rotating Systems*, 2005, Ch. 4):
+``omega_{b,f} = sqrt(omega_n^2 + (gamma Omega / 2)^2) -/+ gamma Omega / 2`` with
+``gamma = J_p / J_d``, the higher one whirling forward; a mass on an isotropic spring
+seen in a frame rotating at Omega (Coriolis and centripetal terms, the rotating-carrier
+terms of Lin and Parker 1999): ``omega_n -/+ Omega``; the damped oscillator's
+``omega_d = omega_n sqrt(1 - zeta^2)`` and log decrement; and the undamped modal
+analysis, which complex modes must reproduce when C = 0.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from conftest import chain
+from reducerlab.analysis.complex_modal import ComplexModalResult, complex_modes
+from reducerlab.analysis.modal import modal
+from reducerlab.errors import ModelError
+from reducerlab.model import (
+    Centripetal,
+    Contribution,
+    Coriolis,
+    Dof,
+    Element,
+    Gyroscopic,
+    Inertia,
+    Model,
+    Support,
+)
+from reducerlab.results import Result
+
+JD, JP, KT = 0.02, 0.03, 1e4  # kg m^2, kg m^2, N m/rad
+
+
+@dataclass(frozen=True)
+class NegativeDamper(Element):
+    """A destabilising velocity term on ``a.x`` (Support refuses negative damping, as it
+    should for user input; cross-coupled bearings or rubbing act this way)."""
+
+    name: str = "negative damper"
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return ("a.x",)
+
+    def contribution(self, dofs, speed) -> Contribution:
+        return Contribution(damping=np.array([[-4.0]]))
+
+
+def disc(rpm: float, spin_ratio: float = 1.0) -> Model:
+    return Model(
+        [Dof("disc", "rx"), Dof("disc", "ry")],
+        [Inertia("disc.rx", JD), Inertia("disc.ry", JD), Support("disc.rx", KT),
+         Support("disc.ry", KT), Gyroscopic(("disc.rx", "disc.ry"), JP, spin_ratio)],
+        speed=rpm * math.pi / 30, name="disc",
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("rpm", [1000.0, 3000.0, 6000.0])
+def test_spinning_disc_splits_into_forward_and_backward_whirl(rpm):
+    res = complex_modes(disc(rpm))
+    half = JP / JD * rpm * math.pi / 30 / 2
+    wn = math.sqrt(KT / JD)
+    back, fwd = math.sqrt(wn**2 + half**2) - half, math.sqrt(wn**2 + half**2) + half
+    # eigenvalues of a 4x4 state matrix: relative round-off ~1e-15; asserted 1e-10
+    np.testing.assert_allclose(res.frequencies, [back / (2 * math.pi), fwd / (2 * math.pi)],
+                               rtol=1e-10)  # fmt: skip
+    assert res.data["whirl"].values.tolist() == ["backward", "forward"]
+    assert np.all(res.data["stable"].values) and np.allclose(res.data["damping_ratio"], 0)
+
+
+def test_whirl_follows_the_spin_direction():
+    # the same disc spinning the other way: the split is the same, and the mode that
+    # whirls with the spin (now clockwise) is the forward one
+    a, b = complex_modes(disc(3000.0)), complex_modes(disc(3000.0, spin_ratio=-1.0))
+    np.testing.assert_allclose(a.frequencies, b.frequencies, rtol=1e-12)
+    assert b.data["whirl"].values.tolist() == ["backward", "forward"]
+    # at rest: one double frequency, no whirl sense to name
+    rest = complex_modes(disc(0.0))
+    assert rest.frequencies[0] == pytest.approx(rest.frequencies[1], rel=1e-12)
+
+
+def test_rotating_frame_mass_has_frequencies_omega_n_minus_and_plus_omega():
+    W, m, k = 50.0, 2.0, 8e3
+    model = Model(
+        [Dof("p", "x"), Dof("p", "y")],
+        [Inertia("p.x", m), Inertia("p.y", m), Support("p.x", k), Support("p.y", k),
+         Coriolis(("p.x", "p.y"), m), Centripetal("p.x", m), Centripetal("p.y", m)],
+        speed=W,
+    )  # fmt: skip
+    res = complex_modes(model)
+    wn = math.sqrt(k / m)
+    np.testing.assert_allclose(res.frequencies, [(wn - W) / (2 * math.pi),
+                                                 (wn + W) / (2 * math.pi)], rtol=1e-10)  # fmt: skip
+    # in the rotating frame the lower one whirls with the rotation
+    assert res.data["whirl"].values.tolist() == ["forward", "backward"]
+
+
+def test_damped_oscillator_frequency_ratio_and_log_decrement():
+    m, k, zeta = 1.5, 6e4, 0.07
+    c = 2 * zeta * math.sqrt(k * m)
+    res = complex_modes(Model([Dof("a", "x")], [Inertia("a.x", m), Support("a.x", k, c)]))
+    wn = math.sqrt(k / m)
+    assert res.frequencies[0] == pytest.approx(wn * math.sqrt(1 - zeta**2) / (2 * math.pi),
+                                               rel=1e-12)  # fmt: skip
+    assert res.data["natural_frequency"].values[0] == pytest.approx(wn / (2 * math.pi), rel=1e-12)
+    assert res.data["damping_ratio"].values[0] == pytest.approx(zeta, rel=1e-12)
+    assert res.data["log_decrement"].values[0] == pytest.approx(
+        2 * math.pi * zeta / math.sqrt(1 - zeta**2), rel=1e-12
+    )
+
+
+def test_negative_damping_is_reported_unstable():
+    # the mode grows at Re(lambda) = 4 / (2 m) = 2 1/s and is never reported as a
+    # normal frequency
+    res = complex_modes(Model([Dof("a", "x")], [Inertia("a.x", 1.0), Support("a.x", 1e4, 0.0),
+                                                NegativeDamper()]))  # fmt: skip
+    assert not res.data["stable"].values[0]
+    assert res.data["growth_rate"].values[0] == pytest.approx(2.0, rel=1e-9)
+    assert "UNSTABLE" in res.table()
+
+
+def test_without_damping_and_gyroscopics_it_is_the_undamped_modal_analysis():
+    model = chain([1.0, 2.0, 0.5, 3.0], [1e4, 3e4, 2e4])  # free: one rigid mode
+    real, cplx = modal(model), complex_modes(model)
+    # state-space eigenvalues against the symmetric solver: both ~1e-15 |lambda|
+    np.testing.assert_allclose(cplx.frequencies, real.frequencies, rtol=1e-9, atol=1e-9)
+    assert cplx.data["whirl"].values[0] == "rigid" and cplx.data.attrs["rigid_modes"] == 1
+    # and the real shapes up to sign (largest component 1 in both)
+    np.testing.assert_allclose(np.abs(cplx.data["shape_real"].values[:, 1:]),
+                               np.abs(real.data["shape_max"].values[:, 1:]), atol=1e-8)  # fmt: skip
+    assert np.allclose(cplx.data["shape_imag"].values, 0, atol=1e-10)
+
+
+def test_result_round_trip_and_figure(tmp_path):
+    res = complex_modes(disc(3000.0))
+    back = Result.load(res.save(tmp_path / "c.nc"))
+    assert isinstance(back, ComplexModalResult)
+    assert back.data["whirl"].values.tolist() == ["backward", "forward"]
+    assert res.to_dict()["stable"] == [True, True]
+    assert len(res.plot().axes) == 2
+
+
+def test_elements_name_their_dofs_and_parameters():
+    with pytest.raises(ModelError, match=r"gyroscopic:disc: gyroscopic moments act on one "):
+        Model([Dof("disc", "x"), Dof("disc", "y")],
+              [Inertia("disc.x", 1.0), Inertia("disc.y", 1.0),
+               Gyroscopic(("disc.x", "disc.y"), JP)]).matrices()  # fmt: skip
+    with pytest.raises(ModelError, match="polar must be a finite number >= 0"):
+        Gyroscopic(("d.rx", "d.ry"), -1.0)
+    with pytest.raises(ModelError, match="ratio must be a finite number"):
+        Coriolis(("d.x", "d.y"), 1.0, float("nan"))
+    # the polar inertia is a model parameter: exact derivative of the velocity matrix
+    m = disc(3000.0)
+    d = m.derivative("gyroscopic:disc.polar")
+    W = 3000 * math.pi / 30
+    np.testing.assert_allclose(d.C, [[0.0, W], [-W, 0.0]], rtol=1e-12)
