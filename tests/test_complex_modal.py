@@ -162,3 +162,23 @@ def test_elements_name_their_dofs_and_parameters():
     d = m.derivative("gyroscopic:disc.polar")
     W = 3000 * math.pi / 30
     np.testing.assert_allclose(d.C, [[0.0, W], [-W, 0.0]], rtol=1e-12)
+
+
+def test_undamped_modal_flags_skew_terms_it_leaves_out():
+    assert modal(disc(3000.0)).data.attrs["skew_velocity_terms"] == 1
+    assert modal(disc(0.0)).data.attrs["skew_velocity_terms"] == 0
+
+
+def test_cli_modal_complex(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+    from reducerlab.examples import example_dir
+
+    r = CliRunner().invoke(
+        app, ["modal", str(example_dir() / "gear_pair.toml"), "--complex", "-o", str(tmp_path)]
+    )
+    assert r.exit_code == 0, r.output
+    assert "complex modes:" in r.output and "damping ratio" in r.output
+    for name in ("complex_modes.nc", "complex_modes.png", "complex_modes.json", "modal.nc"):
+        assert (tmp_path / name).is_file()

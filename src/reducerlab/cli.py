@@ -237,9 +237,17 @@ def modal(
             callback=_rigid_tol,
         ),
     ] = 1e-10,
+    complex_: Annotated[
+        bool,
+        typer.Option(
+            "--complex",
+            help="Complex modes: damping, gyroscopic and Coriolis terms, whirl, stability.",
+        ),
+    ] = False,
     sets: SetOption = None,
 ) -> None:
     """Natural frequencies, mode shapes and energy classification of a design."""
+    from .analysis.complex_modal import complex_modes
     from .analysis.modal import modal as run_modal
 
     with _user_errors():
@@ -247,13 +255,23 @@ def modal(
         with _busy("modal analysis"):
             _, model = _model_from(design, sets)
             result = run_modal(model, rigid_tol=rigid_tol)
+            cplx = complex_modes(model, rigid_tol=rigid_tol) if complex_ else None
         if files is not None:
             with files:
                 _add_modal(result, files)
+                if cplx is not None:
+                    _add_with_figure(cplx, files, "complex_modes")
+                    _write_json(cplx, files.path("complex_modes.json"))
+    if cplx is not None:
+        typer.echo(json.dumps(cplx.to_dict()) if fmt is Format.json else cplx.table())
+        return
     if fmt is Format.json:
         typer.echo(result.to_json())
     else:
         _print_modal(result)
+        if result.data.attrs.get("skew_velocity_terms"):
+            _note("the model has gyroscopic or Coriolis terms, which undamped modes leave "
+                  "out: see reducerlab modal --complex")  # fmt: skip
 
 
 @app.command()

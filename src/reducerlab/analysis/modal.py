@@ -273,6 +273,10 @@ def modal(model: Model, *, rigid_tol: float = RIGID_TOL) -> ModalResult:
     if not (isinstance(rigid_tol, int | float) and 0 <= rigid_tol < 1):
         raise ReducerlabError(f"rigid_tol must be a number in [0, 1), got {rigid_tol!r}")
     mats = model.matrices()
+    # gyroscopic / Coriolis (skew) velocity terms are outside K phi = lambda M phi: they
+    # are flagged in the result (complex_modal.complex_modes includes them)
+    skew = 0.5 * (mats.C - mats.C.T)
+    skew_terms = int(np.any(np.abs(skew) > 1e-12 * max(float(np.abs(mats.C).max()), 1e-300)))
     lam, phi, rigid, drift = _rigid_and_elastic(model, mats.M, mats.K, rigid_tol)
     check_resolved(lam, rigid, mats.M, mats.K, model.dof_names, f"modal of {model.name!r}")
     unstable = lam < 0
@@ -345,6 +349,7 @@ def modal(model: Model, *, rigid_tol: float = RIGID_TOL) -> ModalResult:
             "speed_rad_s": model.speed,
             "rigid_tol": rigid_tol,
             "rigid_speed_eigenvalues": json.dumps([float(x) for x in drift]),
+            "skew_velocity_terms": skew_terms,
             **provenance(model.metadata),
         },
     )
