@@ -182,3 +182,56 @@ def test_cli_modal_complex(tmp_path):
     assert "complex modes:" in r.output and "damping ratio" in r.output
     for name in ("complex_modes.nc", "complex_modes.png", "complex_modes.json", "modal.nc"):
         assert (tmp_path / name).is_file()
+
+
+def test_campbell_critical_speeds_of_the_spinning_disc():
+    # synchronous (1x) crossings of a gyroscopic disc: backward whirl at
+    # Omega = omega_n / sqrt(1 + gamma), forward at omega_n / sqrt(1 - gamma) for
+    # gamma = J_p / J_d < 1 (Friswell et al. 2010, Sec. 3.5: critical speeds); the
+    # crossings are refined by root finding (brentq, 1e-12): asserted 1e-9
+    from reducerlab.analysis.complex_modal import ComplexCampbellResult, complex_campbell
+
+    jp = 0.015
+    m = Model(
+        [Dof("disc", "rx"), Dof("disc", "ry")],
+        [Inertia("disc.rx", JD), Inertia("disc.ry", JD), Support("disc.rx", KT),
+         Support("disc.ry", KT), Gyroscopic(("disc.rx", "disc.ry"), jp)],
+    )  # fmt: skip
+    res = complex_campbell(m, np.linspace(0.0, 3000.0, 41), orders={"1x": 1.0})
+    wn, g = math.sqrt(KT / JD), jp / JD
+    cr = res.crossings()
+    assert [c["whirl"] for c in cr] == ["backward", "forward"]
+    rpm = [c["speed_rpm"] for c in cr]
+    np.testing.assert_allclose(rpm, [wn / math.sqrt(1 + g) * 30 / math.pi,
+                                     wn / math.sqrt(1 - g) * 30 / math.pi], rtol=1e-9)  # fmt: skip
+    assert res.unstable_speeds() == [] and "every mode is stable" in res.table()
+    assert isinstance(res, ComplexCampbellResult) and len(res.plot().axes) == 1
+
+
+def test_campbell_reports_the_speeds_where_a_mode_grows():
+    # a rotating-frame mass whose frame speed exceeds its natural frequency without
+    # the Coriolis term (centripetal softening only): divergence beyond Omega = omega_n
+    # is reported as unstable, never drawn as a normal frequency
+    from reducerlab.analysis.complex_modal import complex_campbell
+
+    m, k = 1.0, 100.0  # omega_n = 10 rad/s
+    model = Model([Dof("p", "x")], [Inertia("p.x", m), Support("p.x", k, 0.1),
+                                    Centripetal("p.x", m)])  # fmt: skip
+    res = complex_campbell(model, np.linspace(0.0, 20.0, 21), orders={"1x": 1.0})
+    bad = res.unstable_speeds()
+    assert bad and min(bad) == pytest.approx(11 * 30 / math.pi, rel=1e-12)
+    assert "UNSTABLE" in res.table()
+
+
+def test_cli_campbell_complex(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+    from reducerlab.examples import example_dir
+
+    r = CliRunner().invoke(app, ["campbell", str(example_dir() / "gear_pair.toml"), "--complex",
+                                 "--speeds", "lin:0:3000:11", "-o", str(tmp_path)])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert "complex Campbell diagram" in r.output
+    assert (tmp_path / "complex_campbell.nc").is_file()
+    assert (tmp_path / "complex_campbell.png").is_file()

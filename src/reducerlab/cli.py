@@ -537,11 +537,19 @@ def campbell(
         Path | None, typer.Option("--output", "-o", help="Write results and figure here.")
     ] = None,
     fmt: Annotated[Format, typer.Option("--format", help="Output on stdout.")] = Format.table,
+    complex_: Annotated[
+        bool,
+        typer.Option(
+            "--complex",
+            help="Complex modes: damped frequencies, forward/backward whirl, stability.",
+        ),
+    ] = False,
     sets: SetOption = None,
 ) -> None:
     """Campbell diagram: natural frequencies and excitation lines against input speed
     (at most 100000 speeds)."""
     from .analysis.campbell import campbell as run_campbell
+    from .analysis.complex_modal import complex_campbell
     from .drives import load_design
 
     with _user_errors():
@@ -549,9 +557,12 @@ def campbell(
         d = load_design(design, sets or ())
         omegas = _parse_speeds(speeds)
         with _busy("campbell"):
-            res = run_campbell(d, omegas)
+            res = complex_campbell(d, omegas) if complex_ else run_campbell(d, omegas)
         if files is not None:
-            _save_with_figure(res, files, "campbell")
+            _save_with_figure(res, files, "complex_campbell" if complex_ else "campbell")
+    if complex_:
+        typer.echo(json.dumps(res.to_dict()) if fmt is Format.json else res.table())
+        return
     typer.echo(json.dumps({"crossings": res.crossings()}) if fmt is Format.json else res.table())
 
 

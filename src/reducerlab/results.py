@@ -42,6 +42,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "frequency-response": "reducerlab.analysis.frequency_response",
     "regime-map": "reducerlab.analysis.regime_map",
     "complex-modal": "reducerlab.analysis.complex_modal",
+    "complex-campbell": "reducerlab.analysis.complex_modal",
     "kinematics": "reducerlab.analysis.kinematics",
     "body-modal": "reducerlab.analysis.body_modal",
     "contact": "reducerlab.analysis.contact",

@@ -37,7 +37,7 @@ from .modal import RIGID_TOL, _rigid_and_elastic
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["ComplexModalResult", "complex_modes"]
+__all__ = ["ComplexCampbellResult", "ComplexModalResult", "complex_campbell", "complex_modes"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -253,4 +253,207 @@ class ComplexModalResult(Result):
         a1.set_title(f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm", fontsize=9)
         for ax in (a1, a2):
             ax.grid(alpha=0.3)
+        return fig
+
+
+def _branches(model: Model, speeds: NDArray, rigid_tol: float) -> tuple[NDArray, ...]:
+    """Damped frequencies, damping ratios, whirl and stability (speed, mode), the modes
+    sorted by frequency at each speed."""
+    rows = [complex_modes(model.with_speed(float(w)), rigid_tol=rigid_tol).data for w in speeds]
+    width = max(r.sizes["mode"] for r in rows)
+
+    def stack(name: str, fill: Any, dtype: Any) -> NDArray:
+        out = np.full((len(rows), width), fill, dtype=dtype)
+        for i, r in enumerate(rows):
+            out[i, : r.sizes["mode"]] = r[name].values
+        return out
+
+    return (stack("frequency", np.nan, float), stack("damping_ratio", np.nan, float),
+            stack("whirl", "", object), stack("stable", True, bool))  # fmt: skip
+
+
+@names_source
+def complex_campbell(
+    target: Any,
+    speeds: Any = None,
+    *,
+    orders: dict[str, float] | None = None,
+    points: int = 121,
+    rigid_tol: float = RIGID_TOL,
+) -> ComplexCampbellResult:
+    """Campbell diagram of the complex modes: damped frequencies against input speed,
+    split into forward and backward whirl by gyroscopic and Coriolis terms, with
+    excitation lines, their crossings and the speeds where a mode grows (unstable).
+
+    Parameters
+    ----------
+    target : Design or Model
+    speeds : array_like, optional
+        Input speeds (rad/s), ascending, >= 0; default 0 to 1.5x the top of the operating
+        range (``points`` values).
+    orders : dict, optional
+        Excitation name -> order (multiple of the input rotation frequency); default
+        :func:`~reducerlab.analysis.campbell.excitation_orders`.
+
+    Returns
+    -------
+    ComplexCampbellResult
+        ``frequency``, ``damping_ratio``, ``whirl``, ``stable`` over (speed, mode), the
+        modes numbered by frequency at each speed; excitation lines; crossings found
+        between samples and refined by root finding on the same numbered mode.
+    """
+    from scipy.optimize import brentq
+
+    from .campbell import _model_of, excitation_orders, operating_range
+
+    model = _model_of(target)
+    lo, hi = operating_range(target)
+    if speeds is None:
+        top = 1.5 * hi if hi > 0 else 1.5 * max(model.speed, 1.0)
+        speeds = np.linspace(0.0, top, points)
+    speeds = np.asarray(speeds, dtype=float)
+    if speeds.ndim != 1 or speeds.size < 2:
+        raise ReducerlabError("complex campbell: give at least two speeds")
+    if not np.all(np.isfinite(speeds)) or np.any(speeds < 0) or np.any(np.diff(speeds) <= 0):
+        raise ReducerlabError(
+            "complex campbell: speeds must be finite, >= 0 and strictly increasing"
+        )
+    orders = orders if orders is not None else excitation_orders(target)
+    if not orders or any(not (o > 0 and math.isfinite(o)) for o in orders.values()):
+        raise ReducerlabError(f"complex campbell: excitation orders must be positive, got {orders}")
+    freq, zeta, whirl, stable = _branches(model, speeds, rigid_tol)
+    exc = np.outer(speeds / TWO_PI, list(orders.values()))
+    rows = []
+    for j in range(freq.shape[1]):
+        f = freq[:, j]
+        if not np.any(f > 0):
+            continue
+        for k, (name, order) in enumerate(orders.items()):
+            g = f - exc[:, k]
+            for i in np.nonzero((np.sign(g[:-1]) * np.sign(g[1:]) < 0) & (f[:-1] > 0))[0]:
+
+                def h(w: float, j: int = j, order: float = order) -> float:
+                    fw = _branches(model, np.array([w]), rigid_tol)[0][0, j]
+                    return float(fw - order * w / TWO_PI)
+
+                w = brentq(h, speeds[i], speeds[i + 1], xtol=1e-12 * speeds[-1], rtol=1e-12)
+                near = i if abs(speeds[i] - w) < abs(speeds[i + 1] - w) else i + 1
+                rows.append((j + 1, name, w, order * w / TWO_PI, str(whirl[near, j])))
+    rows.sort(key=lambda r: r[2])
+    data = xr.Dataset(
+        {
+            "frequency": (("speed", "mode"), freq, {"units": "Hz"}),
+            "damping_ratio": (("speed", "mode"), zeta, {"units": "1"}),
+            "whirl": (("speed", "mode"), whirl.astype(str)),
+            "stable": (("speed", "mode"), stable),
+            "excitation_frequency": (("speed", "excitation"), exc, {"units": "Hz"}),
+            "order": ("excitation", list(orders.values())),
+            "crossing_mode": ("crossing", np.array([r[0] for r in rows], dtype=int)),
+            "crossing_excitation": ("crossing", np.array([r[1] for r in rows], dtype=str)),
+            "crossing_speed": (
+                "crossing",
+                np.array([r[2] for r in rows], dtype=float),
+                {"units": "rad/s"},
+            ),
+            "crossing_frequency": (
+                "crossing",
+                np.array([r[3] for r in rows], dtype=float),
+                {"units": "Hz"},
+            ),
+            "crossing_whirl": ("crossing", np.array([r[4] for r in rows], dtype=str)),
+        },
+        coords={
+            "speed": ("speed", speeds, {"units": "rad/s"}),
+            "mode": np.arange(1, freq.shape[1] + 1),
+            "excitation": list(orders),
+        },
+        attrs={
+            "title": getattr(target, "name", "") or model.name,
+            "operating_min_rad_s": lo,
+            "operating_max_rad_s": hi,
+            **provenance(model.metadata),
+        },
+    )
+    return ComplexCampbellResult(data)
+
+
+class ComplexCampbellResult(Result):
+    """Complex-mode Campbell diagram: (speed, mode) frequencies, whirl and stability."""
+
+    kind: ClassVar[str] = "complex-campbell"
+
+    def crossings(self) -> list[dict[str, Any]]:
+        ds = self.data
+        return [
+            {"mode": int(m), "excitation": str(e), "speed_rpm": float(w) * 60 / TWO_PI,
+             "frequency_hz": float(f), "whirl": str(h)}
+            for m, e, w, f, h in zip(ds["crossing_mode"].values, ds["crossing_excitation"].values,
+                                     ds["crossing_speed"].values, ds["crossing_frequency"].values,
+                                     ds["crossing_whirl"].values, strict=True)
+        ]  # fmt: skip
+
+    def unstable_speeds(self) -> list[float]:
+        """Input speeds (rpm) at which some mode grows."""
+        ds = self.data
+        bad = ~np.all(ds["stable"].values, axis=1)
+        return (ds["speed"].values[bad] * 60 / TWO_PI).tolist()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"crossings": self.crossings(), "unstable_speeds_rpm": self.unstable_speeds()}
+
+    def table(self) -> str:
+        ds = self.data
+        cr = self.crossings()
+        lines = [
+            f"complex Campbell diagram: {ds.attrs.get('title', '')}",
+            f"{len(cr)} crossing(s) of damped natural frequencies with excitations:",
+        ]
+        for c in cr:
+            lines.append(f"  mode {c['mode']:>2} ({c['whirl']}) x {c['excitation']:<14} at "
+                         f"{c['speed_rpm']:10.5g} rpm, {c['frequency_hz']:10.5g} Hz")  # fmt: skip
+        bad = self.unstable_speeds()
+        if bad:
+            lines.append(f"UNSTABLE (a mode grows) from {min(bad):.5g} to {max(bad):.5g} rpm")
+        else:
+            lines.append("every mode is stable over the speeds computed")
+        return "\n".join(lines)
+
+    def plot(self) -> Figure:
+        """Damped frequencies against speed: forward whirl as up-triangles, backward as
+        down-triangles, unstable points as red crosses; excitation lines; crossings."""
+        from matplotlib.figure import Figure
+
+        ds = self.data
+        fig = Figure(figsize=(7.5, 5.0), layout="constrained")
+        ax = fig.subplots()
+        rpm = ds["speed"].values * 60 / TWO_PI
+        f = ds["frequency"].values
+        w = ds["whirl"].values
+        st = ds["stable"].values
+        marks = {"forward": ("^", "C0"), "backward": ("v", "C3"), "planar": (".", "C2"),
+                 "none": (".", "C7"), "ccw": (".", "C7"), "cw": (".", "C7")}  # fmt: skip
+        R = np.repeat(rpm[:, None], f.shape[1], axis=1)
+        for label, (mk, col) in marks.items():
+            sel = (w == label) & st
+            if sel.any():
+                ax.plot(R[sel], f[sel], mk, color=col, ms=3, label=label)
+        if (~st).any():
+            ax.plot(R[~st], f[~st], "x", color="red", ms=6, label="unstable")
+        for k, name in enumerate(ds["excitation"].values):
+            ax.plot(rpm, ds["excitation_frequency"].values[:, k], "--", lw=0.8, color="0.5")
+            ax.annotate(str(name), (rpm[-1], ds["excitation_frequency"].values[-1, k]),
+                        fontsize=6, color="0.4")  # fmt: skip
+        if ds.sizes["crossing"]:
+            ax.plot(ds["crossing_speed"].values * 60 / TWO_PI, ds["crossing_frequency"].values,
+                    "o", mfc="none", color="k", ms=7, label="crossing")  # fmt: skip
+        lo, hi = ds.attrs["operating_min_rad_s"], ds.attrs["operating_max_rad_s"]
+        if hi > lo:
+            ax.axvspan(lo * 60 / TWO_PI, hi * 60 / TWO_PI, color="0.9", zorder=0)
+        top = np.nanmax(f) if np.any(np.isfinite(f)) else 1.0
+        ax.set_ylim(0, 1.1 * top)
+        ax.set_xlabel("input speed (rpm)")
+        ax.set_ylabel("damped natural frequency (Hz)")
+        ax.set_title(f"complex Campbell diagram: {ds.attrs.get('title', '')}", fontsize=9)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
         return fig
