@@ -244,6 +244,104 @@ def operating_range(target: Design | Model) -> tuple[float, float]:
     return float(speed or 0.0), float(speed or 0.0)
 
 
+def campbell_axes(
+    target: Design | Model,
+    model: Model,
+    speeds: Sequence[float] | NDArray | None,
+    orders: dict[str, float] | None,
+    points: int,
+    what: str,
+) -> tuple[NDArray, float, float, dict[str, float]]:
+    """Checked speeds (rad/s; default 0 to 1.5x the top of the operating range), the
+    operating range and the excitation orders of a Campbell diagram."""
+    lo, hi = operating_range(target)
+    if speeds is None:
+        top = 1.5 * hi if hi > 0 else 1.5 * max(model.speed, 1.0)
+        speeds = np.linspace(0.0, top, points)
+    speeds = np.asarray(speeds, dtype=float)
+    if speeds.ndim != 1 or speeds.size < 2:
+        raise ReducerlabError(f"{what}: give at least two speeds")
+    if not np.all(np.isfinite(speeds)) or np.any(speeds < 0) or np.any(np.diff(speeds) <= 0):
+        raise ReducerlabError(f"{what}: speeds must be finite, >= 0 and strictly increasing")
+    orders = orders if orders is not None else excitation_orders(target)
+    if not orders or any(not (o > 0 and math.isfinite(o)) for o in orders.values()):
+        raise ReducerlabError(f"{what}: excitation orders must be positive, got {orders}")
+    return speeds, lo, hi, orders
+
+
+def find_crossings(
+    freq: NDArray,
+    speeds: NDArray,
+    orders: dict[str, float],
+    at: Any,
+) -> list[tuple[int, str, float, float]]:
+    """Crossings ``(mode, excitation, speed, frequency)`` of the frequencies
+    ``freq`` (speed, mode; Hz) with the excitation lines ``order * speed / 2 pi``,
+    found between samples and refined by root finding on ``at(speed)`` (the
+    frequencies of every mode at one speed), sorted by speed."""
+    exc = np.outer(speeds / TWO_PI, list(orders.values()))
+    rows = []
+    for j in range(freq.shape[1]):
+        if not np.any(freq[:, j] > 0):
+            continue  # rigid or divergent throughout
+        for k, (name, order) in enumerate(orders.items()):
+            g = freq[:, j] - exc[:, k]
+            for i in np.nonzero((np.sign(g[:-1]) * np.sign(g[1:]) < 0) & (freq[:-1, j] > 0))[0]:
+
+                def h(w: float, j: int = j, order: float = order) -> float:
+                    return float(at(w)[j] - order * w / TWO_PI)
+
+                w = brentq(h, speeds[i], speeds[i + 1], xtol=1e-12 * speeds[-1], rtol=1e-12)
+                rows.append((j + 1, name, w, order * w / TWO_PI))
+    rows.sort(key=lambda r: r[2])
+    return rows
+
+
+def campbell_dataset(
+    target: Design | Model,
+    model: Model,
+    speeds: NDArray,
+    operating: tuple[float, float],
+    orders: dict[str, float],
+    rows: list[tuple[int, str, float, float]],
+    modes: dict[str, Any],
+) -> xr.Dataset:
+    """A Campbell diagram's dataset: the per-mode variables ``modes`` over (speed,
+    mode), the excitation lines and the crossings ``rows`` of :func:`find_crossings`."""
+    width = next(iter(modes.values()))[1].shape[1]
+    exc = np.outer(speeds / TWO_PI, list(orders.values()))
+    return xr.Dataset(
+        {
+            **modes,
+            "excitation_frequency": (("speed", "excitation"), exc, {"units": "Hz"}),
+            "order": ("excitation", list(orders.values())),
+            "crossing_mode": ("crossing", np.array([r[0] for r in rows], dtype=int)),
+            "crossing_excitation": ("crossing", np.array([r[1] for r in rows], dtype=object)),
+            "crossing_speed": (
+                "crossing",
+                np.array([r[2] for r in rows], dtype=float),
+                {"units": "rad/s"},
+            ),
+            "crossing_frequency": (
+                "crossing",
+                np.array([r[3] for r in rows], dtype=float),
+                {"units": "Hz"},
+            ),
+        },
+        coords={
+            "speed": ("speed", speeds, {"units": "rad/s"}),
+            "mode": np.arange(1, width + 1),
+            "excitation": list(orders),
+        },
+        attrs={
+            "title": getattr(target, "name", "") or model.name,
+            "operating_min_rad_s": operating[0],
+            "operating_max_rad_s": operating[1],
+            **provenance(model.metadata),
+        },
+    )
+
+
 @names_source
 def campbell(
     target: Design | Model,
@@ -265,56 +363,11 @@ def campbell(
         :func:`excitation_orders`.
     """
     model = _model_of(target)
-    lo, hi = operating_range(target)
-    if speeds is None:
-        top = 1.5 * hi if hi > 0 else 1.5 * max(model.speed, 1.0)
-        speeds = np.linspace(0.0, top, points)
-    speeds = np.asarray(speeds, dtype=float)
-    if speeds.ndim != 1 or speeds.size < 2:
-        raise ReducerlabError("campbell: give at least two speeds")
-    if not np.all(np.isfinite(speeds)) or np.any(speeds < 0) or np.any(np.diff(speeds) <= 0):
-        raise ReducerlabError("campbell: speeds must be finite, >= 0 and strictly increasing")
-    orders = orders if orders is not None else excitation_orders(target)
-    if not orders or any(not (o > 0 and math.isfinite(o)) for o in orders.values()):
-        raise ReducerlabError(f"campbell: excitation orders must be positive, got {orders}")
+    speeds, lo, hi, orders = campbell_axes(target, model, speeds, orders, points, "campbell")
     freq = _frequencies(model, speeds)
-    exc = np.outer(speeds / TWO_PI, list(orders.values()))
-    rows = []
-    for j in range(freq.shape[1]):
-        if np.all(freq[:, j] <= 0):
-            continue  # rigid or divergent throughout
-        for k, (name, order) in enumerate(orders.items()):
-            g = freq[:, j] - exc[:, k]
-            for i in np.nonzero((np.sign(g[:-1]) * np.sign(g[1:]) < 0) & (freq[:-1, j] > 0))[0]:
-
-                def h(w: float, j: int = j, order: float = order) -> float:
-                    return float(_frequencies(model, np.array([w]))[0, j] - order * w / TWO_PI)
-
-                w = brentq(h, speeds[i], speeds[i + 1], xtol=1e-12 * speeds[-1], rtol=1e-12)
-                rows.append((j + 1, name, w, order * w / TWO_PI))
-    rows.sort(key=lambda r: r[2])
-    data = xr.Dataset(
-        {
-            "frequency": (("speed", "mode"), freq, {"units": "Hz"}),
-            "excitation_frequency": (("speed", "excitation"), exc, {"units": "Hz"}),
-            "order": ("excitation", list(orders.values())),
-            "crossing_mode": ("crossing", np.array([r[0] for r in rows], dtype=int)),
-            "crossing_excitation": ("crossing", np.array([r[1] for r in rows], dtype=object)),
-            "crossing_speed": ("crossing", np.array([r[2] for r in rows]), {"units": "rad/s"}),
-            "crossing_frequency": ("crossing", np.array([r[3] for r in rows]), {"units": "Hz"}),
-        },
-        coords={
-            "speed": ("speed", speeds, {"units": "rad/s"}),
-            "mode": np.arange(1, freq.shape[1] + 1),
-            "excitation": list(orders),
-        },
-        attrs={
-            "title": getattr(target, "name", "") or model.name,
-            "operating_min_rad_s": lo,
-            "operating_max_rad_s": hi,
-            **provenance(model.metadata),
-        },
-    )
+    rows = find_crossings(freq, speeds, orders, lambda w: _frequencies(model, np.array([w]))[0])
+    data = campbell_dataset(target, model, speeds, (lo, hi), orders, rows,
+                            {"frequency": (("speed", "mode"), freq, {"units": "Hz"})})  # fmt: skip
     return CampbellResult(data)
 
 

@@ -302,78 +302,28 @@ def complex_campbell(
         modes numbered by frequency at each speed; excitation lines; crossings found
         between samples and refined by root finding on the same numbered mode.
     """
-    from scipy.optimize import brentq
-
-    from .campbell import _model_of, excitation_orders, operating_range
+    from .campbell import _model_of, campbell_axes, campbell_dataset, find_crossings
 
     model = _model_of(target)
-    lo, hi = operating_range(target)
-    if speeds is None:
-        top = 1.5 * hi if hi > 0 else 1.5 * max(model.speed, 1.0)
-        speeds = np.linspace(0.0, top, points)
-    speeds = np.asarray(speeds, dtype=float)
-    if speeds.ndim != 1 or speeds.size < 2:
-        raise ReducerlabError("complex campbell: give at least two speeds")
-    if not np.all(np.isfinite(speeds)) or np.any(speeds < 0) or np.any(np.diff(speeds) <= 0):
-        raise ReducerlabError(
-            "complex campbell: speeds must be finite, >= 0 and strictly increasing"
-        )
-    orders = orders if orders is not None else excitation_orders(target)
-    if not orders or any(not (o > 0 and math.isfinite(o)) for o in orders.values()):
-        raise ReducerlabError(f"complex campbell: excitation orders must be positive, got {orders}")
+    speeds, lo, hi, orders = campbell_axes(target, model, speeds, orders, points,
+                                           "complex campbell")  # fmt: skip
     freq, zeta, whirl, stable = _branches(model, speeds, rigid_tol)
-    exc = np.outer(speeds / TWO_PI, list(orders.values()))
-    rows = []
-    for j in range(freq.shape[1]):
-        f = freq[:, j]
-        if not np.any(f > 0):
-            continue
-        for k, (name, order) in enumerate(orders.items()):
-            g = f - exc[:, k]
-            for i in np.nonzero((np.sign(g[:-1]) * np.sign(g[1:]) < 0) & (f[:-1] > 0))[0]:
-
-                def h(w: float, j: int = j, order: float = order) -> float:
-                    fw = _branches(model, np.array([w]), rigid_tol)[0][0, j]
-                    return float(fw - order * w / TWO_PI)
-
-                w = brentq(h, speeds[i], speeds[i + 1], xtol=1e-12 * speeds[-1], rtol=1e-12)
-                near = i if abs(speeds[i] - w) < abs(speeds[i + 1] - w) else i + 1
-                rows.append((j + 1, name, w, order * w / TWO_PI, str(whirl[near, j])))
-    rows.sort(key=lambda r: r[2])
-    data = xr.Dataset(
-        {
-            "frequency": (("speed", "mode"), freq, {"units": "Hz"}),
-            "damping_ratio": (("speed", "mode"), zeta, {"units": "1"}),
-            "whirl": (("speed", "mode"), whirl.astype(str)),
-            "stable": (("speed", "mode"), stable),
-            "excitation_frequency": (("speed", "excitation"), exc, {"units": "Hz"}),
-            "order": ("excitation", list(orders.values())),
-            "crossing_mode": ("crossing", np.array([r[0] for r in rows], dtype=int)),
-            "crossing_excitation": ("crossing", np.array([r[1] for r in rows], dtype=str)),
-            "crossing_speed": (
-                "crossing",
-                np.array([r[2] for r in rows], dtype=float),
-                {"units": "rad/s"},
-            ),
-            "crossing_frequency": (
-                "crossing",
-                np.array([r[3] for r in rows], dtype=float),
-                {"units": "Hz"},
-            ),
-            "crossing_whirl": ("crossing", np.array([r[4] for r in rows], dtype=str)),
-        },
-        coords={
-            "speed": ("speed", speeds, {"units": "rad/s"}),
-            "mode": np.arange(1, freq.shape[1] + 1),
-            "excitation": list(orders),
-        },
-        attrs={
-            "title": getattr(target, "name", "") or model.name,
-            "operating_min_rad_s": lo,
-            "operating_max_rad_s": hi,
-            **provenance(model.metadata),
-        },
+    found = find_crossings(
+        freq, speeds, orders, lambda w: _branches(model, np.array([w]), rigid_tol)[0][0]
     )
+    rows = []
+    for j, name, w, f in found:  # the whirl of the nearest sample
+        near = int(np.argmin(np.abs(speeds - w)))
+        rows.append((j, name, w, f, str(whirl[near, j - 1])))
+    modes = {
+        "frequency": (("speed", "mode"), freq, {"units": "Hz"}),
+        "damping_ratio": (("speed", "mode"), zeta, {"units": "1"}),
+        "whirl": (("speed", "mode"), whirl.astype(str)),
+        "stable": (("speed", "mode"), stable),
+    }
+    data = campbell_dataset(target, model, speeds, (lo, hi), orders,
+                            [r[:4] for r in rows], modes)  # fmt: skip
+    data["crossing_whirl"] = ("crossing", np.array([r[4] for r in rows], dtype=str))
     return ComplexCampbellResult(data)
 
 
