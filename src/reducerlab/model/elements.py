@@ -109,6 +109,12 @@ def _number(value: object) -> float | None:
     return float(np.real(value))
 
 
+def _finite(owner: str, name: str, value: float) -> None:
+    v = _number(value)
+    if v is None or not np.isfinite(v):
+        raise ModelError(f"{owner}: {name} must be a finite number, got {value!r}")
+
+
 def _nonneg(owner: str, name: str, value: float) -> None:
     v = _number(value)
     if v is None or not (np.isfinite(v) and v >= 0):
@@ -403,9 +409,7 @@ class Centripetal(Element):
         if not self.name:
             object.__setattr__(self, "name", f"centripetal:{self.dof}")
         _nonneg(self.name, "mass", self.mass)
-        r = _number(self.ratio)
-        if r is None or not np.isfinite(r):
-            raise ModelError(f"{self.name}: ratio must be a finite number, got {self.ratio!r}")
+        _finite(self.name, "ratio", self.ratio)
 
     @property
     def dofs(self) -> tuple[str, ...]:
@@ -461,11 +465,7 @@ class Gyroscopic(Element):
         if not self.name:
             object.__setattr__(self, "name", f"gyroscopic:{self.pair[0].split('.')[0]}")
         _nonneg(self.name, "polar", self.polar)
-        r = _number(self.spin_ratio)
-        if r is None or not np.isfinite(r):
-            raise ModelError(
-                f"{self.name}: spin_ratio must be a finite number, got {self.spin_ratio!r}"
-            )
+        _finite(self.name, "spin_ratio", self.spin_ratio)
 
     @property
     def dofs(self) -> tuple[str, ...]:
@@ -504,9 +504,7 @@ class Coriolis(Element):
         if not self.name:
             object.__setattr__(self, "name", f"coriolis:{self.pair[0].split('.')[0]}")
         _nonneg(self.name, "mass", self.mass)
-        r = _number(self.ratio)
-        if r is None or not np.isfinite(r):
-            raise ModelError(f"{self.name}: ratio must be a finite number, got {self.ratio!r}")
+        _finite(self.name, "ratio", self.ratio)
 
     @property
     def dofs(self) -> tuple[str, ...]:
