@@ -353,11 +353,13 @@ def test_response_takes_the_forcing_period(tmp_path):
 def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.body_modal
     import reducerlab.analysis.campbell
+    import reducerlab.analysis.complex_modal
     import reducerlab.analysis.contact
     import reducerlab.analysis.frequency_response
     import reducerlab.analysis.kinematics
     import reducerlab.analysis.modal
     import reducerlab.analysis.nonlinear
+    import reducerlab.analysis.regime_map
     import reducerlab.analysis.sweep  # noqa: F401
 
     found, todo = {}, [Result]

@@ -235,3 +235,19 @@ def test_cli_campbell_complex(tmp_path):
     assert "complex Campbell diagram" in r.output
     assert (tmp_path / "complex_campbell.nc").is_file()
     assert (tmp_path / "complex_campbell.png").is_file()
+
+
+def test_resonance_check_gives_the_stability_verdict():
+    # a mode with negative damping makes the check fail whatever the crossings, and
+    # the report names it; a damped model reports its least damped mode
+    from reducerlab.analysis.campbell import format_check, resonance_check
+
+    bad = Model([Dof("a", "x")], [Inertia("a.x", 1.0), Support("a.x", 1e4, 0.0),
+                                  NegativeDamper()], speed=100.0)  # fmt: skip
+    rep = resonance_check(bad, speed_range=(50.0, 100.0), points=3)
+    assert not rep["ok"] and len(rep["stability"]["unstable"]) == 3
+    assert "UNSTABLE  mode 1" in format_check(rep)
+    good = Model([Dof("a", "x")], [Inertia("a.x", 1.0), Support("a.x", 1e4, 20.0)], speed=100.0)
+    rep = resonance_check(good, speed_range=(50.0, 100.0), points=3)
+    assert rep["stability"]["unstable"] == []
+    assert rep["stability"]["least_damped"]["damping_ratio"] == pytest.approx(0.1, rel=1e-12)

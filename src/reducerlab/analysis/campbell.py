@@ -608,12 +608,14 @@ def resonance_check(
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
+    stability = _stability(_model_of(target), speeds)
     report: dict[str, Any] = {
-        "ok": not crossings and not near,
+        "ok": not crossings and not near and not stability["unstable"],
         "margin": margin,
         "speed_range_rpm": [lo * RPM, hi * RPM],
         "crossings": crossings,
         "near": near,
+        "stability": stability,
         "title": ds.attrs.get("title", ""),
     }
     if comps:
@@ -623,6 +625,28 @@ def resonance_check(
             report["component_crossings"] or report["component_near"] or report["coincidences"]
         )
     return report
+
+
+def _stability(model: Model, speeds: NDArray) -> dict[str, Any]:
+    """Complex modes (damping, gyroscopic and Coriolis terms) over the speeds: the modes
+    that grow (``unstable``) and the smallest damping ratio of an elastic mode."""
+    from .complex_modal import complex_modes
+
+    unstable, least = [], None
+    for w in speeds:
+        ds = complex_modes(model.with_speed(float(w))).data
+        elastic = ds["whirl"].values != "rigid"
+        for m, f, z, g, ok in zip(ds["mode"].values[elastic], ds["frequency"].values[elastic],
+                                  ds["damping_ratio"].values[elastic],
+                                  ds["growth_rate"].values[elastic],
+                                  ds["stable"].values[elastic], strict=True):  # fmt: skip
+            if not ok:
+                unstable.append({"mode": int(m), "speed_rpm": float(w * RPM),
+                                 "frequency_hz": float(f), "growth_rate": float(g)})  # fmt: skip
+            if least is None or z < least["damping_ratio"]:
+                least = {"mode": int(m), "speed_rpm": float(w * RPM), "frequency_hz": float(f),
+                         "damping_ratio": float(z)}  # fmt: skip
+    return {"unstable": unstable, "least_damped": least}
 
 
 def format_check(report: dict[str, Any]) -> str:
@@ -674,6 +698,21 @@ def format_check(report: dict[str, Any]) -> str:
                 f"system mode {sy['system_mode']})"
             )
         lines.append(", ".join(parts))
+    st = report.get("stability")
+    if st is not None:
+        for u in st["unstable"][:10]:
+            lines.append(
+                f"  UNSTABLE  mode {u['mode']} ({u['frequency_hz']:.5g} Hz) grows at "
+                f"{u['growth_rate']:.4g} 1/s at {u['speed_rpm']:.5g} rpm"
+            )
+        if len(st["unstable"]) > 10:
+            lines.append(f"  ... {len(st['unstable']) - 10} more unstable (mode, speed) pairs")
+        z = st["least_damped"]
+        if z is not None:
+            lines.append(
+                f"  DAMPING   least damped: mode {z['mode']} ({z['frequency_hz']:.5g} Hz), "
+                f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
+            )
     lines.append(
         "verdict: no resonance risk" if report["ok"] else "verdict: RESONANCE RISK (see above)"
     )
