@@ -251,3 +251,24 @@ def test_resonance_check_gives_the_stability_verdict():
     rep = resonance_check(good, speed_range=(50.0, 100.0), points=3)
     assert rep["stability"]["unstable"] == []
     assert rep["stability"]["least_damped"]["damping_ratio"] == pytest.approx(0.1, rel=1e-12)
+
+
+def test_lumped_design_declares_gyroscopic_elements():
+    # examples/spinning_disc.toml: its tilting pair splits as the closed form says
+    # (damping 0.5 N m s/rad on a 3e4 N m/rad support: damped frequencies, compared
+    # through |lambda| with the undamped closed form to the damping's order, 1e-4)
+    from reducerlab.drives import build_model, load_design
+    from reducerlab.errors import DesignError
+    from reducerlab.examples import example_dir
+
+    path = example_dir() / "spinning_disc.toml"
+    res = complex_modes(build_model(load_design(path)))
+    tilt = res.data.where(res.data["whirl"].isin(["forward", "backward"]), drop=True)
+    W, jd, jp, k = 3000 * math.pi / 30, 0.04, 0.07, 3e4
+    half = jp / jd * W / 2
+    wn = math.sqrt(k / jd)
+    want = np.array([math.sqrt(wn**2 + half**2) - half, math.sqrt(wn**2 + half**2) + half])
+    np.testing.assert_allclose(tilt["natural_frequency"].values, want / (2 * math.pi), rtol=1e-4)
+    assert tilt["whirl"].values.tolist() == ["backward", "forward"]
+    with pytest.raises(DesignError, match=r"elements\.8\.pair.*must be one body's rx and ry"):
+        load_design(path, ["elements.8.pair=['disc.x', 'disc.y']"])

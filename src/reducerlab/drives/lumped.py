@@ -58,9 +58,11 @@ from ..model import (
     Backlash,
     Centripetal,
     Constant,
+    Coriolis,
     Coupling,
     Dof,
     Fourier,
+    Gyroscopic,
     Inertia,
     Load,
     Mesh,
@@ -178,6 +180,30 @@ class CentripetalSpec(Spec):
     name: str = ""
 
 
+class GyroscopicSpec(Spec):
+    """Gyroscopic coupling of a body spinning about its axis: ``pair`` is its (rx, ry)
+    DOFs, ``polar_moment`` its polar moment of inertia, ``spin_ratio`` its spin over the
+    model speed (:class:`~reducerlab.model.Gyroscopic`)."""
+
+    type: Literal["gyroscopic"]
+    pair: Annotated[list[str], Field(min_length=2, max_length=2)]
+    polar_moment: MomentOfInertia
+    spin_ratio: Real = 1.0
+    name: str = ""
+
+
+class CoriolisSpec(Spec):
+    """Coriolis coupling of a mass in a frame rotating at ``ratio`` x the model speed:
+    ``pair`` is its (x, y) DOFs in that frame (:class:`~reducerlab.model.Coriolis`; add
+    ``centripetal`` elements for the -m Omega^2 terms)."""
+
+    type: Literal["coriolis"]
+    pair: Annotated[list[str], Field(min_length=2, max_length=2)]
+    mass: Mass
+    ratio: Real = 1.0
+    name: str = ""
+
+
 class LoadSpec(Spec):
     """Constant ``force`` (N) or ``torque`` (N m) on one DOF."""
 
@@ -189,7 +215,14 @@ class LoadSpec(Spec):
 
 
 ElementSpec = Annotated[
-    InertiaSpec | SupportSpec | CouplingSpec | MeshSpec | CentripetalSpec | LoadSpec,
+    InertiaSpec
+    | SupportSpec
+    | CouplingSpec
+    | MeshSpec
+    | CentripetalSpec
+    | GyroscopicSpec
+    | CoriolisSpec
+    | LoadSpec,
     Field(discriminator="type"),
 ]
 
@@ -210,13 +243,24 @@ class LumpedDesign(Design):
 
         for i, e in enumerate(self.elements):
             where = f"elements.{i}"
-            field = "coefficients" if hasattr(e, "coefficients") else "dof"
-            names = list(e.coefficients) if hasattr(e, "coefficients") else [e.dof]
+            if hasattr(e, "coefficients"):
+                field, names = "coefficients", list(e.coefficients)
+            elif hasattr(e, "pair"):
+                field, names = "pair", list(e.pair)
+            else:
+                field, names = "dof", [e.dof]
             unknown = [n for n in names if n not in kinds]
             if unknown:
                 problems.append(
                     (f"{where}.{field}", f"unknown DOF {unknown}; DOFs are {list(kinds)}")
                 )
+                continue
+            if field == "pair":
+                want = ["rx", "ry"] if isinstance(e, GyroscopicSpec) else ["x", "y"]
+                bodies = {n.split(".")[0] for n in names}
+                if [kinds[n] for n in names] != want or len(bodies) != 1:
+                    problems.append((f"{where}.pair", f"must be one body's {want[0]} and "
+                                     f"{want[1]} DOFs, in that order"))  # fmt: skip
                 continue
             rot = [kinds[n] in ("rx", "ry", "rz", "u") for n in names]
             problems += [(f"{where}.{f}", rule) for f, rule in _unit_rules(e, rot, kinds[names[0]])]
@@ -303,6 +347,10 @@ def build_model(design: LumpedDesign) -> Model:
                 elements.append(_mesh(e, design.speed, kw))
             elif isinstance(e, CentripetalSpec):
                 elements.append(Centripetal(e.dof, e.mass, e.ratio, **kw))
+            elif isinstance(e, GyroscopicSpec):
+                elements.append(Gyroscopic(tuple(e.pair), e.polar_moment, e.spin_ratio, **kw))
+            elif isinstance(e, CoriolisSpec):
+                elements.append(Coriolis(tuple(e.pair), e.mass, e.ratio, **kw))
             else:
                 elements.append(Load(e.dof, _value(e.force, e.torque), **kw))
         return Model(
