@@ -380,6 +380,18 @@ def _axis(option: str, path: str, spec: str, limit: int):
     return axis
 
 
+def _path_values(
+    option: str, text: str, limit: int, example: str = "input_speed=lin:300 rpm:2000 rpm:41"
+):
+    """``PATH=VALUES`` (``sweep --grid``, ``regime-map -x/-y``) as an axis."""
+    if "=" not in text:
+        raise ReducerlabError(f"{option} must be 'PATH=VALUES', e.g. '{example}'")
+    path, values = text.split("=", 1)
+    if not path.strip():
+        raise ReducerlabError(f"{option} {text!r}: no parameter path before '='")
+    return _axis(option, path.strip(), values.strip(), limit)
+
+
 def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | None:
     """``lin:START:STOP:N`` in rpm, or a comma list in rpm (at most :data:`MAX_SPEEDS`)."""
     if spec is None:
@@ -485,12 +497,7 @@ def sweep(
         d = load_design(design, sets or ())
         axes = [_axis("--values", param, values, MAX_SWEEP_POINTS)]
         if grid is not None:
-            if "=" not in grid:
-                raise ReducerlabError(
-                    "--grid must be 'PATH=VALUES', e.g. 'mesh.damping=lin:0:1e3:11'"
-                )
-            p2, v2 = grid.split("=", 1)
-            axes.append(_axis("--grid", p2.strip(), v2.strip(), MAX_SWEEP_POINTS))
+            axes.append(_path_values("--grid", grid, MAX_SWEEP_POINTS, "mesh.damping=lin:0:1e3:11"))
         n_points = math.prod(len(a.values) for a in axes)
         if n_points > MAX_SWEEP_POINTS:
             raise ReducerlabError(
@@ -837,18 +844,6 @@ class RegimeContinuation(StrEnum):
     down = "down"
     both = "both"
     none = "none"
-
-
-def _path_values(option: str, text: str, limit: int):
-    """``PATH=VALUES`` of ``regime-map -x/-y`` as an axis."""
-    if "=" not in text:
-        raise ReducerlabError(
-            f"{option} must be 'PATH=VALUES', e.g. 'input_speed=lin:300 rpm:2000 rpm:41'"
-        )
-    path, values = text.split("=", 1)
-    if not path.strip():
-        raise ReducerlabError(f"{option} {text!r}: no parameter path before '='")
-    return _axis(option, path.strip(), values.strip(), limit)
 
 
 @app.command("regime-map")

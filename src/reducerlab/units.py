@@ -175,7 +175,6 @@ def shown(value: Any, limit: int = SHOW_CHARS) -> str:
 DISPLAY: dict[str, tuple[str, float]] = {
     "angular velocity": ("rpm", 60.0 / (2.0 * math.pi)),
     "angle": ("deg", 180.0 / math.pi),
-    "frequency": ("Hz", 1.0),
     "time": ("ms", 1e3),
 }
 

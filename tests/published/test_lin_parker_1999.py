@@ -89,14 +89,11 @@ def _parts(model: Model, phi: np.ndarray) -> dict[str, float]:
     return {"central_t": central_t, "central_u": central_u, "planets_differ": same}
 
 
-def test_three_mode_types_of_the_stationary_carrier():
-    model = planetary()
-    res = modal(model)
-    f = res.frequencies
-    phi = res.data["shape"].values
+def _kinds(model: Model, shapes: np.ndarray) -> list[str]:
+    """Lin and Parker's kind of every mode (column of ``shapes``), or "other"."""
     kinds = []
     for j in range(model.n):
-        p = _parts(model, phi[:, j])
+        p = _parts(model, shapes[:, j])
         if p["central_t"] < 1e-8 and p["central_u"] < 1e-8:
             kinds.append("planet")
         elif p["central_t"] < 1e-8 and p["planets_differ"] < 1e-8:
@@ -105,6 +102,15 @@ def test_three_mode_types_of_the_stationary_carrier():
             kinds.append("translational")
         else:
             kinds.append("other")
+    return kinds
+
+
+def test_three_mode_types_of_the_stationary_carrier():
+    model = planetary()
+    res = modal(model)
+    f = res.frequencies
+    phi = res.data["shape"].values
+    kinds = _kinds(model, phi)
     assert kinds.count("other") == 0
     assert kinds.count("rotational") == 6  # one of them the rigid rotation (0 Hz)
     assert kinds.count("translational") == 12
@@ -139,17 +145,7 @@ def test_mode_types_survive_the_rotating_carrier():
     model = planetary(carrier_speed=300.0)
     res = complex_modes(model).data
     shapes = res["shape_real"].values + 1j * res["shape_imag"].values
-    kinds = []
-    for j in range(model.n):
-        p = _parts(model, shapes[:, j])
-        if p["central_t"] < 1e-8 and p["central_u"] < 1e-8:
-            kinds.append("planet")
-        elif p["central_t"] < 1e-8 and p["planets_differ"] < 1e-8:
-            kinds.append("rotational")
-        elif p["central_u"] < 1e-8:
-            kinds.append("translational")
-        else:
-            kinds.append("other")
+    kinds = _kinds(model, shapes)
     assert (kinds.count("rotational"), kinds.count("translational"),
             kinds.count("planet"), kinds.count("other")) == (6, 12, 3 * (N - 3), 0)  # fmt: skip
     # in the translational ones the central members whirl: their dominant (x, y) orbit

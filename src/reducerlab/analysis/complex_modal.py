@@ -115,7 +115,7 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
     mats = model.matrices()
     M, C, K = mats.M, mats.C, mats.K
     n = model.n
-    _, _, rigid, _ = _rigid_and_elastic(model, M, K, rigid_tol)
+    _, phi_real, rigid, _ = _rigid_and_elastic(model, M, K, rigid_tol)
     n_rigid = int(np.count_nonzero(rigid))
     try:
         Minv = np.linalg.inv(M)
@@ -152,13 +152,9 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
     growth = np.zeros(m_total)
     whirl = ["rigid"] * n_rigid + [r[3] for r in rows]
     shapes = np.zeros((n, m_total), complex)
-    if n_rigid:
-        # rigid shapes from the real analysis (null space of the stiffness)
-        from .modal import modal
-
-        real = modal(model, rigid_tol=rigid_tol).data
-        rigid_cols = [j for j, f in enumerate(real["frequency"].values) if f == 0.0]
-        shapes[:, :n_rigid] = real["shape_max"].values[:, rigid_cols[:n_rigid]]
+    if n_rigid:  # rigid shapes: the null space of the stiffness, largest component 1
+        R = phi_real[:, rigid]
+        shapes[:, :n_rigid] = R / R[np.argmax(np.abs(R), axis=0), np.arange(n_rigid)]
     for j, (lk, phi, z, _) in enumerate(rows, start=n_rigid):
         freq[j] = abs(lk.imag) / TWO_PI
         natural[j] = abs(lk) / TWO_PI

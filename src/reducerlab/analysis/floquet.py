@@ -139,12 +139,11 @@ def affine_maps(prep, sides: NDArray[np.float64]) -> tuple[NDArray, ...]:
     start_v = np.concatenate([np.zeros_like(G), G], axis=2)[:, None]
     D = np.concatenate([start_q, Gq], axis=1)  # (E, N + 1, L, 2n)
     Dv = np.concatenate([start_v, Gv], axis=1)
-    Gs = G
     bases = np.concatenate([np.zeros((E, 1, n2)), base], axis=1)  # (E, N + 1, 2n)
     times = np.concatenate([np.zeros((E, 1)), prep.offs + prep.dts], axis=1)
     ev, edot = _law_pairs(prep.arrays[9], prep.arrays[10], np.ascontiguousarray(times))
-    d = np.einsum("eln,ekn->ekl", Gs, bases[:, :, :n]) - ev
-    dv = np.einsum("eln,ekn->ekl", Gs, bases[:, :, n:]) - edot
+    d = np.einsum("eln,ekn->ekl", G, bases[:, :, :n]) - ev
+    dv = np.einsum("eln,ekn->ekl", G, bases[:, :, n:]) - edot
     return Phi, p, D, Dv, d, dv
 
 

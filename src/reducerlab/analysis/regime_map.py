@@ -371,8 +371,12 @@ class RegimeMapResult(Result):
     def labels(self) -> NDArray:
         """Motion class of every point (branch, p1, p0): ``period-n``,
         ``quasi-periodic``, ``chaotic`` (exponent above 1 % of the forcing frequency),
-        ``unsettled`` or ``diverged`` (:func:`~reducerlab.analysis.nonlinear.classify`)."""
+        ``unsettled`` or ``diverged`` (:func:`~reducerlab.analysis.nonlinear.classify`;
+        read from the stored ``motion`` once the result is assembled)."""
         ds = self.data
+        if "motion" in ds:
+            classes = np.atleast_1d(np.asarray(ds.attrs["motion_classes"], dtype=object))
+            return classes[ds["motion"].values]
         pts = ds["poincare"].values
         lam = ds["exponent"].values
         f = self._forcing_hz()

@@ -752,13 +752,15 @@ def ensemble(
     bounds = state_bounds(systems, Y0, T) if limit is None else np.full((E, 2 * n), float(limit))
     if method not in ("auto", "rk4", "maps"):
         raise ReducerlabError(f"method must be 'auto', 'rk4' or 'maps', got {method!r}")
+    from .floquet import subset
+
     maps = None
     cache: dict = {}
-    if method == "maps" or (method == "auto" and _maps_pay(prep, n, periods)):
+    if prep.periodic and (method == "maps" or (method == "auto" and _maps_pay(n, periods))):
         from .floquet import contact_sides
 
         sides = contact_sides(prep.arrays, static_states(systems))
-        if prep.periodic and not np.any(prep.arrays[8]) and np.any(np.all(sides != 0, axis=1)):
+        if not np.any(prep.arrays[8]) and np.any(np.all(sides != 0, axis=1)):
             maps = sides
     if steps_per_period is None:
         if maps is not None:
@@ -771,9 +773,7 @@ def ensemble(
 
     def rk4_run(idx: NDArray[np.intp], Ys: NDArray[np.float64]) -> tuple:
         """Poincaré states, history, status and exponents of members ``idx``."""
-        from .floquet import subset as _subset
-
-        sub = _subset(prep, idx)
+        sub = subset(prep, idx)
         Tk, bk, Ek = T[idx], bounds[idx], idx.size
         if not exponents:
             P, H, st, _ = rk4_ensemble(
@@ -782,7 +782,7 @@ def ensemble(
             )  # fmt: skip
             return P, H, st, None
         # each member beside its perturbed copy: pairs in one kernel call
-        two = _subset(prep, np.repeat(idx, 2))
+        two = subset(prep, np.repeat(idx, 2))
         P, H, st, logs = rk4_ensemble(
             *two.arrays, np.repeat(Ys, 2, axis=0), np.zeros(2 * Ek), np.repeat(Tk, 2),
             two.offs, two.dts, two.periodic, periods, keep, history,
@@ -828,9 +828,9 @@ def ensemble(
                     mapped)  # fmt: skip
 
 
-def _maps_pay(prep: _Prepared, n: int, periods: int) -> bool:
+def _maps_pay(n: int, periods: int) -> bool:
     """Whether the one-period map is worth trying: it costs ``2n + 1`` periods."""
-    return prep.periodic and periods >= 4 * (2 * n + 1)
+    return periods >= 4 * (2 * n + 1)
 
 
 def _map_steps(
