@@ -270,5 +270,5 @@ def test_lumped_design_declares_gyroscopic_elements():
     want = np.array([math.sqrt(wn**2 + half**2) - half, math.sqrt(wn**2 + half**2) + half])
     np.testing.assert_allclose(tilt["natural_frequency"].values, want / (2 * math.pi), rtol=1e-4)
     assert tilt["whirl"].values.tolist() == ["backward", "forward"]
-    with pytest.raises(DesignError, match=r"elements\.8\.pair.*must be one body's rx and ry"):
+    with pytest.raises(DesignError, match=r"elements\.8\.pair.*must be one body's rx, ry DOFs"):
         load_design(path, ["elements.8.pair=['disc.x', 'disc.y']"])

@@ -270,8 +270,8 @@ def modal(
     else:
         _print_modal(result)
         if result.data.attrs.get("skew_velocity_terms"):
-            _note("the model has gyroscopic or Coriolis terms, which undamped modes leave "
-                  "out: see reducerlab modal --complex")  # fmt: skip
+            _note("the model has gyroscopic, Coriolis or circulatory terms, which undamped "
+                  "modes leave out: see reducerlab modal --complex")  # fmt: skip
 
 
 @app.command()

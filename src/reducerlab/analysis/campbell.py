@@ -31,7 +31,7 @@ from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..model.laws import flat_period
 from ..results import Result, provenance
-from .modal import RIGID_TOL, element_blocks, rest_stiffness
+from .modal import RIGID_TOL, _skew, element_blocks, rest_stiffness
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -581,10 +581,20 @@ def resonance_check(
         raise ReducerlabError("the design has no operating speed: give a speed range")
     speeds = np.linspace(lo, hi, points) if hi > lo else np.array([lo])
     grid = np.unique(np.concatenate([speeds, np.linspace(0.0, 1.5 * hi, 201)]))
-    res = campbell(target, grid)
+    model = _model_of(target)
+    # gyroscopic, Coriolis or circulatory terms: check the damped, whirl-split branches
+    gyroscopic = _speed_skew(model.with_speed(float(hi)))
+    if gyroscopic:
+        from .complex_modal import _branches, complex_campbell
+
+        res: Any = complex_campbell(target, grid)
+        freq = _branches(model, speeds, RIGID_TOL)[0]
+        freq = np.where(np.isnan(freq), 0.0, freq)
+    else:
+        res = campbell(target, grid)
+        freq = _frequencies(model, speeds)
     ds = res.data
     orders = dict(zip([str(e) for e in ds["excitation"].values], ds["order"].values, strict=True))
-    freq = _frequencies(_model_of(target), speeds)
     near = []
     for name, order in orders.items():
         fe = order * speeds / TWO_PI
@@ -608,10 +618,11 @@ def resonance_check(
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
-    stability = _stability(_model_of(target), speeds)
+    stability = _stability(model, speeds)
     report: dict[str, Any] = {
         "ok": not crossings and not near and not stability["unstable"],
         "margin": margin,
+        "frequencies": "complex (damped, whirl-split)" if gyroscopic else "undamped",
         "speed_range_rpm": [lo * RPM, hi * RPM],
         "crossings": crossings,
         "near": near,
@@ -625,6 +636,13 @@ def resonance_check(
             report["component_crossings"] or report["component_near"] or report["coincidences"]
         )
     return report
+
+
+def _speed_skew(model: Model) -> bool:
+    """Whether ``model`` has skew velocity (gyroscopic, Coriolis) or skew stiffness
+    (circulatory) terms at its speed."""
+    mats = model.matrices()
+    return _skew(mats.C) or _skew(mats.K)
 
 
 def _stability(model: Model, speeds: NDArray) -> dict[str, Any]:
@@ -655,10 +673,13 @@ def format_check(report: dict[str, Any]) -> str:
     rng = f"{lo:.6g} rpm" if lo == hi else f"{lo:.6g}-{hi:.6g} rpm"
     m = 100 * report["margin"]
     lines = [f"Resonance check: {report['title']} over {rng}, margin {m:g} %"]
+    if report.get("frequencies", "undamped") != "undamped":
+        lines.append(f"  frequencies: {report['frequencies']}")
     for c in report["crossings"]:
+        whirl = f", {c['whirl']} whirl" if c.get("whirl") else ""
         lines.append(
             f"  CROSSING  mode {c['mode']} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
-            f"({c['frequency_hz']:.5g} Hz)"
+            f"({c['frequency_hz']:.5g} Hz{whirl})"
         )
     for r in report["near"]:
         lines.append(

@@ -14,7 +14,8 @@ frequency ``omega_d / 2 pi`` (Hz), natural frequency ``|lambda| / 2 pi``, dampin
 A mode with ``Re(lambda) > 0`` grows: it is reported as *unstable*, never as a normal
 frequency. Rigid-body motions (the model's rigid modes, as :func:`.modal.modal` finds
 them) are reported at 0 Hz. Whirl: for the body pair ``(x, y)`` or ``(rx, ry)`` that
-carries most of a mode, its orbit turns with the body's spin (*forward*), against it
+carries most of a mode's kinetic energy (``M_ii |phi_i|^2``, so translations and
+rotations compare in one unit), its orbit turns with the body's spin (*forward*), against it
 (*backward*), or not at all (*planar*, an orbit narrower than 5 % of its length).
 Without damping and gyroscopic terms the damped frequencies are the undamped ones of
 :func:`.modal.modal`.
@@ -30,7 +31,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..errors import ModelError, ReducerlabError, names_source
-from ..model import Coriolis, Gyroscopic, Model
+from ..model import Coriolis, Gyroscopic, Model, Nutating
 from ..results import Result, provenance
 from .modal import RIGID_TOL, _rigid_and_elastic
 
@@ -50,18 +51,25 @@ UNSTABLE_TOL = 1e-9
 
 
 def _spin_signs(model: Model) -> dict[str, float]:
-    """Spin sense of each body with a Gyroscopic or Coriolis element (sign of its speed)."""
+    """Spin sense of each body with a Gyroscopic, Nutating or Coriolis element (sign of
+    its spin, or of its frame's rotation)."""
     out: dict[str, float] = {}
     for e in model.elements:
         if isinstance(e, Gyroscopic):
             out[e.pair[0].split(".")[0]] = float(np.sign(e.spin_ratio * model.speed))
+        elif isinstance(e, Nutating):
+            w3 = e.spin_ratio + e.precession_ratio * math.cos(e.nutation)
+            out[e.triple[0].split(".")[0]] = float(np.sign(w3 * model.speed))
         elif isinstance(e, Coriolis):
             out[e.pair[0].split(".")[0]] = float(np.sign(e.ratio * model.speed))
     return out
 
 
-def _whirl(model: Model, phi: NDArray[np.complex128], spins: dict[str, float]) -> str:
-    """Whirl of one complex mode shape (see the module docstring)."""
+def _whirl(
+    model: Model, phi: NDArray[np.complex128], spins: dict[str, float], mass: NDArray
+) -> str:
+    """Whirl of one complex mode shape (see the module docstring); ``mass`` is the
+    diagonal of M."""
     best, label = 0.0, "none"
     default = float(np.sign(model.speed))
     for body in {d.body for d in model.dofs}:
@@ -70,7 +78,7 @@ def _whirl(model: Model, phi: NDArray[np.complex128], spins: dict[str, float]) -
             if ia is None or ib is None:
                 continue
             u, v = phi[ia], phi[ib]
-            weight = abs(u) ** 2 + abs(v) ** 2
+            weight = mass[ia] * abs(u) ** 2 + mass[ib] * abs(v) ** 2
             if weight <= best:
                 continue
             best = weight
@@ -135,6 +143,7 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
     keep = (lam_e.imag > 1e-12 * scale) | (np.abs(lam_e.imag) <= 1e-12 * scale)
     lam_e, vec_e = lam_e[keep], vec_e[:, keep]
     spins = _spin_signs(model)
+    mass = np.diag(M)
     rows = []
     for k in range(lam_e.size):
         lk = lam_e[k]
@@ -142,8 +151,10 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
         i = int(np.argmax(np.abs(phi)))
         phi = phi / phi[i]
         mag = abs(lk)
-        zeta = -lk.real / mag + 0.0 if mag > 0 else 0.0  # + 0.0: no "-0" for undamped
-        rows.append((lk, phi, zeta, _whirl(model, phi, spins)))
+        # round-off of an undamped mode (|Re| below the stability tolerance) is no damping
+        undamped = mag == 0 or abs(lk.real) <= UNSTABLE_TOL * mag
+        zeta = 0.0 if undamped else -lk.real / mag
+        rows.append((lk, phi, zeta, _whirl(model, phi, spins, mass)))
     rows.sort(key=lambda r: (abs(r[0].imag), abs(r[0])))
     m_total = n_rigid + len(rows)
     freq = np.zeros(m_total)
@@ -331,8 +342,8 @@ class ComplexCampbellResult(Result):
     def crossings(self) -> list[dict[str, Any]]:
         ds = self.data
         return [
-            {"mode": int(m), "excitation": str(e), "speed_rpm": float(w) * 60 / TWO_PI,
-             "frequency_hz": float(f), "whirl": str(h)}
+            {"mode": int(m), "excitation": str(e), "speed_rad_s": float(w),
+             "speed_rpm": float(w) * 60 / TWO_PI, "frequency_hz": float(f), "whirl": str(h)}
             for m, e, w, f, h in zip(ds["crossing_mode"].values, ds["crossing_excitation"].values,
                                      ds["crossing_speed"].values, ds["crossing_frequency"].values,
                                      ds["crossing_whirl"].values, strict=True)

@@ -47,6 +47,11 @@ TWO_PI = 2.0 * math.pi
 DEGENERACY_TOL = 1e-7
 
 
+def _skew(A: NDArray) -> bool:
+    """Whether ``A`` has a skew-symmetric part beyond round-off."""
+    return bool(np.any(np.abs(0.5 * (A - A.T)) > 1e-12 * max(float(np.abs(A).max()), 1e-300)))
+
+
 def _pretty(body: str) -> str:
     return body.replace("_", " ")
 
@@ -273,10 +278,10 @@ def modal(model: Model, *, rigid_tol: float = RIGID_TOL) -> ModalResult:
     if not (isinstance(rigid_tol, int | float) and 0 <= rigid_tol < 1):
         raise ReducerlabError(f"rigid_tol must be a number in [0, 1), got {rigid_tol!r}")
     mats = model.matrices()
-    # gyroscopic / Coriolis (skew) velocity terms are outside K phi = lambda M phi: they
-    # are flagged in the result (complex_modal.complex_modes includes them)
-    skew = 0.5 * (mats.C - mats.C.T)
-    skew_terms = int(np.any(np.abs(skew) > 1e-12 * max(float(np.abs(mats.C).max()), 1e-300)))
+    # gyroscopic / Coriolis (skew) velocity terms and circulatory (skew) stiffness are
+    # outside K phi = lambda M phi: they are flagged in the result
+    # (complex_modal.complex_modes includes them)
+    skew_terms = int(_skew(mats.C) or _skew(mats.K))
     lam, phi, rigid, drift = _rigid_and_elastic(model, mats.M, mats.K, rigid_tol)
     check_resolved(lam, rigid, mats.M, mats.K, model.dof_names, f"modal of {model.name!r}")
     unstable = lam < 0

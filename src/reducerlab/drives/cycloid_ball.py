@@ -48,12 +48,14 @@ from ..kinematics import CycloidBallDrive
 from ..model import (
     Centripetal,
     Constant,
+    Coriolis,
     Coupling,
     Dof,
     Fourier,
     Inertia,
     Mesh,
     Model,
+    StationaryDamping,
     Support,
 )
 from ..model.laws import TimeLaw
@@ -174,6 +176,7 @@ class CycloidBallDesign(Design):
     eccentricity: Length
     output: Literal["centre", "planetary"] = "centre"
     centripetal: bool = True
+    coriolis: bool = False
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     input_shaft: InputShaft
     centre_disc: CentreDisc
@@ -230,8 +233,47 @@ class CycloidBallDesign(Design):
         return cycloid_ball_stiffness(p.ball_stiffness, self.balls, p.deformation_coefficient)
 
 
+def _with_coriolis(
+    design: CycloidBallDesign, dofs: list[Dof], elements: list, pair_damping: float
+) -> tuple[list[Dof], list]:
+    """Paper 003's model completed in its rotating frame: the translations ``y`` normal
+    to ``x`` of the input shaft, centre disc and planetary disc, with the Coriolis
+    coupling ``2 m Omega`` of each body's ``(x, y)``, the centripetal ``-m Omega^2`` on
+    ``y``, isotropic bearings (``k_y = k_x``: radial ball bearings), the cycloid-ball
+    pairs' stiffness along ``y`` (paper 003 Eq. 1 with ``cos^2`` for ``sin^2``: the
+    same ``k_m Z_m / 2a`` for balls spread evenly over the circle, at its mean) and the
+    circulatory term of the housing-fixed bearings' damping (input shaft, centre disc).
+    """
+    s, c, p = design.input_shaft, design.centre_disc, design.planetary_disc
+    pair = design.cycloid_pair
+    bodies = (("input_shaft", s.mass), ("centre_disc", c.mass), ("planetary_disc", p.mass))
+    dofs = dofs + [Dof(body, "y") for body, _ in bodies]
+    k_pair = cycloid_ball_stiffness(pair.ball_stiffness, design.balls, pair.deformation_coefficient)
+    elements = elements + [Inertia(f"{body}.y", m) for body, m in bodies]
+    elements += [
+        Support("input_shaft.y", s.radial_stiffness, s.radial_damping, name="k1y"),
+        Support("centre_disc.y", c.radial_stiffness, c.radial_damping, name="k2y"),
+        Coupling({"input_shaft.y": 1.0, "planetary_disc.y": -1.0}, p.bearing_stiffness,
+                 p.bearing_damping, name="k3y"),
+        Coupling({"centre_disc.y": 1.0, "planetary_disc.y": -1.0}, k_pair, pair_damping,
+                 name="cycloid_pairs_y"),
+    ]  # fmt: skip
+    for body, m in bodies:
+        elements.append(Coriolis((f"{body}.x", f"{body}.y"), m, name=f"coriolis_{body}"))
+        if design.centripetal:
+            elements.append(Centripetal(f"{body}.y", m, name=f"centripetal_{body}_y"))
+    for body, sup in (("input_shaft", s), ("centre_disc", c)):
+        if sup.radial_damping:
+            elements.append(
+                StationaryDamping((f"{body}.x", f"{body}.y"), sup.radial_damping,
+                                  name=f"stationary_damping_{body}")
+            )  # fmt: skip
+    return dofs, elements
+
+
 def build_model(design: CycloidBallDesign) -> Model:
-    """The 7-DOF model of paper 003 Eq. 3-7 and 11 on the generic core."""
+    """The 7-DOF model of paper 003 Eq. 3-7 and 11 on the generic core; with
+    ``coriolis`` the 10-DOF rotating-frame model of :func:`_with_coriolis`."""
     e = design.eccentricity
     r2 = design.pitch_radius(design.centre_disc.lobes)
     r3 = design.pitch_radius(design.planetary_disc.lobes)
@@ -306,6 +348,8 @@ def build_model(design: CycloidBallDesign) -> Model:
             ("planetary_disc", p.mass),
         ):
             elements.append(Centripetal(f"{body}.x", m, name=f"centripetal_{body}"))
+    if design.coriolis:
+        dofs, elements = _with_coriolis(design, dofs, elements, damping)
     return Model(
         dofs,
         elements,

@@ -67,6 +67,8 @@ from ..model import (
     Load,
     Mesh,
     Model,
+    Nutating,
+    StationaryDamping,
     Support,
 )
 from ..model.laws import TimeLaw
@@ -204,6 +206,34 @@ class CoriolisSpec(Spec):
     name: str = ""
 
 
+class NutatingSpec(Spec):
+    """Gyroscopic terms of an axisymmetric body on a crank in steady precession:
+    ``triple`` is its (rx, ry, rz) DOFs in the crank frame; ``spin_ratio`` its spin
+    relative to the crank and ``precession_ratio`` the crank's speed, both over the model
+    speed (:class:`~reducerlab.model.Nutating`)."""
+
+    type: Literal["nutating"]
+    triple: Annotated[list[str], Field(min_length=3, max_length=3)]
+    polar_moment: MomentOfInertia
+    diametral_moment: MomentOfInertia
+    nutation_angle: angle_between(0, 90)  # type: ignore[valid-type]
+    spin_ratio: Real
+    precession_ratio: Real = 1.0
+    name: str = ""
+
+
+class StationaryDampingSpec(Spec):
+    """Circulatory stiffness of a housing-fixed damper ``damping`` seen from a frame
+    rotating at ``ratio`` x the model speed: ``pair`` is the body's (x, y) DOFs in that
+    frame (:class:`~reducerlab.model.StationaryDamping`)."""
+
+    type: Literal["stationary_damping"]
+    pair: Annotated[list[str], Field(min_length=2, max_length=2)]
+    damping: Damping
+    ratio: Real = 1.0
+    name: str = ""
+
+
 class LoadSpec(Spec):
     """Constant ``force`` (N) or ``torque`` (N m) on one DOF."""
 
@@ -222,6 +252,8 @@ ElementSpec = Annotated[
     | CentripetalSpec
     | GyroscopicSpec
     | CoriolisSpec
+    | NutatingSpec
+    | StationaryDampingSpec
     | LoadSpec,
     Field(discriminator="type"),
 ]
@@ -247,6 +279,8 @@ class LumpedDesign(Design):
                 field, names = "coefficients", list(e.coefficients)
             elif hasattr(e, "pair"):
                 field, names = "pair", list(e.pair)
+            elif hasattr(e, "triple"):
+                field, names = "triple", list(e.triple)
             else:
                 field, names = "dof", [e.dof]
             unknown = [n for n in names if n not in kinds]
@@ -255,12 +289,14 @@ class LumpedDesign(Design):
                     (f"{where}.{field}", f"unknown DOF {unknown}; DOFs are {list(kinds)}")
                 )
                 continue
-            if field == "pair":
-                want = ["rx", "ry"] if isinstance(e, GyroscopicSpec) else ["x", "y"]
+            if field in ("pair", "triple"):
+                want = {"pair": ["x", "y"], "triple": ["rx", "ry", "rz"]}[field]
+                if isinstance(e, GyroscopicSpec):
+                    want = ["rx", "ry"]
                 bodies = {n.split(".")[0] for n in names}
                 if [kinds[n] for n in names] != want or len(bodies) != 1:
-                    problems.append((f"{where}.pair", f"must be one body's {want[0]} and "
-                                     f"{want[1]} DOFs, in that order"))  # fmt: skip
+                    problems.append((f"{where}.{field}", f"must be one body's "
+                                     f"{', '.join(want)} DOFs, in that order"))  # fmt: skip
                 continue
             rot = [kinds[n] in ("rx", "ry", "rz", "u") for n in names]
             problems += [(f"{where}.{f}", rule) for f, rule in _unit_rules(e, rot, kinds[names[0]])]
@@ -351,6 +387,13 @@ def build_model(design: LumpedDesign) -> Model:
                 elements.append(Gyroscopic(tuple(e.pair), e.polar_moment, e.spin_ratio, **kw))
             elif isinstance(e, CoriolisSpec):
                 elements.append(Coriolis(tuple(e.pair), e.mass, e.ratio, **kw))
+            elif isinstance(e, NutatingSpec):
+                elements.append(
+                    Nutating(tuple(e.triple), e.polar_moment, e.diametral_moment,
+                             e.nutation_angle, e.spin_ratio, e.precession_ratio, **kw)
+                )  # fmt: skip
+            elif isinstance(e, StationaryDampingSpec):
+                elements.append(StationaryDamping(tuple(e.pair), e.damping, e.ratio, **kw))
             else:
                 elements.append(Load(e.dof, _value(e.force, e.torque), **kw))
         return Model(

@@ -41,13 +41,29 @@ from ..design import (
     SpeedRange,
     Stiffness,
     Torque,
+    TorsionalDamping,
+    TorsionalStiffness,
     angle_between,
     field_rules,
     quantity,
 )
 from ..kinematics import DoubleNutationDrive, NutationDrive, gyroscopic_moment
 from ..kinematics.mesh import internal_cone_angles
-from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
+from ..model import (
+    Backlash,
+    Centripetal,
+    Constant,
+    Coriolis,
+    Dof,
+    Fourier,
+    Inertia,
+    Load,
+    Mesh,
+    Model,
+    Nutating,
+    StationaryDamping,
+    Support,
+)
 from ..model.laws import TimeLaw
 
 __all__ = ["NutationDesign", "build_model", "contact_normal"]
@@ -140,6 +156,17 @@ class Support3(Spec):
     c_z: Damping = 0.0
 
 
+class TiltSupport(Spec):
+    """Tilting stiffness and damping of the nutating gear on its crank bearings, about its
+    own transverse axes (``[tilt13]``; not in paper 000: e.g. two bearings of radial
+    stiffness ``k`` a distance ``L`` apart give ``k L^2 / 2``)."""
+
+    k_rx: TorsionalStiffness
+    k_ry: TorsionalStiffness
+    c_rx: TorsionalDamping = 0.0
+    c_ry: TorsionalDamping = 0.0
+
+
 class MeshSpec(Spec):
     """One gear pair: mean mesh stiffness, optional Fourier terms (Eq. 8), damping,
     full backlash (Eq. 6) and transmission error amplitude."""
@@ -211,6 +238,8 @@ class NutationDesign(Design):
     nutation_angle: angle_between(0, 60) | None = None  # type: ignore[valid-type]
     nutating_bearings: PositiveInt = 2
     gyroscopic: bool = True
+    tilt13: TiltSupport | None = None
+    rotating_frame: bool = False
     gear1: Bevel
     gear2: Bevel
     gear3: Bevel | None = None
@@ -238,6 +267,16 @@ class NutationDesign(Design):
             raise field_rules(("nutation_angle", "a single-sided drive needs nutation_angle"))
         if self.input_speed <= 0:
             raise field_rules(("input_speed", "must be > 0"))
+        if self.rotating_frame:
+            for name in ("support2", "support13", "support4"):
+                sup = getattr(self, name)
+                for q in "kc":
+                    if sup is not None and getattr(sup, f"{q}_x") != getattr(sup, f"{q}_y"):
+                        raise field_rules((
+                            f"{name}.{q}_y",
+                            f"rotating_frame needs isotropic supports ({q}_x = {q}_y): an "
+                            "anisotropic support seen from the turning mesh frame is time-varying",
+                        ))  # fmt: skip
         for k, pair in enumerate(self._pairs()):
             zn, zc = pair[0].teeth, pair[1].teeth
             if zn <= zc:
@@ -409,17 +448,44 @@ def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
                    ref_speed=speed)  # fmt: skip
 
 
+def _lever(delta: float, beta: float, alpha_n: float, cone_distance: float) -> tuple[float, float]:
+    """``(g_rx, g_ry)``: how a tilt of the nutating gear about its own transverse axes
+    changes the mesh deflection, ``p x n`` with the mean contact point ``p = R_m (sin d,
+    0, cos d)`` on the pitch cone (apex at the nutation centre) and the contact normal
+    ``n`` of paper 000 Eq. 4 in the gear's own frame (its ``z`` component is ``r_m n_y``,
+    the torsional coefficient of Eq. 2)."""
+    n = contact_normal(delta, beta, alpha_n)
+    px, pz = cone_distance * math.sin(delta), cone_distance * math.cos(delta)
+    return (-pz * n[1], pz * n[0] - px * n[2])
+
+
 def build_model(design: NutationDesign) -> Model:
-    """The 12-DOF (double) or 8-DOF (single) model of paper 000 on the generic core."""
+    """The 12-DOF (double) or 8-DOF (single) model of paper 000 on the generic core.
+
+    With ``tilt13`` the nutating gear also tilts (``rx, ry``: 14 or 10 DOFs), the meshes
+    couple its tilts through the contact point's lever arm and, with ``gyroscopic``, its
+    steady precession adds the :class:`~reducerlab.model.Nutating` terms. With
+    ``rotating_frame`` every body's ``x, y`` is read in the mesh frame, which turns with
+    the input crank: Coriolis and centripetal terms for all bodies and the circulatory
+    term of the housing-fixed supports' damping (gears 2 and 4; the nutating gear's
+    bearings turn with the crank). See docs/assumptions.md.
+    """
     kin = design.kinematics()
     th = kin.nutation_angle  # design.theta, without solving for it a second time
     b, an = design.helix_angle, design.normal_pressure_angle
     double = design.sides == "double"
     bodies = ["g2", "g13"] + (["g4"] if double else [])
-    dofs = [Dof(body, k) for body in bodies for k in ("x", "y", "z", "rz")]
+    tilt = design.tilt13
+    dofs = []
+    for body in bodies:
+        kinds = (
+            ("x", "y", "z", "rx", "ry", "rz") if body == "g13" and tilt else ("x", "y", "z", "rz")
+        )
+        dofs += [Dof(body, k) for k in kinds]
     g3 = design.gear3 if double else None
-    m13 = design.gear1.mass + (g3.mass if g3 else 0.0)
-    J13 = design.gear1.J_z + (g3.J_z if g3 else 0.0)
+    nutating = (design.gear1, g3) if g3 else (design.gear1,)
+    m13 = sum(g.mass for g in nutating)
+    J13 = sum(g.J_z for g in nutating)
     bodies_data = [("g2", design.gear2.mass, design.gear2.J_z, design.support2, 1)]
     bodies_data.append(("g13", m13, J13, design.support13, design.nutating_bearings))
     if double:
@@ -436,6 +502,22 @@ def build_model(design: NutationDesign) -> Model:
                     name=f"support_{body}_{q}",
                 )
             )
+        if design.rotating_frame:  # mesh frame turning at the input speed (ratio 1)
+            elements.append(Coriolis((f"{body}.x", f"{body}.y"), m, name=f"coriolis_{body}"))
+            elements += [
+                Centripetal(f"{body}.{q}", m, name=f"centripetal_{body}_{q}") for q in "xy"
+            ]
+            if body != "g13" and sup.c_x:
+                elements.append(
+                    StationaryDamping((f"{body}.x", f"{body}.y"), n_b * sup.c_x,
+                                      name=f"stationary_damping_{body}")
+                )  # fmt: skip
+    J13x = sum(g.J_x for g in nutating)
+    J13y = sum(g.J_y for g in nutating)
+    if tilt is not None:
+        elements += [Inertia("g13.rx", J13x), Inertia("g13.ry", J13y)]
+        elements.append(Support("g13.rx", tilt.k_rx, tilt.c_rx, name="support_g13_rx"))
+        elements.append(Support("g13.ry", tilt.k_ry, tilt.c_ry, name="support_g13_ry"))
     if design.fixed_gear_torsional_stiffness:
         elements.append(
             Support("g2.rz", design.fixed_gear_torsional_stiffness, name="support_g2_rz")
@@ -444,6 +526,7 @@ def build_model(design: NutationDesign) -> Model:
     pairs = [(design.gear1, design.gear2, "g2", design.mesh1)]
     if double:
         pairs.append((design.gear3, design.gear4, "g4", design.mesh2))  # type: ignore[arg-type]
+    cone = design.cone_distances(th)
     for j, ((n, c, cbody, spec), (dn, dc)) in enumerate(zip(pairs, design.cones(th), strict=True)):
         a_n = contact_normal(dn, b, an, th)
         a_c = contact_normal(dc, b, an)
@@ -452,6 +535,8 @@ def build_model(design: NutationDesign) -> Model:
             f"{cbody}.x": -a_c[0], f"{cbody}.y": -a_c[1], f"{cbody}.z": -a_c[2],
             f"{cbody}.rz": -a_c[1] * c.mean_radius,
         }  # fmt: skip
+        if tilt is not None:
+            g["g13.rx"], g["g13.ry"] = _lever(dn, b, an, cone[2 * j])
         omega = 2 * math.pi * mesh_hz[j]
         error = Fourier(0.0, (spec.error_amplitude,), omega, ref_speed=design.input_speed)
         elements.append(
@@ -464,12 +549,26 @@ def build_model(design: NutationDesign) -> Model:
                 name=f"mesh{j + 1}",
             )
         )
-    if design.gyroscopic:
+    if design.gyroscopic and tilt is not None:
+        # steady precession of the nutating body (paper 002's Euler rates), linearised
+        dpsi = kin.nutating_motion(design.input_speed).dpsi
+        gyro = Nutating(
+            ("g13.rx", "g13.ry", "g13.rz"),
+            polar=J13,
+            diametral=0.5 * (J13x + J13y),
+            nutation=th,
+            spin_ratio=dpsi / design.input_speed,
+            name="gyroscopic",
+        )
+        elements.append(gyro)
+        # the moment that holds the precession, as the crank's bearings feel it
+        elements.append(Load("g13.ry", -gyro.steady_moment(design.input_speed), name="L13"))
+    elif design.gyroscopic:
         # L1, L3 (Eq. 7): gyroscopic moments of the nutating gears in steady precession,
         # applied as paper 000 does, as L / r_m on y13
         dpsi = kin.nutating_motion(design.input_speed).dpsi
         total = 0.0
-        for gear in (design.gear1, g3) if g3 else (design.gear1,):
+        for gear in nutating:
             M = gyroscopic_moment((gear.J_x, gear.J_y, gear.J_z), 0.0, th, 0.0,
                                   design.input_speed, 0.0, dpsi, frame="fixed")  # fmt: skip
             total += float((M[0] ** 2 + M[1] ** 2) ** 0.5) / gear.mean_radius

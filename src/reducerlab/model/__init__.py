@@ -14,6 +14,8 @@ from .elements import (
     Line,
     Load,
     Mesh,
+    Nutating,
+    StationaryDamping,
     Support,
 )
 from .laws import Backlash, Constant, Fourier, PiecewisePolynomial, TimeLaw, dead_zone
@@ -40,7 +42,9 @@ __all__ = [
     "Mesh",
     "Model",
     "NonlinearSystem",
+    "Nutating",
     "PiecewisePolynomial",
+    "StationaryDamping",
     "Support",
     "TimeLaw",
     "dead_zone",
