@@ -30,6 +30,8 @@ _LAZY = {
     "DesignError": "reducerlab.errors",
     "ModelError": "reducerlab.errors",
     "ReducerlabError": "reducerlab.errors",
+    "report": "reducerlab.reporting",
+    "Report": "reducerlab.reporting",
 }
 
 __all__ = ["__version__", *_LAZY]

@@ -1443,47 +1443,83 @@ def _signed_quantity(text: str, option: str, kind: str) -> float:
     return sign * value
 
 
+@app.command("report")
+def report_cmd(
+    design: Annotated[Path, typer.Argument(help="Design file (TOML).")],
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="Report file (.html); default DESIGN-report.html."),
+    ] = None,
+    section: Annotated[
+        list[str] | None,
+        typer.Option("--section", "-s", help="Build only these sections (repeatable)."),
+    ] = None,
+    given: Annotated[
+        list[Path] | None,
+        typer.Option(
+            "--with",
+            help="A result computed before (body_modal.nc, contact.nc, bifurcation.nc, "
+            "regime_map.nc) to include (repeatable).",
+        ),
+    ] = None,
+    sets: SetOption = None,
+) -> None:
+    """One self-contained HTML report of everything reducerlab can say about a design."""
+    from .reporting import report as build_report
+
+    with _user_errors():
+        path = output if output is not None else Path(f"{design.stem}-report.html")
+        prepare_output_file(path, "-o", (".html", ".htm"))
+        with _progress() as progress:
+            task = progress.add_task("report", total=None)
+
+            def step(title: str, done: int, total: int) -> None:
+                progress.update(task, description=title, completed=done, total=total)
+
+            rep = build_report(design, overrides=sets or (), results=given or (),
+                               only=section, progress=step)  # fmt: skip
+        _write_file(path, rep.write)
+    for s in rep.sections:
+        status = f"FAILED: {s.error}" if s.error else "ok"
+        typer.echo(f"  {s.title:<45} {s.seconds:7.2f} s  {status}")
+    typer.echo(f"report: {path.resolve()} ({rep.seconds:.1f} s)")
+    if rep.failed:
+        raise typer.Exit(1)
+
+
 @app.command()
 def demo(
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "demo-output"
     ),
 ) -> None:
-    """Run every bundled example end to end and write its outputs (one folder each)."""
-    from .analysis.campbell import campbell as run_campbell
-    from .analysis.modal import modal as run_modal
-    from .drives import build_model, has_model, load_design
+    """Write the design report of every bundled example and an index.html linking them."""
     from .examples import example_files
+    from .reporting import report as build_report
+    from .reporting import write_index
 
     with _user_errors():
         prepare_output_dir(output)
     examples = example_files()
     if not examples:
         _fail(ReducerlabError("no bundled examples found"))
-    summary = []
+    done = []
     with _progress() as progress:
         task = progress.add_task("examples", total=len(examples))
         for path in examples:
-            progress.update(task, description=f"{path.name}")
-            with _user_errors(), OutputSet(output / path.stem, "-o", report=_note) as files:
-                design = load_design(path)
-                res_m = res_k = None
-                if has_model(design):
-                    res_m = run_modal(build_model(design))
-                    _add_modal(res_m, files)
-                    _add_with_figure(run_campbell(design), files, "campbell")
-                if hasattr(design, "kinematics"):
-                    res_k = _run_kinematics(design)
-                    _add_kinematics(res_k, files)
-            summary.append((path, res_m, res_k))
+            progress.update(task, description=path.name)
+            with _user_errors():
+                rep = build_report(path)
+                file = rep.write(output / f"{path.stem}.html")
+            done.append((file, rep))
             progress.advance(task)
-    for path, res_m, res_k in summary:
-        out.print(Text.assemble((path.name, "bold"), f"  ->  {output / path.stem}"))
-        if res_k is not None:
-            out.print(res_k.table())
-        if res_m is not None:
-            _print_modal(res_m)
-    out.print(f"demo outputs in {output.resolve()}")
+    with _user_errors():
+        index = write_index(done, output / "index.html")
+    for file, rep in done:
+        failed = f", {len(rep.failed)} section(s) FAILED" if rep.failed else ""
+        out.print(Text.assemble((file.name, "bold"), f"  {len(rep.sections)} sections, "
+                                f"{rep.seconds:.1f} s{failed}"))  # fmt: skip
+    out.print(f"open {index.resolve()}")
 
 
 class _Terminated(SystemExit):

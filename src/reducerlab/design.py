@@ -208,6 +208,34 @@ class Spec(BaseModel):
     )
 
 
+class BifurcationRequest(Spec):
+    """A bifurcation diagram the report computes (``[report.bifurcation]``): ``parameter``
+    a design field or model parameter path, ``values`` a value specification
+    (``"lin:300 rpm:3000 rpm:40"``, as ``reducerlab bifurcation -v``)."""
+
+    parameter: Annotated[str, Field(min_length=1)]
+    values: Annotated[str, Field(min_length=1)]
+    periods: Annotated[int, Field(strict=True, ge=20, le=100_000)] = 600
+    keep: Annotated[int, Field(strict=True, ge=1, le=10_000)] = 100
+
+
+class RegimeMapRequest(Spec):
+    """A regime map the report computes (``[report.regime_map]``): ``x`` and ``y`` are
+    ``PATH=VALUES`` (as ``reducerlab regime-map -x/-y``)."""
+
+    x: Annotated[str, Field(min_length=3)]
+    y: Annotated[str, Field(min_length=3)]
+    periods: Annotated[int, Field(strict=True, ge=20, le=100_000)] = 600
+    keep: Annotated[int, Field(strict=True, ge=1, le=10_000)] = 64
+
+
+class ReportSpec(Spec):
+    """What the design report computes beyond the standard sections (``[report]``)."""
+
+    bifurcation: BifurcationRequest | None = None
+    regime_map: RegimeMapRequest | None = None
+
+
 class Design(Spec):
     """Base of every drive's design.
 
@@ -222,6 +250,7 @@ class Design(Spec):
     type: str
     name: str = ""
     description: str = ""
+    report: ReportSpec | None = None
     _source: str = PrivateAttr(default="<design>")
 
     @property
@@ -232,15 +261,16 @@ class Design(Spec):
 
     @property
     def hash(self) -> str:
-        """SHA-256 of the design's SI content (hex, 16 characters)."""
-        return digest(self.model_dump_json())
+        """SHA-256 of the design's SI content (hex, 16 characters); the ``[report]``
+        table (what the report draws, not what is analysed) is left out."""
+        return digest(self.model_dump_json(exclude={"report"}))
 
     @property
     def provenance(self) -> dict[str, str]:
         """``{"design": SI JSON, "design_hash": hash, "source": file}``: the metadata that
         models and results built from this design carry (one JSON dump serves both; the
         source, when known, lets an analysis's error name the file)."""
-        text = self.model_dump_json()
+        text = self.model_dump_json(exclude={"report"})
         out = {"design": text, "design_hash": digest(text)}
         if self._source != "<design>":
             out["source"] = self._source

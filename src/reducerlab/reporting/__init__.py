@@ -1,0 +1,300 @@
+"""One design, one report (issue 18): a self-contained HTML file that assembles every
+analysis the design supports, built from a jinja2 template.
+
+>>> import reducerlab as rl
+>>> r = rl.report("examples/gear_pair.toml")        # doctest: +SKIP
+>>> r.write("gear_pair.html")                       # doctest: +SKIP
+
+Sections appear when the design supports them (:data:`.sections.SECTIONS`); a section
+that fails shows its error in place and the others still render. Interactive figures
+(mode shapes, Campbell diagram) are plotly with plotly.js embedded once, each with a
+static PNG for pages without scripts; the rest are matplotlib PNGs. Nothing is fetched
+when the page opens.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import platform
+import time
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .. import __version__
+from ..design import Design
+from ..errors import ReducerlabError
+from .blocks import Section, table
+from .sections import SECTIONS, Context, repo_assumptions
+
+__all__ = ["Report", "report", "write_index"]
+
+TEMPLATES = Path(__file__).with_name("templates")
+
+
+def _environment() -> Any:
+    import jinja2
+
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATES)),
+        autoescape=jinja2.select_autoescape(["html", "j2"]),
+        undefined=jinja2.StrictUndefined,
+    )
+
+
+@dataclass
+class Report:
+    """A rendered design report: its HTML, its sections (with the numbers each one
+    reports, in ``values``) and the total run time (s)."""
+
+    html: str
+    design: Design
+    sections: list[Section] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def section(self, id: str) -> Section | None:
+        """The section with this id, or None when the design has none."""
+        return next((s for s in self.sections if s.id == id), None)
+
+    @property
+    def failed(self) -> list[Section]:
+        return [s for s in self.sections if s.error]
+
+    def write(self, path: str | Path) -> Path:
+        """Write the HTML to ``path`` (atomically) and return it."""
+        from ..io import atomic_path
+
+        p = Path(path)
+        with atomic_path(p) as tmp:
+            Path(tmp).write_text(self.html, encoding="utf-8")
+        return p
+
+
+def _design_and_text(target: Design | str | Path, overrides: Sequence[str]) -> tuple[Design, str]:
+    from ..drives import load_design
+
+    if isinstance(target, Design):
+        if overrides:
+            raise ReducerlabError("report: overrides apply to a design file, not a Design")
+        src = Path(target.source)
+        text = src.read_text(encoding="utf-8") if src.is_file() else ""
+        return target, text
+    if not isinstance(target, str | Path):
+        raise ReducerlabError(
+            f"report: target must be a Design or a design file path, got {type(target).__name__}"
+        )
+    design = load_design(target, overrides)
+    return design, Path(target).read_text(encoding="utf-8")
+
+
+def report(
+    target: Design | str | Path,
+    *,
+    overrides: Sequence[str] = (),
+    results: Sequence[Any] = (),
+    only: Sequence[str] | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
+) -> Report:
+    """Build the HTML design report of a design.
+
+    Parameters
+    ----------
+    target : Design, str or Path
+        A validated design or a design file (TOML).
+    overrides : sequence of str
+        ``PATH=VALUE`` settings for a design file (as ``--set``).
+    results : sequence of Result or path
+        Results computed beforehand (``Result`` objects or their netCDF files): gear-body
+        modes (``body-modal``, also checked in the resonance verdict), loaded contact
+        (``contact``), bifurcation diagrams, regime maps. A result computed from another
+        design is shown with a warning.
+    only : sequence of str, optional
+        Section ids to build (default: all that apply); provenance is always added.
+    progress : callable, optional
+        ``progress(section_title, done, total)`` before each section.
+
+    Returns
+    -------
+    Report
+    """
+    start = time.perf_counter()
+    design, text = _design_and_text(target, overrides)
+    ids = [sid for sid, _, _ in SECTIONS]
+    if only is not None:
+        unknown = [s for s in only if s not in ids]
+        if unknown:
+            raise ReducerlabError(f"report: unknown section(s) {unknown}; sections are {ids}")
+    ctx = Context(design, text, repo_assumptions(), _results(results))
+    todo = [(sid, title, build) for sid, title, build in SECTIONS if only is None or sid in only]
+    sections: list[Section] = []
+    for k, (sid, title, build) in enumerate(todo):
+        if progress is not None:
+            progress(title, k, len(todo))
+        t0 = time.perf_counter()
+        try:
+            sec = build(ctx)
+        except Exception as exc:  # a failed section shows its error; the rest renders
+            sec = Section(sid, title, error=f"{type(exc).__name__}: {exc}")
+            if not isinstance(exc, ReducerlabError):
+                sec.details = traceback.format_exc()
+        if sec is None:
+            continue
+        sec.seconds = time.perf_counter() - t0
+        sections.append(sec)
+    if progress is not None:
+        progress("provenance", len(todo), len(todo))
+    created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+    total = time.perf_counter() - start
+    sections.insert(0, _summary(design, sections))
+    sections.append(_provenance(design, text, overrides, sections, created, total))
+    interactive = any(b.kind == "interactive" for s in sections for b in s.blocks)
+    plotly_js = ""
+    if interactive:
+        from plotly.offline import get_plotlyjs
+
+        plotly_js = get_plotlyjs()
+    html = (
+        _environment()
+        .get_template("report.html.j2")
+        .render(
+            title=design.name or design.type,
+            design_type=design.type,
+            design_hash=design.hash,
+            created=created,
+            version=__version__,
+            sections=sections,
+            plotly_js=plotly_js,
+        )
+    )
+    return Report(html, design, sections, time.perf_counter() - start)
+
+
+#: Kinds of results the report can take from a file.
+GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map")
+
+
+def _results(items: Sequence[Any]) -> dict[str, list[Any]]:
+    from ..results import Result
+
+    out: dict[str, list[Any]] = {}
+    for item in items:
+        r = item if isinstance(item, Result) else Result.load(item)
+        if r.kind not in GIVEN_KINDS:
+            raise ReducerlabError(
+                f"report: {item}: a {r.kind!r} result; the report takes {', '.join(GIVEN_KINDS)} "
+                "results (it computes the others itself)"
+            )
+        if not isinstance(item, Result):
+            r.data.attrs.setdefault("source", str(item))
+        out.setdefault(r.kind, []).append(r)
+    return out
+
+
+def _summary(design: Design, sections: list[Section]) -> Section:
+    """The findings at a glance, taken from the other sections' values."""
+    from .blocks import verdict
+
+    s = Section("summary", "Summary")
+    by = {x.id: x for x in sections if not x.error}
+    rows: list[tuple[str, Any]] = [("drive", f"{design.type}: {design.name or '(unnamed)'}")]
+    if "kinematics" in by:
+        rows.append(("transmission ratio", by["kinematics"].values["ratio"]))
+    if "modal" in by:
+        f = [x for x in by["modal"].values["frequencies_hz"] if x > 0]
+        rows.append(("elastic modes", len(f)))
+        if f:
+            rows.append(("lowest natural frequency (Hz)", min(f)))
+    if "campbell" in by:
+        v = by["campbell"].values
+        text = (
+            f"{len(v['crossings'])} crossing(s), {len(v['near'])} near miss(es), "
+            f"{len(v['unstable'])} unstable point(s) in the operating range"
+        )
+        s.blocks.append(verdict(v["ok"], ("no resonance: " if v["ok"] else "RESONANCE RISK: ")
+                                + text))  # fmt: skip
+    if "response" in by and "dynamic_load_factor" in by["response"].values:
+        rows.append(("dynamic load factor", by["response"].values["dynamic_load_factor"]))
+    failed = [x.title for x in sections if x.error]
+    rows.append(("sections", f"{len(sections)} built" + (f", FAILED: {', '.join(failed)}"
+                                                           if failed else "")))  # fmt: skip
+    s.blocks.append(table(["", "value"], rows, digits=6, name="summary"))
+    s.values.update({k: v for k, v in rows})
+    return s
+
+
+def _provenance(
+    design: Design,
+    text: str,
+    overrides: Sequence[str],
+    sections: list[Section],
+    created: str,
+    total: float,
+) -> Section:
+    import numpy
+    import scipy
+
+    s = Section("provenance", "Provenance")
+    file_hash = hashlib.sha256(text.encode()).hexdigest()[:16] if text else "—"
+    rows = [
+        ("reducerlab", __version__),
+        ("created (UTC)", created),
+        ("design source", design.source),
+        ("design hash (SI content)", design.hash),
+        ("design file hash (SHA-256)", file_hash),
+        ("overrides (--set)", "; ".join(overrides) or "none"),
+        (
+            "python / numpy / scipy",
+            f"{platform.python_version()} / {numpy.__version__} / {scipy.__version__}",
+        ),
+        ("machine", f"{platform.system()} {platform.machine()}"),
+    ]
+    s.blocks.append(table(["item", "value"], rows, name="provenance"))
+    times = [(x.title, x.seconds, "failed" if x.error else "ok") for x in sections]
+    times.append(("total (analyses; rendering not included)", total, ""))
+    s.blocks.append(table(["section", "run time (s)", "status"], times, digits=3, name="times"))
+    s.values.update(hash=design.hash, created=created, seconds={x.id: x.seconds for x in sections})
+    return s
+
+
+def write_index(reports: Sequence[tuple[Path, Report]], path: str | Path) -> Path:
+    """Write an ``index.html`` linking reports (``(file, report)`` pairs) next to it."""
+    from ..io import atomic_path
+
+    p = Path(path)
+    rows = []
+    for file, rep in reports:
+        camp = rep.section("campbell")
+        if camp is None or camp.error:
+            verdict, cls = "—", ""
+        else:
+            verdict, cls = (
+                ("no resonance", "ok") if camp.values["ok"] else ("resonance risk", "risk")
+            )
+        rows.append(
+            {
+                "href": Path(file).name,
+                "file": Path(file).name,
+                "title": rep.design.name or rep.design.type,
+                "type": rep.design.type,
+                "sections": len(rep.sections),
+                "failed": len(rep.failed),
+                "verdict": verdict,
+                "verdict_class": cls,
+                "seconds": rep.seconds,
+            }
+        )
+    html = (
+        _environment()
+        .get_template("index.html.j2")
+        .render(
+            reports=rows,
+            version=__version__,
+            created=_dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat(),
+        )
+    )
+    with atomic_path(p) as tmp:
+        Path(tmp).write_text(html, encoding="utf-8")
+    return p

@@ -1,0 +1,138 @@
+"""HTML building blocks of the design report: escaped tables with the full-precision
+value of every number (``data-value``), matplotlib figures as embedded PNG, plotly
+figures as ``<div>`` drawn by the plotly.js embedded once in the page."""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["Block", "Cell", "figure", "interactive", "note", "pre", "table", "verdict"]
+
+
+@dataclass(frozen=True)
+class Block:
+    """One piece of a section: its HTML (already escaped) and a kind for the template."""
+
+    html: str
+    kind: str = "html"
+
+
+@dataclass(frozen=True)
+class Cell:
+    """A table cell: ``text`` as shown and, for a number, its full ``value``."""
+
+    text: str
+    value: float | None = None
+
+
+def _cell(x: Any, digits: int) -> Cell:
+    if isinstance(x, Cell):
+        return x
+    if isinstance(x, bool) or x is None:
+        return Cell("" if x is None else str(x))
+    if isinstance(x, int | float):
+        v = float(x)
+        if math.isnan(v):
+            return Cell("—", v)
+        return Cell(f"{v:.{digits}g}", v)
+    return Cell(str(x))
+
+
+def table(
+    headers: Sequence[str],
+    rows: Sequence[Sequence[Any]],
+    *,
+    digits: int = 6,
+    caption: str = "",
+    name: str = "",
+) -> Block:
+    """A table; numbers show ``digits`` significant digits and keep their full value in
+    ``data-value`` (what the tests compare with the API). ``name`` sets ``data-table``."""
+    out = [f'<table class="data" data-table="{html.escape(name)}">']
+    if caption:
+        out.append(f"<caption>{html.escape(caption)}</caption>")
+    out.append("<thead><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in headers))
+    out.append("</tr></thead><tbody>")
+    for row in rows:
+        cells = []
+        for x in row:
+            c = _cell(x, digits)
+            if c.value is None:
+                cells.append(f"<td>{html.escape(c.text)}</td>")
+            else:
+                cells.append(f'<td class="num" data-value="{c.value!r}">{html.escape(c.text)}</td>')
+        out.append("<tr>" + "".join(cells) + "</tr>")
+    out.append("</tbody></table>")
+    return Block("".join(out), "table")
+
+
+def png_data(fig: Figure, dpi: int = 110) -> str:
+    """``data:`` URI of a matplotlib figure rendered as PNG."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def figure(fig: Figure, caption: str = "", *, dpi: int = 110) -> Block:
+    """A static matplotlib figure, embedded."""
+    cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
+    return Block(
+        f'<figure><img alt="{html.escape(caption or "figure")}" '
+        f'src="{png_data(fig, dpi)}">{cap}</figure>',
+        "figure",
+    )
+
+
+def interactive(fig: Any, fallback: Figure | None, caption: str = "", *, div_id: str) -> Block:
+    """A plotly figure (its script needs the page's embedded plotly.js) with the static
+    ``fallback`` shown where scripts do not run."""
+    body = fig.to_html(
+        full_html=False,
+        include_plotlyjs=False,
+        div_id=f"fig-{div_id}",
+        config={"displaylogo": False, "responsive": True},
+    )
+    still = ""
+    if fallback is not None:
+        still = f'<noscript><img alt="static version" src="{png_data(fallback)}"></noscript>'
+    cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
+    return Block(f'<figure class="interactive">{body}{still}{cap}</figure>', "interactive")
+
+
+def note(text: str, kind: str = "note") -> Block:
+    """A short paragraph (``kind``: note, warning, ok)."""
+    return Block(f'<p class="{kind}">{html.escape(text)}</p>', kind)
+
+
+def pre(text: str) -> Block:
+    """Preformatted text (a verdict, a design file)."""
+    return Block(f"<pre>{html.escape(text)}</pre>", "pre")
+
+
+def verdict(ok: bool, text: str) -> Block:
+    """A coloured verdict line."""
+    cls = "ok" if ok else "risk"
+    return Block(f'<p class="verdict {cls}">{html.escape(text)}</p>', "verdict")
+
+
+@dataclass
+class Section:
+    """One section of the report: id, title, blocks, the numbers it reports (by key),
+    its run time (s) and, if it failed, the error shown in its place."""
+
+    id: str
+    title: str
+    blocks: list[Block] = field(default_factory=list)
+    values: dict[str, Any] = field(default_factory=dict)
+    seconds: float = 0.0
+    error: str | None = None
+    details: str | None = None
