@@ -11,6 +11,7 @@ $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[test]"
+	MPLBACKEND=Agg $(BIN)/python scripts/warm_kernels.py
 	touch $(STAMP)
 
 demo: $(STAMP)

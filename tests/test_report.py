@@ -255,6 +255,26 @@ def test_cli_report_and_demo_index(tmp_path, monkeypatch):
     assert "index.html" in res.output
 
 
+def test_demo_writes_a_report_per_example(reports, tmp_path, monkeypatch):
+    """Every bundled example gets its report and a row in the index (the reports are
+    the module's, handed in through a stand-in to keep the test fast)."""
+    import reducerlab.reporting as rep
+
+    monkeypatch.setattr(rep, "report", lambda path: reports[Path(path).stem])
+    res = CliRunner().invoke(app, ["demo", "-o", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    for path in example_files():
+        assert (tmp_path / f"{path.stem}.html").read_text() == reports[path.stem].html
+    index = (tmp_path / "index.html").read_text()
+    assert all(f'href="{p.stem}.html"' in index for p in example_files())
+
+
+def test_cli_report_refuses_a_folder_as_output(tmp_path):
+    res = CliRunner().invoke(app, ["report", str(example_dir() / "gear_pair.toml"), "-o",
+                                   str(tmp_path)])  # fmt: skip
+    assert res.exit_code == 2 and "Traceback" not in res.output
+
+
 def test_write_index_links_reports(reports, tmp_path):
     pairs = [(tmp_path / f"{k}.html", reports[k]) for k in ("gear_pair", "khv")]
     text = write_index(pairs, tmp_path / "index.html").read_text()

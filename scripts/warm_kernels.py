@@ -1,0 +1,31 @@
+"""Compile reducerlab's numba kernels once, at install time (``make`` runs this after
+``pip install``): numba caches them next to the sources, so the first report or
+nonlinear run on a fresh machine does not spend a minute compiling (the one-time cost
+is measured in benchmarks/RESULTS.md, "Design reports")."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import reducerlab as rl
+from reducerlab.analysis.nonlinear import bifurcation, response
+from reducerlab.analysis.sweep import parse_values
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def main() -> None:
+    t0 = time.perf_counter()
+    response(rl.load_design(EXAMPLES / "gear_pair.toml"), periods=40, keep=10, history=2)
+    # long runs of many DOFs take the one-period maps (analysis/floquet.py)
+    response(rl.load_design(EXAMPLES / "nutation_double_sided.toml"), history=2)
+    khv = rl.load_design(EXAMPLES / "khv_rattle.toml")
+    bifurcation(khv, parse_values("gears.x1", "0.5,0.6"), periods=40, keep=10)
+    bifurcation(khv, parse_values("gears.x1", "0.5,0.6"), periods=40, keep=10,
+                continuation="up")  # fmt: skip
+    print(f"numba kernels compiled and cached in {time.perf_counter() - t0:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
