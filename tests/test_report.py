@@ -281,3 +281,60 @@ def test_write_index_links_reports(reports, tmp_path):
     parse(text)
     assert text.count("<tr>") == 3  # header + two reports
     assert Path(pairs[0][0]).name in text
+
+
+def test_design_inputs_carry_units_and_the_assumptions_in_force(reports):
+    # the papers' choices recorded in docs/assumptions.md, by drive family
+    assert "Paper 000" in reports["nutation_double_sided"].section("design").blocks[-1].html
+    assert "Paper 004" in reports["khv_kinematics"].section("design").blocks[-1].html
+    assert "Paper 003" in reports["cycloid_ball"].section("design").blocks[-1].html
+    assert "Paper 00" not in reports["gear_pair"].html.split('id="design"')[1].split(
+        "</section>")[0]  # fmt: skip
+    blocks = reports["nutation_double_sided"].section("design").blocks
+    html = next(b.html for b in blocks if 'data-table="inputs"' in b.html)
+    row = html.split("<td>input_speed</td>")[1].split("</tr>")[0]
+    assert "1500 rpm" in row and "rad/s" in row and "157.0796" in row
+
+
+def test_given_contact_result_is_reported_with_its_numbers(tmp_path):
+    """A small real LTCA (rigid teeth, 5 positions, as tests/test_contact_plot.py) saved
+    to a file and handed to the report: the table's numbers are its summary's."""
+    from reducerlab.analysis.contact import contact_analysis
+
+    path = example_dir() / "nutation_surface.toml"
+    res = contact_analysis(rl.load_design(path), 1, torque=19.1, positions=5, order=2,
+                           rigid=True)  # fmt: skip
+    nc = res.save(tmp_path / "contact.nc")
+    r = report(path, results=[nc], only=["contact"])
+    page = parse(r.html)
+    assert page.sections["contact"] == "ok"
+    summ = res.summary()
+    got = [row[0] for row in page.tables["contact"] if row]
+    assert got[0] == summ["k_mean"]
+    assert got[1] == summ["te_peak_to_peak"] * 1e6
+    assert "another design" not in r.html  # same design: no warning
+    with pytest.raises(ReducerlabError, match="the report takes"):
+        report(path, results=[modal(rl.build_model(rl.load_design(path)))])
+
+
+def test_regime_map_asked_by_the_design(tmp_path):
+    """[report.regime_map] on the KHV drive, a 3 x 2 grid of short runs: the report's
+    classes are those of the API's regime map."""
+    from reducerlab.analysis.regime_map import regime_map
+    from reducerlab.analysis.sweep import parse_values
+
+    text = (example_dir() / "khv_rattle.toml").read_text().split("[report.bifurcation]")[0]
+    text += ('\n[report.regime_map]\nx = "gears.x1=0.5,0.65,0.8"\n'
+             'y = "input_speed=1100 rpm,1300 rpm"\nperiods = 60\nkeep = 16\n')  # fmt: skip
+    path = tmp_path / "rm.toml"
+    path.write_text(text)
+    r = report(path, only=["regime-map"])
+    page = parse(r.html)
+    assert page.sections["regime-map"] == "ok", r.section("regime-map").error
+    d = rl.load_design(path)
+    x = parse_values("gears.x1", "0.5,0.65,0.8")
+    y = parse_values("input_speed", "1100 rpm,1300 rpm")
+    api = regime_map(d, x, y, periods=60, keep=16)
+    assert r.section("regime-map").values["classes"] == [
+        sorted(set(np.asarray(api.labels()).ravel().tolist()))
+    ]

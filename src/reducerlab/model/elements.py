@@ -545,7 +545,7 @@ class Nutating(Element):
 
     Parameters
     ----------
-    dofs : (str, str, str)
+    triple : (str, str, str)
         The body's ``rx``, ``ry`` and ``rz`` DOFs.
     polar, diametral : float
         ``J_p`` and ``J_d`` (kg m^2) about the body's centre, >= 0.

@@ -114,7 +114,9 @@ def report(
     only : sequence of str, optional
         Section ids to build (default: all that apply); provenance is always added.
     progress : callable, optional
-        ``progress(section_title, done, total)`` before each section.
+        ``progress(description, done, total)`` before each section (``done`` sections
+        of ``total``); long sections (bifurcation, regime map) also call it as they go,
+        with their own count in the description.
 
     Returns
     -------
@@ -133,6 +135,11 @@ def report(
     for k, (sid, title, build) in enumerate(todo):
         if progress is not None:
             progress(title, k, len(todo))
+
+            def step(done: int, total: int, title: str = title, k: int = k) -> None:
+                progress(f"{title}: {done}/{total}", k, len(todo))  # type: ignore[misc]
+
+            ctx.step = step
         t0 = time.perf_counter()
         try:
             sec = build(ctx)

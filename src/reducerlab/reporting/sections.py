@@ -23,13 +23,19 @@ __all__ = ["SECTIONS", "Context"]
 
 RPM = 60.0 / (2.0 * math.pi)
 
-#: Papers whose choices in docs/assumptions.md apply to each design type.
+#: Papers whose choices in docs/assumptions.md apply to each drive (the design type, or
+#: for a kinematics-only design its ``drive``); a section applies when its heading
+#: starts with one of these.
 PAPERS = {
     "nutation": ("Paper 000", "Paper 001", "Paper 002", "Papers 000", "Papers 001"),
-    "cycloid_ball": ("Paper 003", "Papers 000, 002, 003"),
+    "cycloid": ("Paper 003", "Papers 000, 002, 003"),
     "khv": ("Paper 004",),
-    "kinematics": ("Paper 002", "Paper 003", "Paper 004"),
 }
+
+
+def _drive_family(design: Design) -> str:
+    name = str(getattr(design, "drive", design.type))
+    return next((k for k in PAPERS if k in name), "")
 
 
 @dataclass
@@ -42,6 +48,8 @@ class Context:
     assumptions: str = ""
     results: dict[str, list[Any]] = field(default_factory=dict)
     cache: dict[str, Any] = field(default_factory=dict)
+    #: ``step(done, total)`` inside a long section (the report's progress display).
+    step: Callable[[int, int], None] | None = None
 
     def given(self, kind: str) -> list[Any]:
         """Results of ``kind`` handed to the report (``--with`` files)."""
@@ -100,9 +108,10 @@ def _lookup(data: Any, path: str) -> Any:
     return data
 
 
-def assumption_sections(text: str, design_type: str) -> list[tuple[str, str]]:
-    """``(heading, body)`` of the docs/assumptions.md sections that apply to a type."""
-    keys = PAPERS.get(design_type, ())
+def assumption_sections(text: str, family: str) -> list[tuple[str, str]]:
+    """``(heading, body)`` of the docs/assumptions.md sections that apply to a drive
+    family (a key of :data:`PAPERS`)."""
+    keys = PAPERS.get(family, ())
     parts = re.split(r"^## ", text, flags=re.M)[1:]
     out = []
     for part in parts:
@@ -120,18 +129,24 @@ def design_section(ctx: Context) -> Section:
 
     d = ctx.design
     s = Section("design", "Design inputs")
-    written = tomllib.loads(ctx.text) if ctx.text else {}
-    si = d.model_dump(mode="json")
+    from ..design import field_kind
+    from ..units import QUANTITIES
+
+    written = tomllib.loads(ctx.text.removeprefix("\ufeff")) if ctx.text else {}
+    si = d.model_dump(mode="json", exclude={"report"})
     rows = []
     for key, value in _flatten(si):
         if key in ("name", "description"):
             continue
         as_written = _lookup(written, key)
+        kind = field_kind(d, key)
+        unit = QUANTITIES[kind].si_unit if kind else ""
         rows.append(
             (
                 key,
                 "" if as_written is None else str(as_written),
                 value if isinstance(value, int | float) else str(value),
+                unit,
             )
         )
     s.blocks.append(note(f"{d.name or d.type}: type = {d.type!r}, source {d.source}"))
@@ -139,7 +154,7 @@ def design_section(ctx: Context) -> Section:
         s.blocks.append(note(d.description))
     import html
 
-    inputs = table(["field", "as written", "SI value"], rows, digits=8, name="inputs")
+    inputs = table(["field", "as written", "SI value", "SI unit"], rows, digits=8, name="inputs")
     s.blocks.append(
         Block(
             f"<details><summary>all {len(rows)} fields, as written and in SI"
@@ -155,7 +170,7 @@ def design_section(ctx: Context) -> Section:
                 "pre",
             )
         )
-    sections = assumption_sections(ctx.assumptions, d.type)
+    sections = assumption_sections(ctx.assumptions, _drive_family(d))
     if sections:
         items = "".join(
             f"<details><summary>{html.escape(h)}</summary><pre>{html.escape(b)}</pre></details>"
@@ -824,18 +839,24 @@ def _requested_axis(field_: str, path: str, spec: str, limit: int) -> Any:
     return axis
 
 
+def _wanted(ctx: Context, request: str, kind: str) -> tuple[Any, list[Any]]:
+    """The design's ``[report]`` request of this name and the given results of ``kind``."""
+    req = getattr(ctx.design.report, request) if ctx.design.report else None
+    return req, list(ctx.given(kind))
+
+
 def bifurcation_section(ctx: Context) -> Section | None:
-    req = ctx.design.report.bifurcation if ctx.design.report else None
-    given = ctx.given("bifurcation")
-    if req is None and not given:
+    req, results = _wanted(ctx, "bifurcation", "bifurcation")
+    if req is None and not results:
         return None
     s = Section("bifurcation", "Bifurcation diagram")
-    results = list(given)
     if req is not None:
         from ..analysis.nonlinear import bifurcation
 
         axis = _requested_axis("report.bifurcation.values", req.parameter, req.values, 400)
-        results.append(bifurcation(ctx.design, axis, periods=req.periods, keep=req.keep))
+        results.append(
+            bifurcation(ctx.design, axis, periods=req.periods, keep=req.keep, progress=ctx.step)
+        )
     for r in results:
         w = _foreign(ctx, r)
         if w is not None:
@@ -893,14 +914,12 @@ def _regime_plotly(res: Any) -> Any:
 
 
 def regime_map_section(ctx: Context) -> Section | None:
-    req = ctx.design.report.regime_map if ctx.design.report else None
-    given = ctx.given("regime-map")
-    if req is None and not given:
+    req, results = _wanted(ctx, "regime_map", "regime-map")
+    if req is None and not results:
         return None
     from ..errors import ReducerlabError
 
     s = Section("regime-map", "Regime map")
-    results = list(given)
     if req is not None:
         from ..analysis.regime_map import regime_map
 
@@ -913,7 +932,10 @@ def regime_map_section(ctx: Context) -> Section | None:
             axes.append(
                 _requested_axis(f"report.regime_map.{name}", path.strip(), values.strip(), 200)
             )
-        results.append(regime_map(ctx.design, axes[0], axes[1], periods=req.periods, keep=req.keep))
+        results.append(
+            regime_map(ctx.design, axes[0], axes[1], periods=req.periods, keep=req.keep,
+                       progress=ctx.step)
+        )  # fmt: skip
     for k, r in enumerate(results):
         w = _foreign(ctx, r)
         if w is not None:
