@@ -31,7 +31,7 @@ from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..model.laws import flat_period
 from ..results import Result, provenance
-from .modal import RIGID_TOL, _skew, element_blocks, rest_stiffness
+from .modal import RIGID_TOL, element_blocks, has_skew_terms, rest_stiffness
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -583,7 +583,7 @@ def resonance_check(
     grid = np.unique(np.concatenate([speeds, np.linspace(0.0, 1.5 * hi, 201)]))
     model = _model_of(target)
     # gyroscopic, Coriolis or circulatory terms: check the damped, whirl-split branches
-    gyroscopic = _speed_skew(model.with_speed(float(hi)))
+    gyroscopic = has_skew_terms(model.with_speed(float(hi)))
     if gyroscopic:
         from .complex_modal import _branches, complex_campbell
 
@@ -636,13 +636,6 @@ def resonance_check(
             report["component_crossings"] or report["component_near"] or report["coincidences"]
         )
     return report
-
-
-def _speed_skew(model: Model) -> bool:
-    """Whether ``model`` has skew velocity (gyroscopic, Coriolis) or skew stiffness
-    (circulatory) terms at its speed."""
-    mats = model.matrices()
-    return _skew(mats.C) or _skew(mats.K)
 
 
 def _stability(model: Model, speeds: NDArray) -> dict[str, Any]:

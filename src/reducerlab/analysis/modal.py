@@ -52,6 +52,14 @@ def _skew(A: NDArray) -> bool:
     return bool(np.any(np.abs(0.5 * (A - A.T)) > 1e-12 * max(float(np.abs(A).max()), 1e-300)))
 
 
+def has_skew_terms(model: Model) -> bool:
+    """Whether ``model`` has, at its speed, skew velocity terms (gyroscopic, Coriolis) or
+    skew stiffness (circulatory): what the undamped modes leave out and complex modes
+    (:mod:`.complex_modal`) include."""
+    mats = model.matrices()
+    return _skew(mats.C) or _skew(mats.K)
+
+
 def _pretty(body: str) -> str:
     return body.replace("_", " ")
 
@@ -281,7 +289,7 @@ def modal(model: Model, *, rigid_tol: float = RIGID_TOL) -> ModalResult:
     # gyroscopic / Coriolis (skew) velocity terms and circulatory (skew) stiffness are
     # outside K phi = lambda M phi: they are flagged in the result
     # (complex_modal.complex_modes includes them)
-    skew_terms = int(_skew(mats.C) or _skew(mats.K))
+    skew_terms = int(_skew(mats.C) or _skew(mats.K))  # has_skew_terms, matrices at hand
     lam, phi, rigid, drift = _rigid_and_elastic(model, mats.M, mats.K, rigid_tol)
     check_resolved(lam, rigid, mats.M, mats.K, model.dof_names, f"modal of {model.name!r}")
     unstable = lam < 0
