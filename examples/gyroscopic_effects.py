@@ -58,10 +58,10 @@ def main() -> None:
     full = rl.build_model(rl.load_design(nut, [*TILT, "rotating_frame=true"]))
     plain = rl.build_model(rl.load_design(nut, [*TILT, "gyroscopic=false"]))
     speed = rl.load_design(nut).input_speed
-    report("nutation drive (paper 000) with tilts: nutating-body gyroscopics + mesh frame",
+    report("nutation drive (paper 000) with tilts: nutating-body terms + mesh frame",
            full, plain, speed)  # fmt: skip
     gyro_only = rl.build_model(rl.load_design(nut, TILT))
-    report("nutation drive (paper 000) with tilts: nutating-body gyroscopics only",
+    report("nutation drive (paper 000) with tilts: nutating-body terms (crank frame) only",
            gyro_only, plain, speed)  # fmt: skip
     paper = rl.build_model(rl.load_design(nut))
     frame = rl.build_model(rl.load_design(nut, ["rotating_frame=true"]))
@@ -77,8 +77,8 @@ def main() -> None:
         speed=model.speed,
         name=model.name,
     )
-    report("cycloid ball drive (paper 003, 10 DOFs): Coriolis + circulatory terms",
-           model, bare, design.input_speed)  # fmt: skip
+    title = "cycloid ball drive (paper 003, 10 DOFs): Coriolis (undamped: no circulatory term)"
+    report(title, model, bare, design.input_speed)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,7 @@ import pytest
 import reducerlab as rl
 from reducerlab.analysis.complex_modal import complex_modes
 from reducerlab.analysis.modal import modal
-from reducerlab.drives.nutation import _lever, contact_normal
+from reducerlab.drives.nutation import _lever, contact_normal, contact_point
 from reducerlab.errors import DesignError
 
 NUT = "examples/nutation_double_sided.toml"
@@ -70,21 +70,42 @@ def test_tilt_terms_vanish_at_rest():
                                rtol=1e-10)  # fmt: skip
 
 
-def test_lever_arm_matches_the_torsional_coefficient():
-    """The tilt lever ``p x n`` uses the same contact point as paper 000 Eq. 2's
-    torsional term: its axial component would be ``r_m n_y``; and it is normal to n."""
-    d, b, a, R = math.radians(80.0), math.radians(25.0), math.radians(24.0), 0.05
-    gx, gy = _lever(d, b, a, R)
-    n = np.array(contact_normal(d, b, a))
-    p = R * np.array([math.sin(d), 0.0, math.cos(d)])
-    lever = np.cross(p, n)
-    np.testing.assert_allclose([gx, gy], lever[:2], rtol=1e-14)
-    assert lever[2] == pytest.approx(R * math.sin(d) * n[1], rel=1e-14)
+def test_lever_acts_at_the_contact_point_of_both_cones():
+    """The tilt lever ``p x n`` uses the pair's mean contact point: turned into the mesh
+    frame (R_y(theta)) it is the central gear's mean pitch point, on its pitch cone at the
+    common cone distance (paper 000 Eq. 4's frames; apex at the nutation centre)."""
+    d = rl.load_design(NUT)
+    th = d.theta
+    R = d.cone_distances(th)[1]
+    for dn, dc in d.cones(th):
+        p = np.array(contact_point(dc, th, R))
+        c, s_ = math.cos(th), math.sin(th)
+        mesh = np.array([c * p[0] + s_ * p[2], 0.0, -s_ * p[0] + c * p[2]])
+        assert np.linalg.norm(mesh) == pytest.approx(R, rel=1e-14)
+        assert math.atan2(mesh[0], mesh[2]) == pytest.approx(dc, rel=1e-14)
+        b, a = d.helix_angle, d.normal_pressure_angle
+        lever = np.cross(p, contact_normal(dn, b, a))
+        np.testing.assert_allclose(_lever(dn, dc, b, a, th, R), lever[:2], rtol=1e-14)
 
 
-def test_rotating_frame_needs_isotropic_supports():
+def test_tilt_inertia_is_about_the_nutation_centre():
+    """By default the gears' own J_x, J_y gain their parallel-axis terms (the tilts turn
+    about the nutation centre); given J_x, J_y are used as they are."""
+    m = _model(NUT, TILT)
+    own = sum(rl.load_design(NUT).model_dump()[g]["J_x"] for g in ("gear1", "gear3"))
+    J = m.matrices().M[m.index["g13.rx"], m.index["g13.rx"]]
+    assert 1.5 * own < J  # the gears' mass lies ~30 mm from the centre
+    given = _model(NUT, [*TILT, "tilt13.J_x=2e-3 kg*m^2", "tilt13.J_y=2e-3 kg*m^2"])
+    assert given.matrices().M[given.index["g13.rx"], given.index["g13.rx"]] == 2e-3
+
+
+def test_rotating_frame_needs_isotropic_housing_supports():
     with pytest.raises(DesignError, match=r"support2\.k_y"):
         rl.load_design(NUT, ["rotating_frame=true", "support2.k_y=2.0e8 N/m"])
+    # the nutating gear's bearings turn with the crank: no restriction
+    rl.load_design(NUT, ["rotating_frame=true", "support13.k_y=2.0e8 N/m"])
+    with pytest.raises(DesignError, match="centripetal"):
+        rl.load_design(CYC, ["coriolis=true", "centripetal=false"])
 
 
 def test_cycloid_rotating_frame_keeps_paper_frequencies():

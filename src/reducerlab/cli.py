@@ -1464,7 +1464,8 @@ def report_cmd(
     ] = None,
     sets: SetOption = None,
 ) -> None:
-    """One self-contained HTML report of everything reducerlab can say about a design."""
+    """One self-contained HTML report of everything reducerlab can say about a design
+    (exit 1 when a section failed: its error is shown in its place in the report)."""
     from .reporting import report as build_report
 
     with _user_errors():

@@ -588,11 +588,11 @@ def resonance_check(
         from .complex_modal import _branches, complex_campbell
 
         res: Any = complex_campbell(target, grid)
-        freq = _branches(model, speeds, RIGID_TOL)[0]
+        freq, _, whirl, _ = _branches(model, speeds, RIGID_TOL)
         freq = np.where(np.isnan(freq), 0.0, freq)
     else:
         res = campbell(target, grid)
-        freq = _frequencies(model, speeds)
+        freq, whirl = _frequencies(model, speeds), None
     ds = res.data
     orders = dict(zip([str(e) for e in ds["excitation"].values], ds["order"].values, strict=True))
     near = []
@@ -615,6 +615,7 @@ def resonance_check(
                         "excitation_hz": float(fe[i]),
                         "distance": float(rel[i]),
                     }
+                    | ({"whirl": str(whirl[i, j])} if whirl is not None else {})
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
@@ -676,7 +677,9 @@ def format_check(report: dict[str, Any]) -> str:
         )
     for r in report["near"]:
         lines.append(
-            f"  NEAR      mode {r['mode']} ({r['natural_hz']:.5g} Hz) within "
+            f"  NEAR      mode {r['mode']} ({r['natural_hz']:.5g} Hz"
+            + (f", {r['whirl']} whirl" if r.get("whirl") else "")
+            + ") within "
             f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
             f"at {r['speed_rpm']:.5g} rpm"
         )

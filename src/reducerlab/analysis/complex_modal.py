@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Coriolis, Gyroscopic, Model, Nutating
 from ..results import Result, provenance
-from .modal import RIGID_TOL, _rigid_and_elastic
+from .modal import RIGID_TOL, _rigid_and_elastic, has_skew_terms
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -50,23 +50,25 @@ PLANAR = 0.05
 UNSTABLE_TOL = 1e-9
 
 
-def _spin_signs(model: Model) -> dict[str, float]:
-    """Spin sense of each body with a Gyroscopic, Nutating or Coriolis element (sign of
-    its spin, or of its frame's rotation)."""
-    out: dict[str, float] = {}
+def _spin_signs(model: Model) -> dict[tuple[str, str], float]:
+    """Spin sense per ``(body, pair)`` (pair ``"xy"`` or ``"rxry"``): of the frame a
+    Coriolis element turns with, of the spin of a Gyroscopic or Nutating body."""
+    out: dict[tuple[str, str], float] = {}
     for e in model.elements:
         if isinstance(e, Gyroscopic):
-            out[e.pair[0].split(".")[0]] = float(np.sign(e.spin_ratio * model.speed))
+            ratio, body, pair = e.spin_ratio, e.pair[0].split(".")[0], "rxry"
         elif isinstance(e, Nutating):
-            w3 = e.spin_ratio + e.precession_ratio * math.cos(e.nutation)
-            out[e.triple[0].split(".")[0]] = float(np.sign(w3 * model.speed))
+            ratio, body, pair = e.axial_spin_ratio(), e.triple[0].split(".")[0], "rxry"
         elif isinstance(e, Coriolis):
-            out[e.pair[0].split(".")[0]] = float(np.sign(e.ratio * model.speed))
+            ratio, body, pair = e.ratio, e.pair[0].split(".")[0], "xy"
+        else:
+            continue
+        out[(body, pair)] = float(np.sign(ratio * model.speed))
     return out
 
 
 def _whirl(
-    model: Model, phi: NDArray[np.complex128], spins: dict[str, float], mass: NDArray
+    model: Model, phi: NDArray[np.complex128], spins: dict[tuple[str, str], float], mass: NDArray
 ) -> str:
     """Whirl of one complex mode shape (see the module docstring); ``mass`` is the
     diagonal of M."""
@@ -87,7 +89,7 @@ def _whirl(
             sense = -np.imag(np.conj(u) * v)
             m = np.array([[u.real, -u.imag], [v.real, -v.imag]])
             sv = np.linalg.svd(m, compute_uv=False)
-            spin = spins.get(body, default)
+            spin = spins.get((body, a + b), default)
             if sv[0] == 0 or sv[1] / sv[0] < PLANAR:
                 label = "planar"
             elif spin == 0:
@@ -175,7 +177,6 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
     with np.errstate(divide="ignore", invalid="ignore"):
         logdec = np.where(np.abs(zeta) < 1, TWO_PI * zeta / np.sqrt(1 - zeta**2), np.inf)
     stable = growth <= UNSTABLE_TOL * np.maximum(natural * TWO_PI, 1e-300)
-    skew = 0.5 * (C - C.T)
     data = xr.Dataset(
         {
             "frequency": ("mode", freq, {"units": "Hz", "long_name": "damped natural frequency"}),
@@ -193,7 +194,8 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
             "title": model.name or "complex modes",
             "speed_rad_s": model.speed,
             "rigid_modes": n_rigid,
-            "gyroscopic": int(np.any(skew)),  # skew velocity terms present (0 or 1)
+            # gyroscopic, Coriolis or circulatory (skew) terms present (0 or 1)
+            "gyroscopic": int(has_skew_terms(model)),
             **provenance(model.metadata),
         },
     )

@@ -187,6 +187,12 @@ class CycloidBallDesign(Design):
 
     @model_validator(mode="after")
     def _geometry(self) -> CycloidBallDesign:
+        if self.coriolis and not self.centripetal:
+            raise field_rules((
+                "centripetal",
+                "coriolis = true reads the model in the rotating frame, which needs its "
+                "centripetal terms too: set centripetal = true",
+            ))  # fmt: skip
         zc, zp = self.centre_disc.lobes, self.planetary_disc.lobes
         problems = []
         if zp != zc + 2:

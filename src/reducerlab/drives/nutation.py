@@ -157,14 +157,20 @@ class Support3(Spec):
 
 
 class TiltSupport(Spec):
-    """Tilting stiffness and damping of the nutating gear on its crank bearings, about its
-    own transverse axes (``[tilt13]``; not in paper 000: e.g. two bearings of radial
-    stiffness ``k`` a distance ``L`` apart give ``k L^2 / 2``)."""
+    """Tilts of the nutating gear about its own transverse axes through the nutation
+    centre (``[tilt13]``; not in paper 000): the tilting stiffness and damping of its
+    crank bearings (e.g. two bearings of radial stiffness ``k`` a distance ``L`` apart
+    give ``k L^2 / 2``) and, optionally, the body's tilt inertias about the nutation
+    centre. Default ``J_x``, ``J_y``: each gear's own ``J_x``, ``J_y`` plus ``m e^2``, its
+    mass taken at the axial distance ``e = R_m cos(delta)`` of its mean pitch point from
+    the centre (paper 000 gives inertias, not mass centres)."""
 
     k_rx: TorsionalStiffness
     k_ry: TorsionalStiffness
     c_rx: TorsionalDamping = 0.0
     c_ry: TorsionalDamping = 0.0
+    J_x: MomentOfInertia | None = None
+    J_y: MomentOfInertia | None = None
 
 
 class MeshSpec(Spec):
@@ -268,10 +274,13 @@ class NutationDesign(Design):
         if self.input_speed <= 0:
             raise field_rules(("input_speed", "must be > 0"))
         if self.rotating_frame:
-            for name in ("support2", "support13", "support4"):
+            # the housing-fixed supports (the nutating gear's bearings turn with the
+            # crank, so any support13 is steady in the mesh frame)
+            for name in ("support2", "support4"):
                 sup = getattr(self, name)
                 for q in "kc":
-                    if sup is not None and getattr(sup, f"{q}_x") != getattr(sup, f"{q}_y"):
+                    a, b = (getattr(sup, f"{q}_{x}") for x in "xy") if sup else (0.0, 0.0)
+                    if not math.isclose(a, b, rel_tol=1e-9, abs_tol=0.0):
                         raise field_rules((
                             f"{name}.{q}_y",
                             f"rotating_frame needs isotropic supports ({q}_x = {q}_y): an "
@@ -448,14 +457,29 @@ def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
                    ref_speed=speed)  # fmt: skip
 
 
-def _lever(delta: float, beta: float, alpha_n: float, cone_distance: float) -> tuple[float, float]:
+def contact_point(delta_c: float, nutation: float, cone_distance: float) -> tuple[float, ...]:
+    """Mean contact point of a pair in the nutating gear's own frame (m).
+
+    The point in space is the central gear's mean pitch point ``R_m (sin d_c, 0, cos d_c)``
+    of the mesh frame, where paper 000 Eq. 4's central-gear normal acts (apex at the
+    nutation centre); the nutating gear's frame is the mesh frame turned by the
+    nutation angle about y (Eq. 4's ``a_11, a_13``), so the point there is
+    ``R_y(-theta)`` of it.
+    """
+    x, z = cone_distance * math.sin(delta_c), cone_distance * math.cos(delta_c)
+    c, s = math.cos(nutation), math.sin(nutation)
+    return (x * c - z * s, 0.0, x * s + z * c)
+
+
+def _lever(
+    delta_n: float, delta_c: float, beta: float, alpha_n: float, nutation: float, R: float
+) -> tuple[float, float]:
     """``(g_rx, g_ry)``: how a tilt of the nutating gear about its own transverse axes
-    changes the mesh deflection, ``p x n`` with the mean contact point ``p = R_m (sin d,
-    0, cos d)`` on the pitch cone (apex at the nutation centre) and the contact normal
-    ``n`` of paper 000 Eq. 4 in the gear's own frame (its ``z`` component is ``r_m n_y``,
-    the torsional coefficient of Eq. 2)."""
-    n = contact_normal(delta, beta, alpha_n)
-    px, pz = cone_distance * math.sin(delta), cone_distance * math.cos(delta)
+    changes the mesh deflection, ``(p x n)_x, (p x n)_y`` with ``p`` the mean contact
+    point (:func:`contact_point`) and ``n`` the contact normal of paper 000 Eq. 4, both
+    in the gear's own frame."""
+    n = contact_normal(delta_n, beta, alpha_n)
+    px, _, pz = contact_point(delta_c, nutation, R)
     return (-pz * n[1], pz * n[0] - px * n[2])
 
 
@@ -512,9 +536,15 @@ def build_model(design: NutationDesign) -> Model:
                     StationaryDamping((f"{body}.x", f"{body}.y"), n_b * sup.c_x,
                                       name=f"stationary_damping_{body}")
                 )  # fmt: skip
-    J13x = sum(g.J_x for g in nutating)
-    J13y = sum(g.J_y for g in nutating)
+    cone = design.cone_distances(th)
     if tilt is not None:
+        # about the nutation centre: parallel-axis terms of each gear (see TiltSupport)
+        pairs_ = zip(nutating, design.cones(th), strict=True)
+        shift = sum(
+            g.mass * (cone[2 * k] * math.cos(dn)) ** 2 for k, (g, (dn, _)) in enumerate(pairs_)
+        )
+        J13x = tilt.J_x if tilt.J_x is not None else sum(g.J_x for g in nutating) + shift
+        J13y = tilt.J_y if tilt.J_y is not None else sum(g.J_y for g in nutating) + shift
         elements += [Inertia("g13.rx", J13x), Inertia("g13.ry", J13y)]
         elements.append(Support("g13.rx", tilt.k_rx, tilt.c_rx, name="support_g13_rx"))
         elements.append(Support("g13.ry", tilt.k_ry, tilt.c_ry, name="support_g13_ry"))
@@ -526,7 +556,6 @@ def build_model(design: NutationDesign) -> Model:
     pairs = [(design.gear1, design.gear2, "g2", design.mesh1)]
     if double:
         pairs.append((design.gear3, design.gear4, "g4", design.mesh2))  # type: ignore[arg-type]
-    cone = design.cone_distances(th)
     for j, ((n, c, cbody, spec), (dn, dc)) in enumerate(zip(pairs, design.cones(th), strict=True)):
         a_n = contact_normal(dn, b, an, th)
         a_c = contact_normal(dc, b, an)
@@ -536,7 +565,7 @@ def build_model(design: NutationDesign) -> Model:
             f"{cbody}.rz": -a_c[1] * c.mean_radius,
         }  # fmt: skip
         if tilt is not None:
-            g["g13.rx"], g["g13.ry"] = _lever(dn, b, an, cone[2 * j])
+            g["g13.rx"], g["g13.ry"] = _lever(dn, dc, b, an, th, cone[2 * j + 1])
         omega = 2 * math.pi * mesh_hz[j]
         error = Fourier(0.0, (spec.error_amplitude,), omega, ref_speed=design.input_speed)
         elements.append(

@@ -577,6 +577,11 @@ class Nutating(Element):
     def dofs(self) -> tuple[str, ...]:
         return tuple(self.triple)
 
+    def axial_spin_ratio(self) -> float:
+        """``w_3 / Omega = psi' / Omega + (Omega_p / Omega) cos(theta)``: the body's
+        absolute spin about its own axis per unit model speed."""
+        return self.spin_ratio + self.precession_ratio * np.cos(self.nutation)
+
     def coefficients(self, speed: float) -> tuple[float, float, float, float]:
         """``(g, h, k_x, k_y)``: tilt gyroscopic coefficient, tilt-spin coefficient
         ``J_p Omega_p sin(theta)`` (N m s) and the two tilt stiffnesses (N m / rad)."""

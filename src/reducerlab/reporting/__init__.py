@@ -23,6 +23,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 from .. import __version__
 from ..design import Design
@@ -80,8 +81,11 @@ def _design_and_text(target: Design | str | Path, overrides: Sequence[str]) -> t
         if overrides:
             raise ReducerlabError("report: overrides apply to a design file, not a Design")
         src = Path(target.source)
-        text = src.read_text(encoding="utf-8") if src.is_file() else ""
-        return target, text
+        # the file's text, if the design is still what the file says (not a copy
+        # changed in code, which has no "as written")
+        if src.is_file() and load_design(src).hash == target.hash:
+            return target, src.read_text(encoding="utf-8")
+        return target, ""
     if not isinstance(target, str | Path):
         raise ReducerlabError(
             f"report: target must be a Design or a design file path, got {type(target).__name__}"
@@ -129,7 +133,7 @@ def report(
         unknown = [s for s in only if s not in ids]
         if unknown:
             raise ReducerlabError(f"report: unknown section(s) {unknown}; sections are {ids}")
-    ctx = Context(design, text, repo_assumptions(), _results(results))
+    ctx = Context(design, text, repo_assumptions(), _results(results), overrides=tuple(overrides))
     todo = [(sid, title, build) for sid, title, build in SECTIONS if only is None or sid in only]
     sections: list[Section] = []
     for k, (sid, title, build) in enumerate(todo):
@@ -282,7 +286,7 @@ def write_index(reports: Sequence[tuple[Path, Report]], path: str | Path) -> Pat
             )
         rows.append(
             {
-                "href": Path(file).name,
+                "href": quote(Path(file).name),
                 "file": Path(file).name,
                 "title": rep.design.name or rep.design.type,
                 "type": rep.design.type,

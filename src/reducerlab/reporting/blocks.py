@@ -12,6 +12,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -37,9 +39,9 @@ class Cell:
 def _cell(x: Any, digits: int) -> Cell:
     if isinstance(x, Cell):
         return x
-    if isinstance(x, bool) or x is None:
-        return Cell("" if x is None else str(x))
-    if isinstance(x, int | float):
+    if isinstance(x, bool | np.bool_) or x is None:
+        return Cell("" if x is None else str(bool(x)))
+    if isinstance(x, int | float | np.integer | np.floating):
         v = float(x)
         if math.isnan(v):
             return Cell("—", v)

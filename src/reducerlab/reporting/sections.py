@@ -47,6 +47,8 @@ class Context:
     text: str = ""
     assumptions: str = ""
     results: dict[str, list[Any]] = field(default_factory=dict)
+    #: ``PATH=VALUE`` settings applied to the file (``--set``).
+    overrides: tuple[str, ...] = ()
     cache: dict[str, Any] = field(default_factory=dict)
     #: ``step(done, total)`` inside a long section (the report's progress display).
     step: Callable[[int, int], None] | None = None
@@ -129,10 +131,12 @@ def design_section(ctx: Context) -> Section:
 
     d = ctx.design
     s = Section("design", "Design inputs")
-    from ..design import field_kind
+    from ..design import apply_overrides, field_kind
     from ..units import QUANTITIES
 
     written = tomllib.loads(ctx.text.removeprefix("\ufeff")) if ctx.text else {}
+    if written and ctx.overrides:
+        written = apply_overrides(written, ctx.overrides)
     si = d.model_dump(mode="json", exclude={"report"})
     rows = []
     for key, value in _flatten(si):
@@ -152,6 +156,14 @@ def design_section(ctx: Context) -> Section:
     s.blocks.append(note(f"{d.name or d.type}: type = {d.type!r}, source {d.source}"))
     if d.description:
         s.blocks.append(note(d.description))
+    if ctx.overrides:
+        s.blocks.append(
+            note(
+                "Set on the command line (--set), shown as written below: "
+                + "; ".join(ctx.overrides),
+                "warning",
+            )
+        )
     import html
 
     inputs = table(["field", "as written", "SI value", "SI unit"], rows, digits=8, name="inputs")
@@ -411,12 +423,15 @@ def _campbell_plotly(res: Any, check: dict[str, Any]) -> Any:
         if np.all(np.nan_to_num(f) == 0):
             continue
         text = None if whirl is None else [str(w) for w in whirl[:, j]]
+        name = f"mode {int(m)}"
+        if text:  # whirl at the top speed (hover: at each speed; branches may swap)
+            name += f" ({text[-1]} at top speed)"
         fig.add_trace(
             go.Scatter(
                 x=rpm,
                 y=f,
                 mode="lines",
-                name=f"mode {int(m)}",
+                name=name,
                 text=text,
                 hovertemplate="%{x:.0f} rpm, %{y:.5g} Hz"
                 + (" %{text}" if text else "")
@@ -546,6 +561,7 @@ def campbell_section(ctx: Context) -> Section | None:
             r["excitation_hz"],
             100 * r["distance"],
         )
+        + ((r["whirl"],) if gyro else ())
         for r in check["near"]
     ]
     if near:
@@ -558,7 +574,8 @@ def campbell_section(ctx: Context) -> Section | None:
                     "natural (Hz)",
                     "excitation (Hz)",
                     "margin (%)",
-                ],
+                ]
+                + (["whirl"] if gyro else []),
                 near,
                 name="near",
                 caption=f"modes within {100 * check['margin']:g} % of an "
@@ -659,6 +676,12 @@ def surfaces_section(ctx: Context) -> Section | None:
     from ..plot.surface import plot_tooth
 
     s = Section("surfaces", "Tooth surfaces")
+    if d.gear_count > 2:
+        s.blocks.append(
+            note(
+                "Pair 1 (gears 1 and 2) shown; 'reducerlab surface --gear N' generates the others."
+            )
+        )
     rows = []
     for gear in (1, 2):
         crown, bevel = d.tooth_generation(gear)
