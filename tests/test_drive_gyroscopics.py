@@ -139,3 +139,21 @@ def test_resonance_check_uses_complex_branches_with_speed_terms():
     cyc = resonance_check(rl.load_design(CYC, ["coriolis=true"]))
     assert cyc["frequencies"].startswith("complex")
     assert cyc["stability"]["least_damped"]["damping_ratio"] == 0.0  # undamped design
+
+
+def test_cycloid_housing_bearing_damping_turns_circulatory_in_the_rotating_frame():
+    """With damped housing bearings the rotating-frame model carries their circulatory
+    terms (and only theirs: the planetary disc's eccentric bearing turns with the
+    frame); the damped modes stay stable and decay as the fixed-frame damper says at
+    rest (the terms vanish at zero speed)."""
+    fields = ("input_shaft.radial", "centre_disc.radial", "planetary_disc.bearing")
+    sets = ["coriolis=true"] + [f"{f}_damping=800 N*s/m" for f in fields]
+    m = _model(CYC, sets)
+    names = {e.name for e in m.elements if e.name.startswith("stationary_damping")}
+    assert names == {"stationary_damping_input_shaft", "stationary_damping_centre_disc"}
+    c = complex_modes(m)
+    assert c.data.stable.values.all() and c.data.damping_ratio.values[1:].min() > 0
+    rest = complex_modes(m.with_speed(0.0)).frequencies
+    bare = m.__class__(m.dofs, [e for e in m.elements if not e.name.startswith(
+        ("coriolis", "stationary"))], speed=0.0)  # fmt: skip
+    np.testing.assert_allclose(rest, complex_modes(bare).frequencies, rtol=1e-10)
