@@ -370,26 +370,20 @@ def kinematics(
 
 
 def _axis(option: str, path: str, spec: str, limit: int):
-    """Parse a value specification (:func:`~reducerlab.analysis.sweep.parse_values`),
-    refusing more than ``limit`` values (a range before any of them is generated)."""
+    """A value specification (:func:`~reducerlab.analysis.sweep.parse_values`) of at most
+    ``limit`` values."""
     from .analysis.sweep import parse_values
 
-    axis = parse_values(path, spec, limit=limit, option=option)
-    if len(axis.values) > limit:
-        raise ReducerlabError(f"{option}: {len(axis.values)} values; at most {limit} are allowed")
-    return axis
+    return parse_values(path, spec, limit=limit, option=option)
 
 
 def _path_values(
     option: str, text: str, limit: int, example: str = "input_speed=lin:300 rpm:2000 rpm:41"
 ):
     """``PATH=VALUES`` (``sweep --grid``, ``regime-map -x/-y``) as an axis."""
-    if "=" not in text:
-        raise ReducerlabError(f"{option} must be 'PATH=VALUES', e.g. '{example}'")
-    path, values = text.split("=", 1)
-    if not path.strip():
-        raise ReducerlabError(f"{option} {text!r}: no parameter path before '='")
-    return _axis(option, path.strip(), values.strip(), limit)
+    from .analysis.sweep import parse_path_values
+
+    return parse_path_values(text, limit=limit, option=option, example=example)
 
 
 def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | None:

@@ -583,12 +583,13 @@ def resonance_check(
     grid = np.unique(np.concatenate([speeds, np.linspace(0.0, 1.5 * hi, 201)]))
     model = _model_of(target)
     # gyroscopic, Coriolis or circulatory terms: check the damped, whirl-split branches
+    from .complex_modal import complex_campbell, modes_over, stack_branches
+
+    rows = modes_over(model, speeds)  # complex modes at each speed: stability and branches
     gyroscopic = has_skew_terms(model.with_speed(float(hi)))
     if gyroscopic:
-        from .complex_modal import _branches, complex_campbell
-
         res: Any = complex_campbell(target, grid)
-        freq, _, whirl, _ = _branches(model, speeds, RIGID_TOL)
+        freq, _, whirl, _ = stack_branches(rows)
         freq = np.where(np.isnan(freq), 0.0, freq)
     else:
         res = campbell(target, grid)
@@ -619,7 +620,7 @@ def resonance_check(
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
-    stability = _stability(model, speeds)
+    stability = _stability(rows, speeds)
     report: dict[str, Any] = {
         "ok": not crossings and not near and not stability["unstable"],
         "margin": margin,
@@ -639,14 +640,11 @@ def resonance_check(
     return report
 
 
-def _stability(model: Model, speeds: NDArray) -> dict[str, Any]:
-    """Complex modes (damping, gyroscopic and Coriolis terms) over the speeds: the modes
-    that grow (``unstable``) and the smallest damping ratio of an elastic mode."""
-    from .complex_modal import complex_modes
-
+def _stability(rows: list[xr.Dataset], speeds: NDArray) -> dict[str, Any]:
+    """From the complex modes at each speed (damping, gyroscopic and Coriolis terms): the
+    modes that grow (``unstable``) and the smallest damping ratio of an elastic mode."""
     unstable, least = [], None
-    for w in speeds:
-        ds = complex_modes(model.with_speed(float(w))).data
+    for w, ds in zip(speeds, rows, strict=True):
         elastic = ds["whirl"].values != "rigid"
         for m, f, z, g, ok in zip(ds["mode"].values[elastic], ds["frequency"].values[elastic],
                                   ds["damping_ratio"].values[elastic],

@@ -265,10 +265,14 @@ class ComplexModalResult(Result):
         return fig
 
 
-def _branches(model: Model, speeds: NDArray, rigid_tol: float) -> tuple[NDArray, ...]:
-    """Damped frequencies, damping ratios, whirl and stability (speed, mode), the modes
-    sorted by frequency at each speed."""
-    rows = [complex_modes(model.with_speed(float(w)), rigid_tol=rigid_tol).data for w in speeds]
+def modes_over(model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL) -> list[xr.Dataset]:
+    """The complex modes' dataset (:func:`complex_modes`) at each speed (rad/s)."""
+    return [complex_modes(model.with_speed(float(w)), rigid_tol=rigid_tol).data for w in speeds]
+
+
+def stack_branches(rows: list[xr.Dataset]) -> tuple[NDArray, ...]:
+    """Damped frequencies, damping ratios, whirl and stability (speed, mode) of
+    :func:`modes_over` rows, the modes sorted by frequency at each speed."""
     width = max(r.sizes["mode"] for r in rows)
 
     def stack(name: str, fill: Any, dtype: Any) -> NDArray:
@@ -279,6 +283,10 @@ def _branches(model: Model, speeds: NDArray, rigid_tol: float) -> tuple[NDArray,
 
     return (stack("frequency", np.nan, float), stack("damping_ratio", np.nan, float),
             stack("whirl", "", object), stack("stable", True, bool))  # fmt: skip
+
+
+def _branches(model: Model, speeds: NDArray, rigid_tol: float) -> tuple[NDArray, ...]:
+    return stack_branches(modes_over(model, speeds, rigid_tol))
 
 
 @names_source

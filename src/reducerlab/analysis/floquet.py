@@ -25,7 +25,6 @@ impact statistics and phase plots come from the full nonlinear equations.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import Any
 
 import numba as nb
@@ -34,8 +33,9 @@ from numpy.typing import NDArray
 
 from ..model.laws import LAW_CONSTANT, LAW_FOURIER
 from .kernel import block_width, eval_law, rk4_ensemble
+from .response import subset
 
-__all__ = ["affine_maps", "contact_sides", "map_members", "run_maps", "subset"]
+__all__ = ["affine_maps", "contact_sides", "map_members", "run_maps"]
 
 #: Members whose maps are built at once (the per-step states of 2n + 1 runs of each are
 #: held in memory: 8 members of a 12-DOF drive at 3000 steps take ~100 MB).
@@ -43,13 +43,6 @@ MAP_BLOCK = 8
 
 #: Most bytes of maps kept between the pilot and the main run of :func:`map_members`.
 CACHE_BYTES = 256 * 2**20
-
-
-def subset(prep: Any, idx: NDArray[np.intp]) -> Any:
-    """The prepared kernel arrays (``response._Prepared``) of members ``idx``."""
-    arrays = tuple(a if a.ndim == 1 else a[idx] for a in prep.arrays)
-    return replace(prep, arrays=arrays, period=prep.period[idx], offs=prep.offs[idx],
-                   dts=prep.dts[idx])  # fmt: skip
 
 
 def contact_sides(arrays: tuple, y_static: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -223,14 +216,13 @@ def run_maps(Phi, p, D, Dv, d, dv, dts, sides, hb, y0, n_periods, n_keep, limit,
     evaluated for the period.
 
     Returns the states at the start of the last ``n_keep`` periods and at the end
-    (E, n_keep + 1, 2n), the end state (E, 2n), the first period whose contact check
+    (E, n_keep + 1, 2n; the last is the end state), the first period whose contact check
     failed or whose state left ``limit`` (-1: none) and the sum of Benettin's logs from
     period ``lyap_from`` on (E,) (as ``kernel.rk4_ensemble``: the perturbation applied at
     the end of period ``lyap_from - 1``, renormalised after each later period)."""
     E, n2 = y0.shape
     n = n2 // 2
     poincare = np.full((E, n_keep + 1, n2), np.nan)
-    ends = np.full((E, n2), np.nan)
     failed = np.full(E, -1, np.int64)
     logs = np.zeros(E)
     for e in nb.prange(E):
@@ -288,8 +280,7 @@ def run_maps(Phi, p, D, Dv, d, dv, dts, sides, hb, y0, n_periods, n_keep, limit,
                         w[i] = nxt[i] * (d0 / dist)
         if failed[e] < 0:
             poincare[e, n_keep] = y
-            ends[e] = y
-    return poincare, ends, failed, logs
+    return poincare, failed, logs
 
 
 def _fixed_point(Phi: NDArray, p: NDArray, D, Dv, d, dv, dts, sides, hb) -> tuple:
@@ -324,14 +315,13 @@ def map_members(
     lyap_from: int,
     d0: float,
     cache: dict | None = None,
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+) -> tuple[NDArray, NDArray, NDArray]:
     """:func:`run_maps` for every member of ``prep``, the maps built and run in blocks
     of :data:`MAP_BLOCK` members (memory). With ``cache`` (a dict), the maps of a block
     are kept there for a later call with the same step count, while the cache holds
     less than :data:`CACHE_BYTES`."""
     E, n2 = y0.shape
     poincare = np.full((E, n_keep + 1, n2), np.nan)
-    ends = np.full((E, n2), np.nan)
     failed = np.zeros(E, np.int64)
     logs = np.zeros(E)
     hb = prep.arrays[7]
@@ -352,5 +342,5 @@ def map_members(
         out = run_maps(Phi, p, D, Dv, d, dv, sub.dts, sides[idx], hb[idx], y0[idx],
                        n_periods, n_keep, limit[idx], lyap_from, d0, sub.period, ystar, safe,
                        bound)  # fmt: skip
-        poincare[idx], ends[idx], failed[idx], logs[idx] = out
-    return poincare, ends, failed, logs
+        poincare[idx], failed[idx], logs[idx] = out
+    return poincare, failed, logs

@@ -575,11 +575,7 @@ class BifurcationResult(Result):
         ds = self.data
         if "exponent" not in ds:
             raise ReducerlabError("no Lyapunov exponents: run bifurcation(..., exponents=True)")
-        f = ds.attrs["forcing_hz"]
-        return [
-            "diverged" if not np.all(np.isfinite(row)) else classify(row, float(lam), f)
-            for row, lam in zip(ds["poincare"].values, ds["exponent"].values, strict=True)
-        ]
+        return self._classes(ds["poincare"].values, ds["exponent"].values)
 
     def impacts(self) -> list[str]:
         """Impact class of every value (``analysis.impacts``: no impact, single- or
@@ -922,13 +918,10 @@ def response(
     ``accuracy`` is the target error of the Poincaré points relative to the motion's
     scale (``analysis.response.accurate_steps``; default 1e-6), used unless
     ``steps_per_period`` is given."""
-    from ..drives import build_model
     from ..model.laws import evaluate_flat, flat_mean
     from .response import to_system
 
-    model = build_model(target) if isinstance(target, Design) else target
-    if not isinstance(model, Model):
-        raise ReducerlabError("response: target must be a Design or a Model")
+    _, model = design_and_model(target, "response")
     if not (isinstance(history, int) and history >= 1):
         raise ReducerlabError(f"response: history must be >= 1 period, got {history!r}")
     flat = model.nonlinear()

@@ -455,6 +455,13 @@ def _grid(systems: Sequence[NonlinearSystem], T: NDArray, N: int) -> tuple[NDArr
     return offs * T[:, None], dts * T[:, None], N
 
 
+def subset(prep: _Prepared, idx: NDArray[np.intp]) -> _Prepared:
+    """The prepared kernel arrays of members ``idx``."""
+    arrays = tuple(a if a.ndim == 1 else a[idx] for a in prep.arrays)
+    return replace(prep, arrays=arrays, period=prep.period[idx], offs=prep.offs[idx],
+                   dts=prep.dts[idx])  # fmt: skip
+
+
 def _with_steps(prep: _Prepared, systems: Sequence[NonlinearSystem], N: int) -> _Prepared:
     """``prep`` with ``N`` steps per period (its checks and stacked arrays kept)."""
     if prep.steps == N:
@@ -752,7 +759,6 @@ def ensemble(
     bounds = state_bounds(systems, Y0, T) if limit is None else np.full((E, 2 * n), float(limit))
     if method not in ("auto", "rk4", "maps"):
         raise ReducerlabError(f"method must be 'auto', 'rk4' or 'maps', got {method!r}")
-    from .floquet import subset
 
     maps = None
     cache: dict = {}
@@ -846,10 +852,11 @@ def _map_steps(
     """:func:`accurate_steps` with the pilot periods run through the one-period maps
     (members whose teeth separate in the pilot run them with the RK4 kernel); the maps
     stay in ``cache`` for the main run."""
-    from .floquet import map_members, subset
+    from .floquet import map_members
     from .kernel import block_width, rk4_ensemble
 
-    _, Y, failed, _ = map_members(prep, sides, Y0, bounds, pilot, 1, -1, 0.0, cache)
+    P, failed, _ = map_members(prep, sides, Y0, bounds, pilot, 1, -1, 0.0, cache)
+    Y = P[:, -1].copy()
     ok = np.ones(len(systems), bool)
     bad = np.flatnonzero(failed >= 0)
     if bad.size:  # teeth that separate: their pilot by the RK4 kernel
@@ -880,12 +887,12 @@ def _map_run(
     """:func:`ensemble`'s outputs with the periods before the history taken by the
     one-period maps; members whose teeth separate (or that leave their bounds) in any
     period go to ``rk4_run`` from their start."""
-    from .floquet import map_members, subset
+    from .floquet import map_members
 
     E, n2 = Y0.shape
     N = prep.steps
     n_keep = max(keep, history)
-    P, _, failed, logs = map_members(prep, sides, Y0, bounds, periods, n_keep,
+    P, failed, logs = map_members(prep, sides, Y0, bounds, periods, n_keep,
                                      periods - keep if exponents else -1, LYAPUNOV_D0,
                                      cache)  # fmt: skip
     poincare = np.ascontiguousarray(P[:, n_keep - keep :])

@@ -159,9 +159,32 @@ def parse_values(
     ``"lin:START:STOP:N"``, ``"log:START:STOP:N"`` (SI numbers, or both ends with units:
     ``"lin:1300 rpm:1700 rpm:41"``), or
     ``"rel:1.5,2,2.5"`` / ``"150%,200%,250%"`` (factors of the design value). With
-    ``limit``, a range of more than ``limit`` values is refused before any is made
-    (the message names ``option``, the command-line option, when given).
+    ``limit``, more than ``limit`` values are refused, a range before any is made (the
+    message names ``option``, the command-line option, when given).
     """
+    axis = _parse_values(path, spec, limit, option)
+    if limit is not None and len(axis.values) > limit:
+        raise ReducerlabError(
+            f"{option or f'sweep {path!r}'}: {len(axis.values)} values; at most {limit} are allowed"
+        )
+    return axis
+
+
+def parse_path_values(
+    text: str, *, limit: int | None = None, option: str = "PATH=VALUES",
+    example: str = "input_speed=lin:300 rpm:2000 rpm:41",
+) -> Axis:  # fmt: skip
+    """``"PATH=VALUES"`` (``sweep --grid``, ``regime-map -x/-y``, a design's
+    ``[report.regime_map]``) as an axis: :func:`parse_values` of the part after ``=``."""
+    if not isinstance(text, str) or "=" not in text:
+        raise ReducerlabError(f"{option} must be 'PATH=VALUES', e.g. '{example}'")
+    path, values = text.split("=", 1)
+    if not path.strip():
+        raise ReducerlabError(f"{option} {text!r}: no parameter path before '='")
+    return parse_values(path.strip(), values.strip(), limit=limit, option=option)
+
+
+def _parse_values(path: str, spec: str, limit: int | None, option: str | None) -> Axis:
     if not isinstance(spec, str) or not spec.strip():
         raise ReducerlabError(f"sweep {path!r}: empty value specification")
     s = spec.strip()

@@ -29,7 +29,7 @@ SI (m/m, or m/rad on a rotation, i.e. a radius).
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -187,6 +187,7 @@ class GyroscopicSpec(Spec):
     DOFs, ``polar_moment`` its polar moment of inertia, ``spin_ratio`` its spin over the
     model speed (:class:`~reducerlab.model.Gyroscopic`)."""
 
+    dof_kinds: ClassVar[tuple[str, ...]] = ("rx", "ry")  # of ``pair`` / ``triple``
     type: Literal["gyroscopic"]
     pair: Annotated[list[str], Field(min_length=2, max_length=2)]
     polar_moment: MomentOfInertia
@@ -199,6 +200,7 @@ class CoriolisSpec(Spec):
     ``pair`` is its (x, y) DOFs in that frame (:class:`~reducerlab.model.Coriolis`; add
     ``centripetal`` elements for the -m Omega^2 terms)."""
 
+    dof_kinds: ClassVar[tuple[str, ...]] = ("x", "y")  # of ``pair`` / ``triple``
     type: Literal["coriolis"]
     pair: Annotated[list[str], Field(min_length=2, max_length=2)]
     mass: Mass
@@ -212,6 +214,7 @@ class NutatingSpec(Spec):
     relative to the crank and ``precession_ratio`` the crank's speed, both over the model
     speed (:class:`~reducerlab.model.Nutating`)."""
 
+    dof_kinds: ClassVar[tuple[str, ...]] = ("rx", "ry", "rz")  # of ``pair`` / ``triple``
     type: Literal["nutating"]
     triple: Annotated[list[str], Field(min_length=3, max_length=3)]
     polar_moment: MomentOfInertia
@@ -227,6 +230,7 @@ class StationaryDampingSpec(Spec):
     rotating at ``ratio`` x the model speed: ``pair`` is the body's (x, y) DOFs in that
     frame (:class:`~reducerlab.model.StationaryDamping`)."""
 
+    dof_kinds: ClassVar[tuple[str, ...]] = ("x", "y")  # of ``pair`` / ``triple``
     type: Literal["stationary_damping"]
     pair: Annotated[list[str], Field(min_length=2, max_length=2)]
     damping: Damping
@@ -290,9 +294,7 @@ class LumpedDesign(Design):
                 )
                 continue
             if field in ("pair", "triple"):
-                want = {"pair": ["x", "y"], "triple": ["rx", "ry", "rz"]}[field]
-                if isinstance(e, GyroscopicSpec):
-                    want = ["rx", "ry"]
+                want = list(e.dof_kinds)
                 bodies = {n.split(".")[0] for n in names}
                 if [kinds[n] for n in names] != want or len(bodies) != 1:
                     problems.append((f"{where}.{field}", f"must be one body's "

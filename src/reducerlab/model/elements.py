@@ -423,12 +423,12 @@ class Centripetal(Element):
         return Contribution(stiffness=np.array([[-self.mass * omega**2]]))
 
 
-def _pair_check(owner: str, dofs: Sequence[Dof], kinds: tuple[str, str], what: str) -> None:
-    a, b = dofs
-    if (a.kind, b.kind) != kinds or a.body != b.body:
+def _body_check(owner: str, dofs: Sequence[Dof], kinds: tuple[str, ...], what: str) -> None:
+    """``dofs`` must be one body's DOFs of ``kinds``, in that order."""
+    if tuple(d.kind for d in dofs) != kinds or len({d.body for d in dofs}) != 1:
         raise ModelError(
-            f"{owner}: {what} act on one body's ({kinds[0]}, {kinds[1]}) pair, got "
-            f"({a.name}, {b.name})"
+            f"{owner}: {what} act on one body's ({', '.join(kinds)}), got "
+            f"({', '.join(d.name for d in dofs)})"
         )
 
 
@@ -472,7 +472,7 @@ class Gyroscopic(Element):
         return tuple(self.pair)
 
     def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
-        _pair_check(self.name, dofs, ("rx", "ry"), "gyroscopic moments")
+        _body_check(self.name, dofs, ("rx", "ry"), "gyroscopic moments")
         g = self.polar * self.spin_ratio * speed
         return Contribution(damping=np.array([[0.0, g], [-g, 0.0]]))
 
@@ -511,7 +511,7 @@ class Coriolis(Element):
         return tuple(self.pair)
 
     def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
-        _pair_check(self.name, dofs, ("x", "y"), "Coriolis forces")
+        _body_check(self.name, dofs, ("x", "y"), "Coriolis forces")
         g = 2.0 * self.mass * self.ratio * speed
         return Contribution(damping=np.array([[0.0, -g], [g, 0.0]]))
 
@@ -603,12 +603,7 @@ class Nutating(Element):
         return wp * np.sin(self.nutation) * (self.polar * w3 - self.diametral * wp * c)
 
     def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
-        kinds = tuple(d.kind for d in dofs)
-        if kinds != ("rx", "ry", "rz") or len({d.body for d in dofs}) != 1:
-            raise ModelError(
-                f"{self.name}: nutating-body terms act on one body's (rx, ry, rz), got "
-                f"({', '.join(d.name for d in dofs)})"
-            )
+        _body_check(self.name, dofs, ("rx", "ry", "rz"), "nutating-body terms")
         g, h, kx, ky = self.coefficients(speed)
         C = np.array([[0.0, g, 0.0], [-g, 0.0, h], [0.0, -h, 0.0]])
         K = np.array([[kx, 0.0, 0.0], [0.0, ky, 0.0], [0.0, 0.0, 0.0]])
@@ -653,7 +648,7 @@ class StationaryDamping(Element):
         return tuple(self.pair)
 
     def contribution(self, dofs: Sequence[Dof], speed: float) -> Contribution:
-        _pair_check(self.name, dofs, ("x", "y"), "stationary damping")
+        _body_check(self.name, dofs, ("x", "y"), "stationary damping")
         k = self.damping * self.ratio * speed
         return Contribution(stiffness=np.array([[0.0, -k], [k, 0.0]]))
 

@@ -92,8 +92,7 @@ def inertial_error(
                 f"law (its acceleration), got {type(law).__name__}"
             )
         g = np.zeros(model.n)
-        for dof, coef in e.coefficients.items():
-            g[model.index[dof]] = coef
+        g[[model.index[d] for d in e.dofs]] = e.g
         m_e = 1.0 / float(g @ Minv @ g)
         r = np.arange(1, len(law.amplitudes) + 1)
         accel = sign * m_e * (r * law.omega) ** 2 * np.asarray(law.amplitudes)

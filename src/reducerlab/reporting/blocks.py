@@ -17,7 +17,7 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["Block", "Cell", "figure", "interactive", "note", "pre", "table", "verdict"]
+__all__ = ["Block", "Cell", "details", "figure", "interactive", "note", "pre", "table", "verdict"]
 
 
 @dataclass(frozen=True)
@@ -113,6 +113,11 @@ def interactive(fig: Any, fallback: Figure | None, caption: str = "", *, div_id:
 def note(text: str, kind: str = "note") -> Block:
     """A short paragraph (``kind``: note, warning, ok)."""
     return Block(f'<p class="{kind}">{html.escape(text)}</p>', kind)
+
+
+def details(summary: str, inner_html: str, kind: str = "details") -> Block:
+    """A collapsed ``<details>`` block: ``summary`` (text) over ``inner_html`` (HTML)."""
+    return Block(f"<details><summary>{html.escape(summary)}</summary>{inner_html}</details>", kind)
 
 
 def pre(text: str) -> Block:

@@ -6,8 +6,10 @@ numbers in the report are the API's."""
 
 from __future__ import annotations
 
+import html
 import math
 import re
+import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,9 +17,11 @@ from typing import Any
 
 import numpy as np
 
-from ..design import Design
+from ..design import Design, apply_overrides, field_kind
+from ..errors import ReducerlabError
 from ..model import Model
-from .blocks import Section, figure, interactive, note, pre, table, verdict
+from ..units import QUANTITIES
+from .blocks import Block, Section, details, figure, interactive, note, pre, table, verdict
 
 __all__ = ["SECTIONS", "Context"]
 
@@ -125,69 +129,33 @@ def assumption_sections(text: str, family: str) -> list[tuple[str, str]]:
 
 def design_section(ctx: Context) -> Section:
     """Design inputs as written (with their units) and in SI, and the assumptions."""
-    import tomllib
-
-    from .blocks import Block
-
     d = ctx.design
     s = Section("design", "Design inputs")
-    from ..design import apply_overrides, field_kind
-    from ..units import QUANTITIES
-
     written = tomllib.loads(ctx.text.removeprefix("\ufeff")) if ctx.text else {}
     if written and ctx.overrides:
         written = apply_overrides(written, ctx.overrides)
-    si = d.model_dump(mode="json", exclude={"report"})
     rows = []
-    for key, value in _flatten(si):
+    for key, value in _flatten(d.model_dump(mode="json", exclude={"report"})):
         if key in ("name", "description"):
             continue
         as_written = _lookup(written, key)
         kind = field_kind(d, key)
-        unit = QUANTITIES[kind].si_unit if kind else ""
-        rows.append(
-            (
-                key,
-                "" if as_written is None else str(as_written),
-                value if isinstance(value, int | float) else str(value),
-                unit,
-            )
-        )
+        rows.append((key, "" if as_written is None else str(as_written),
+                     value if isinstance(value, int | float) else str(value),
+                     QUANTITIES[kind].si_unit if kind else ""))  # fmt: skip
     s.blocks.append(note(f"{d.name or d.type}: type = {d.type!r}, source {d.source}"))
     if d.description:
         s.blocks.append(note(d.description))
     if ctx.overrides:
-        s.blocks.append(
-            note(
-                "Set on the command line (--set), shown as written below: "
-                + "; ".join(ctx.overrides),
-                "warning",
-            )
-        )
-    import html
-
+        s.blocks.append(note("Set on the command line (--set), shown as written below: "
+                             + "; ".join(ctx.overrides), "warning"))  # fmt: skip
     inputs = table(["field", "as written", "SI value", "SI unit"], rows, digits=8, name="inputs")
-    s.blocks.append(
-        Block(
-            f"<details><summary>all {len(rows)} fields, as written and in SI"
-            f"</summary>{inputs.html}</details>",
-            "table",
-        )
-    )
+    s.blocks.append(details(f"all {len(rows)} fields, as written and in SI", inputs.html, "table"))
     if ctx.text:
-        s.blocks.append(
-            Block(
-                "<details><summary>the design file</summary><pre>"
-                f"{html.escape(ctx.text)}</pre></details>",
-                "pre",
-            )
-        )
+        s.blocks.append(details("the design file", f"<pre>{html.escape(ctx.text)}</pre>", "pre"))
     sections = assumption_sections(ctx.assumptions, _drive_family(d))
     if sections:
-        items = "".join(
-            f"<details><summary>{html.escape(h)}</summary><pre>{html.escape(b)}</pre></details>"
-            for h, b in sections
-        )
+        items = "".join(details(h, f"<pre>{html.escape(b)}</pre>").html for h, b in sections)
         s.blocks.append(
             note("Choices in force where the papers are silent or ambiguous (docs/assumptions.md):")
         )
@@ -605,7 +573,6 @@ def response_section(ctx: Context) -> Section | None:
 
     from ..analysis.nonlinear import NOISE_M, response
     from ..analysis.response import forcing_period, to_system
-    from ..errors import ReducerlabError
 
     s = Section("response", "Nonlinear response at the operating speed")
     try:
@@ -849,17 +816,14 @@ def _bifurcation_plotly(res: Any) -> Any:
     return fig
 
 
-def _requested_axis(field_: str, path: str, spec: str, limit: int) -> Any:
-    from ..analysis.sweep import parse_values
-    from ..errors import ReducerlabError
+def _requested(field_: str, parse: Callable[..., Any], *args: str, limit: int) -> Any:
+    """An axis a design's ``[report]`` table asks for, its errors naming the field."""
 
     try:
-        axis = parse_values(path, spec, limit=limit, option=field_)
+        return parse(*args, limit=limit, option=field_)
     except ReducerlabError as exc:
-        raise ReducerlabError(f"{field_}: {exc}") from None
-    if len(axis.values) > limit:
-        raise ReducerlabError(f"{field_}: {len(axis.values)} values; at most {limit}")
-    return axis
+        text = str(exc)
+        raise ReducerlabError(text if text.startswith(field_) else f"{field_}: {text}") from None
 
 
 def _wanted(ctx: Context, request: str, kind: str) -> tuple[Any, list[Any]]:
@@ -875,8 +839,10 @@ def bifurcation_section(ctx: Context) -> Section | None:
     s = Section("bifurcation", "Bifurcation diagram")
     if req is not None:
         from ..analysis.nonlinear import bifurcation
+        from ..analysis.sweep import parse_values
 
-        axis = _requested_axis("report.bifurcation.values", req.parameter, req.values, 400)
+        field_ = "report.bifurcation.values"
+        axis = _requested(field_, parse_values, req.parameter, req.values, limit=400)
         results.append(
             bifurcation(ctx.design, axis, periods=req.periods, keep=req.keep, progress=ctx.step)
         )
@@ -940,21 +906,14 @@ def regime_map_section(ctx: Context) -> Section | None:
     req, results = _wanted(ctx, "regime_map", "regime-map")
     if req is None and not results:
         return None
-    from ..errors import ReducerlabError
 
     s = Section("regime-map", "Regime map")
     if req is not None:
         from ..analysis.regime_map import regime_map
+        from ..analysis.sweep import parse_path_values
 
-        axes = []
-        for name in ("x", "y"):
-            text = getattr(req, name)
-            if "=" not in text:
-                raise ReducerlabError(f"report.regime_map.{name} must be 'PATH=VALUES'")
-            path, values = text.split("=", 1)
-            axes.append(
-                _requested_axis(f"report.regime_map.{name}", path.strip(), values.strip(), 200)
-            )
+        axes = [_requested(f"report.regime_map.{name}", parse_path_values, getattr(req, name),
+                           limit=200) for name in ("x", "y")]  # fmt: skip
         results.append(
             regime_map(ctx.design, axes[0], axes[1], periods=req.periods, keep=req.keep,
                        progress=ctx.step)
