@@ -38,6 +38,7 @@ from rich.text import Text
 
 from . import __version__
 from .analysis.workers import max_workers
+from .dynamics.steps import MAX_STEPS, MIN_STEPS
 from .errors import ReducerlabError
 from .io import OutputSet, atomic_path, png_metadata, prepare_output_dir, prepare_output_file
 
@@ -63,7 +64,6 @@ MAX_VALUES = 100_000
 """Most parameter values of a ``bifurcation``."""
 MAX_PERIODS = 1_000_000
 """Most forcing periods of ``bifurcation`` and ``response``."""
-MIN_STEPS, MAX_STEPS = 4, 100_000
 """Range of RK4 steps per forcing period (``--steps``)."""
 MAX_WORKERS = max_workers()
 """Most worker processes (``--workers``): the API's limit, 4 per core."""

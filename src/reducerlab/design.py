@@ -17,7 +17,7 @@ import tomllib
 import typing
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Annotated, Any, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, Self, TypeVar
 
 from pydantic import (
     AfterValidator,
@@ -33,6 +33,9 @@ from pydantic_core import PydanticCustomError
 from .errors import DesignError
 from .io import digest
 from .units import QUANTITIES, parse_quantity, shown
+
+if TYPE_CHECKING:
+    from .kinematics import DriveKinematics
 
 __all__ = [
     "Angle",
@@ -55,8 +58,10 @@ __all__ = [
     "apply_overrides",
     "field_kind",
     "field_rules",
+    "operating_range_of",
     "quantity",
     "read_toml",
+    "set_path",
     "validate_design",
 ]
 
@@ -275,6 +280,61 @@ class Design(Spec):
         if self._source != "<design>":
             out["source"] = self._source
         return out
+
+    # -- the drive contract: what analyses and the report ask of every design --------
+
+    @property
+    def drive_name(self) -> str:
+        """The drive this design describes (its ``type``; a kinematics-only design names
+        its ``drive``), for titles and for choosing the papers' assumptions."""
+        return self.type
+
+    @property
+    def operating_speed(self) -> float:
+        """The operating speed of the input member (rad/s); 0 for a design at rest."""
+        return 0.0
+
+    def operating_range(self) -> tuple[float, float]:
+        """The operating speed range ``(min, max)`` of the input member (rad/s): the
+        design's ``speed_range`` where it gives one, else the operating speed twice."""
+        s = float(self.operating_speed)
+        return s, s
+
+    def kinematics(self) -> DriveKinematics | None:
+        """The drive's kinematics (ratio, member speeds, mesh frequencies), or None for
+        a design that defines none (a lumped model)."""
+        return None
+
+    @property
+    def has_tooth_surfaces(self) -> bool:
+        """Whether the design describes tooth surfaces that can be generated (paper 001)."""
+        return False
+
+    def with_values(self, changes: Mapping[str, Any], source: str | None = None) -> Self:
+        """A validated copy with fields changed: ``{"gears.x1": 0.5, "gears.x2": None}``.
+
+        Paths are dotted into the design's SI dump (list items by index); values are SI
+        numbers or what a design file may hold there. The copy is validated again, so
+        a value that breaks a rule raises :class:`~reducerlab.errors.DesignError`
+        naming ``source`` (default: this design's source with the changes), the field
+        and the rule.
+        """
+        data = self.model_dump(mode="json")
+        for path, value in changes.items():
+            set_path(data, path, value, "with_values")
+        label = source or f"{self.source} with " + ", ".join(
+            f"{k} = {shown(v)}" for k, v in changes.items()
+        )
+        out = validate_design(type(self), data, label)
+        out._source = label
+        return out
+
+
+def operating_range_of(speed: float, speed_range: list[float] | None) -> tuple[float, float]:
+    """``speed_range`` as ``(min, max)`` when given, else ``(speed, speed)`` (rad/s)."""
+    if speed_range:
+        return float(speed_range[0]), float(speed_range[1])
+    return float(speed), float(speed)
 
 
 D = TypeVar("D", bound=BaseModel)
@@ -495,35 +555,45 @@ def apply_overrides(
             raise DesignError(f"{option} {item!r}: write PATH=VALUE, e.g. input_speed=670rpm")
         path, _, text = item.partition("=")
         path = path.strip()
-        keys = path.split(".")
-        if not path or any(not k.strip() for k in keys):
+        if not path or any(not k.strip() for k in path.split(".")):
             raise DesignError(f"{option} {item!r}: the path before '=' names no field")
         if not text.strip():
             raise DesignError(f"{option} {item!r}: no value after '='")
-        node: Any = out
-        for depth, key in enumerate(keys):
-            last = depth == len(keys) - 1
-            where = ".".join(keys[:depth]) or "the design"
-            if isinstance(node, list):
-                if not key.isdigit() or int(key) >= len(node):
-                    raise DesignError(
-                        f"{option} {item!r}: {where} is a list of {len(node)}; "
-                        f"{key!r} is not an index in it"
-                    )
-                if last:
-                    node[int(key)] = _override_value(text)
-                else:
-                    node = node[int(key)]
-            elif isinstance(node, dict):
-                if last:
-                    node[key] = _override_value(text)
-                else:
-                    node = node.setdefault(key, {})
-            else:
-                raise DesignError(
-                    f"{option} {item!r}: {where} = {shown(node)} is a value, not a table"
-                )
+        set_path(out, path, _override_value(text), f"{option} {item!r}")
     return out
+
+
+def set_path(data: dict[str, Any], path: str, value: Any, what: str) -> None:
+    """Set ``value`` at the dotted ``path`` of raw design data (list items by index;
+    missing tables are created), in place.
+
+    Raises
+    ------
+    DesignError
+        Naming ``what`` when the path runs through a value that is not a table or list,
+        or past the end of a list.
+    """
+    keys = path.split(".")
+    node: Any = data
+    for depth, key in enumerate(keys):
+        last = depth == len(keys) - 1
+        where = ".".join(keys[:depth]) or "the design"
+        if isinstance(node, list):
+            if not key.isdigit() or int(key) >= len(node):
+                raise DesignError(
+                    f"{what}: {where} is a list of {len(node)}; {key!r} is not an index in it"
+                )
+            if last:
+                node[int(key)] = value
+            else:
+                node = node[int(key)]
+        elif isinstance(node, dict):
+            if last:
+                node[key] = value
+            else:
+                node = node.setdefault(key, {})
+        else:
+            raise DesignError(f"{what}: {where} = {shown(node)} is a value, not a table")
 
 
 def validate_design(model: type[D], data: Mapping[str, Any], source: str = "<design>") -> D:

@@ -45,7 +45,9 @@ __all__ = [
     "DISPLAY",
     "MAX_CHARS",
     "QUANTITIES",
+    "RPM",
     "SHOW_CHARS",
+    "TWO_PI",
     "QuantityKind",
     "display_unit",
     "length_unit",
@@ -53,6 +55,11 @@ __all__ = [
     "registry",
     "shown",
 ]
+
+#: One revolution (rad).
+TWO_PI = 2.0 * math.pi
+#: Revolutions per minute in one rad/s: ``speed_rpm = RPM * speed``.
+RPM = 60.0 / TWO_PI
 
 
 @dataclass(frozen=True)

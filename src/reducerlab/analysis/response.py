@@ -27,6 +27,7 @@ import scipy.integrate
 import scipy.linalg
 from numpy.typing import NDArray
 
+from ..dynamics.steps import MAX_STEPS
 from ..errors import DivergenceError, ModelError, ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, evaluate_flat, flat_peak, flat_period
@@ -473,7 +474,6 @@ def _with_steps(prep: _Prepared, systems: Sequence[NonlinearSystem], N: int) -> 
 #: Most RK4 steps per forcing period chosen automatically (the command line's bound on
 #: ``--steps`` too): more means a natural frequency over ~16000 x the forcing frequency,
 #: i.e. a near-rigid part that makes the run stiff (hours of integration, gigabytes).
-MAX_STEPS = 100_000
 
 
 def _too_many_steps(systems: Sequence[NonlinearSystem], T: NDArray, N: int) -> str:

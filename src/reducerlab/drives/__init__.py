@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from ..design import Design, apply_overrides, read_toml, validate_design
-from ..errors import DesignError, names_source
+from ..errors import DesignError, ReducerlabError, names_source
 from ..kinematics import DriveKinematics
 from ..model import Model
 from . import cycloid_ball, gear_pair, khv, kinematic, lumped, nutation
@@ -20,6 +20,7 @@ __all__ = [
     "DRIVES",
     "DriveType",
     "build_model",
+    "design_and_model",
     "design_from_dict",
     "has_model",
     "kinematics_of",
@@ -165,3 +166,21 @@ def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
             "non-zero input speed (e.g. input_speed = '1500 rpm')"
         )
     return method(), speed
+
+
+def design_and_model(target: Design | Model, what: str) -> tuple[Design | None, Model]:
+    """The design (None when a model is given) and the model of an analysis's target.
+
+    Parameters
+    ----------
+    target : Design or Model
+    what : str
+        The analysis, named in the error for any other target.
+    """
+    if isinstance(target, Design):
+        return target, build_model(target)
+    if isinstance(target, Model):
+        return None, target
+    raise ReducerlabError(
+        f"{what}: target must be a Design or a Model, got {type(target).__name__}"
+    )

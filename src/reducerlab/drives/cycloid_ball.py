@@ -43,6 +43,7 @@ from ..design import (
     Stiffness,
     angle_between,
     field_rules,
+    operating_range_of,
 )
 from ..kinematics import CycloidBallDrive
 from ..model import (
@@ -227,6 +228,15 @@ class CycloidBallDesign(Design):
     def pitch_radius(self, lobes: int) -> float:
         """Pitch radius ``Z e / 2`` of a groove with ``lobes`` lobes (m)."""
         return lobes * self.eccentricity / 2.0
+
+    @property
+    def operating_speed(self) -> float:
+        """The input speed (rad/s)."""
+        return float(self.input_speed)
+
+    def operating_range(self) -> tuple[float, float]:
+        """``speed_range`` (rad/s) where given, else the input speed twice."""
+        return operating_range_of(self.input_speed, self.speed_range)
 
     def kinematics(self) -> CycloidBallDrive:
         """Ratio and ball-passing frequency of the drive."""

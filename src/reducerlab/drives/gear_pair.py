@@ -33,6 +33,7 @@ from ..design import (
     Torque,
     angle_between,
     field_rules,
+    operating_range_of,
     quantity,
 )
 from ..kinematics import ExternalGearPair
@@ -132,6 +133,15 @@ class GearPairDesign(Design):
     def input_speed(self) -> float:
         """Input (pinion) speed (rad/s)."""
         return self.operating.speed
+
+    @property
+    def operating_speed(self) -> float:
+        """The input speed (rad/s)."""
+        return float(self.operating.speed)
+
+    def operating_range(self) -> tuple[float, float]:
+        """``speed_range`` (rad/s) where given, else the input speed twice."""
+        return operating_range_of(self.operating.speed, self.operating.speed_range)
 
     def kinematics(self) -> ExternalGearPair:
         """Kinematics of the pair (pinion input)."""

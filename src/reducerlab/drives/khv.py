@@ -38,6 +38,7 @@ from ..design import (
     Torque,
     angle_between,
     field_rules,
+    operating_range_of,
     quantity,
 )
 from ..errors import ReducerlabError
@@ -165,6 +166,15 @@ class KHVDesign(Design):
                 "single/double-tooth law of paper 004 applies",
             ))  # fmt: skip
         return self
+
+    @property
+    def operating_speed(self) -> float:
+        """The input speed (rad/s)."""
+        return float(self.input_speed)
+
+    def operating_range(self) -> tuple[float, float]:
+        """``speed_range`` (rad/s) where given, else the input speed twice."""
+        return operating_range_of(self.input_speed, self.speed_range)
 
     def kinematics(self) -> KHVDrive:
         """Carrier input, ring fixed, planet output."""

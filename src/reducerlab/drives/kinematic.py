@@ -105,6 +105,16 @@ class KinematicsDesign(Design):
             raise field_rules(("teeth", str(exc))) from None
         return self
 
+    @property
+    def drive_name(self) -> str:
+        """The drive the kinematics describe (``drive``)."""
+        return self.drive
+
+    @property
+    def operating_speed(self) -> float:
+        """The input speed (rad/s)."""
+        return float(self.input_speed)
+
     def kinematics(self) -> DriveKinematics:
         """The drive's :class:`~reducerlab.kinematics.DriveKinematics`."""
         z = self.teeth

@@ -51,6 +51,7 @@ from ..design import (
     TorsionalStiffness,
     angle_between,
     field_rules,
+    operating_range_of,
     quantity,
 )
 from ..errors import DesignError, ModelError
@@ -271,6 +272,15 @@ class LumpedDesign(Design):
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     dofs: list[DofSpec] = Field(min_length=1)
     elements: list[ElementSpec] = Field(min_length=1)
+
+    @property
+    def operating_speed(self) -> float:
+        """The model speed (rad/s)."""
+        return float(self.speed)
+
+    def operating_range(self) -> tuple[float, float]:
+        """``speed_range`` (rad/s) where given, else the model speed twice."""
+        return operating_range_of(self.speed, self.speed_range)
 
     @model_validator(mode="after")
     def _consistent(self) -> LumpedDesign:

@@ -45,6 +45,7 @@ from ..design import (
     TorsionalStiffness,
     angle_between,
     field_rules,
+    operating_range_of,
     quantity,
 )
 from ..kinematics import DoubleNutationDrive, NutationDrive, gyroscopic_moment
@@ -348,6 +349,11 @@ class NutationDesign(Design):
         g = getattr(self, f"gear{gear}")
         return 2 * g.mean_radius * math.cos(self.spiral_angle) / g.teeth
 
+    @property
+    def has_tooth_surfaces(self) -> bool:
+        """Whether the ``[surface]`` table gives the tooth-surface geometry (paper 001)."""
+        return self.surface is not None
+
     def tooth_generation(self, gear: int, profile: str | None = None):
         """Crown gear and bevel gear that generate gear ``gear`` (1-4) of the drive.
 
@@ -438,6 +444,15 @@ class NutationDesign(Design):
                 "agree: give nutation_angle or check the mean radii"
             )
         return brentq(f, lo, hi, xtol=1e-14)
+
+    @property
+    def operating_speed(self) -> float:
+        """The input speed (rad/s)."""
+        return float(self.input_speed)
+
+    def operating_range(self) -> tuple[float, float]:
+        """``speed_range`` (rad/s) where given, else the input speed twice."""
+        return operating_range_of(self.input_speed, self.speed_range)
 
     def kinematics(self) -> DoubleNutationDrive | NutationDrive:
         """Ratio and mesh frequencies (gear 2 fixed; output gear 4, or the nutating gear's
