@@ -25,6 +25,7 @@ import time
 
 import numpy as np
 
+from reducerlab.analysis.parameters import Evaluator, resolve
 from reducerlab.analysis.response import (
     _prepare,
     accurate_steps,
@@ -34,7 +35,6 @@ from reducerlab.analysis.response import (
     static_states,
     to_system,
 )
-from reducerlab.analysis.sweep import _Evaluator, _resolve
 from reducerlab.drives import build_model, load_design
 from reducerlab.examples import example_dir
 from reducerlab.model import Backlash, Dof, Fourier, Inertia, Load, Mesh, Model
@@ -46,7 +46,7 @@ def khv_systems():
     design = load_design(example_dir() / "khv.toml")
     model = build_model(design)
     path = "input_speed"
-    ev = _Evaluator(design.model_dump(mode="python"), model, (_resolve(design, model, path),))
+    ev = Evaluator(design, model, (resolve(design, model, path),))
     rpm = np.linspace(1400, 1600, VALUES)
     return [to_system(ev.model_at([v * math.pi / 30])) for v in rpm]
 

@@ -21,8 +21,8 @@ import numpy as np
 import scipy.integrate
 
 from reducerlab.analysis.nonlinear import bifurcation
+from reducerlab.analysis.parameters import Axis, Evaluator, resolve
 from reducerlab.analysis.response import ensemble, forcing_period, static_state, to_system
-from reducerlab.analysis.sweep import Axis, _Evaluator, _resolve
 from reducerlab.drives import build_model, load_design
 from reducerlab.examples import example_dir
 
@@ -32,7 +32,7 @@ PERIODS, KEEP = 600, 100
 def systems_for(design_file: str, path: str, values: np.ndarray):
     design = load_design(example_dir() / design_file)
     model = build_model(design)
-    ev = _Evaluator(design.model_dump(mode="python"), model, (_resolve(design, model, path),))
+    ev = Evaluator(design, model, (resolve(design, model, path),))
     return [to_system(ev.model_at([v])) for v in values]
 
 

@@ -26,6 +26,7 @@ import numpy as np
 
 from reducerlab.analysis.kernel import block_width, rk4_ensemble
 from reducerlab.analysis.nonlinear import axis_members, bifurcation
+from reducerlab.analysis.parameters import Axis, parse_values
 from reducerlab.analysis.regime_map import regime_map
 from reducerlab.analysis.response import (
     _prepare,
@@ -34,7 +35,6 @@ from reducerlab.analysis.response import (
     state_bounds,
     static_states,
 )
-from reducerlab.analysis.sweep import Axis, parse_values
 from reducerlab.drives import build_model, load_design
 from reducerlab.examples import example_dir
 

@@ -43,8 +43,8 @@ import time
 import numpy as np
 
 from reducerlab.analysis.nonlinear import axis_members
+from reducerlab.analysis.parameters import Axis, Evaluator, resolve
 from reducerlab.analysis.response import ensemble, forcing_period, state_bounds, static_states
-from reducerlab.analysis.sweep import Axis, _Evaluator, _resolve
 from reducerlab.drives import build_model, load_design
 from reducerlab.examples import example_dir
 from reducerlab.model.laws import evaluate_flat, flat_mean
@@ -156,10 +156,9 @@ def main() -> None:
     print("| case | values x periods | steps/period | RK4 every period (s) | maps (s) | "
           "speed-up | largest difference |")  # fmt: skip
     print("|---|---|---|---|---|---|---|")
-    bundled = _Evaluator  # the systems of benchmarks/bifurcation.py
+    bundled = Evaluator  # the systems of benchmarks/bifurcation.py
     d = load_design(example_dir() / "nutation_double_sided.toml")
-    ev = bundled(d.model_dump(mode="python"), build_model(d),
-                 (_resolve(d, build_model(d), "mesh1.stiffness"),))  # fmt: skip
+    ev = bundled(d, build_model(d), (resolve(d, build_model(d), "mesh1.stiffness"),))
     from reducerlab.analysis.response import to_system
 
     plain = [to_system(ev.model_at([v])) for v in np.linspace(1.5e8, 3e8, 100)]

@@ -13,7 +13,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from reducerlab.analysis.sweep import SweepResult, parse_values, sweep
+from reducerlab.analysis.parameters import parse_values
+from reducerlab.analysis.sweep import SweepResult, sweep
 from reducerlab.drives import load_design
 from reducerlab.examples import example_dir
 

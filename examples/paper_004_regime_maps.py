@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from reducerlab.analysis.parameters import Axis, parse_values
 from reducerlab.analysis.regime_map import regime_map
-from reducerlab.analysis.sweep import Axis, parse_values
 from reducerlab.drives import load_design
 from reducerlab.examples import example_dir
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import reducerlab as rl
 from reducerlab.analysis.nonlinear import bifurcation, response
-from reducerlab.analysis.sweep import parse_values
+from reducerlab.analysis.parameters import parse_values
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

@@ -20,8 +20,9 @@ import numpy as np
 import pytest
 
 from reducerlab.analysis.nonlinear import bifurcation
+from reducerlab.analysis.parameters import Axis, parse_values
 from reducerlab.analysis.runfolder import chunk_path, load_chunk, open_run, save_chunk
-from reducerlab.analysis.sweep import Axis, parse_values, sweep
+from reducerlab.analysis.sweep import sweep
 from reducerlab.analysis.workers import max_workers
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError

@@ -152,7 +152,7 @@ def test_numbers_are_the_apis(reports):
 
 def test_bifurcation_asked_by_the_design_is_the_apis(reports):
     from reducerlab.analysis.nonlinear import bifurcation
-    from reducerlab.analysis.sweep import parse_values
+    from reducerlab.analysis.parameters import parse_values
 
     d = rl.load_design(example_dir() / "khv_rattle.toml")
     req = d.report.bifurcation
@@ -320,8 +320,8 @@ def test_given_contact_result_is_reported_with_its_numbers(tmp_path):
 def test_regime_map_asked_by_the_design(tmp_path):
     """[report.regime_map] on the KHV drive, a 3 x 2 grid of short runs: the report's
     classes are those of the API's regime map."""
+    from reducerlab.analysis.parameters import parse_values
     from reducerlab.analysis.regime_map import regime_map
-    from reducerlab.analysis.sweep import parse_values
 
     text = (example_dir() / "khv_rattle.toml").read_text().split("[report.bifurcation]")[0]
     text += ('\n[report.regime_map]\nx = "gears.x1=0.5,0.65,0.8"\n'

@@ -378,8 +378,8 @@ def test_affinity_probe_is_element_by_element():
     # the stiffness law's row mixes its period (ms, ~ 1/speed) with coefficients of
     # 1e8 N/m: the probe must see the 1/speed dependence, not hide it under the scale
     from reducerlab.analysis.nonlinear import _Members
+    from reducerlab.analysis.parameters import Evaluator, resolve
     from reducerlab.analysis.response import rigid_reduction
-    from reducerlab.analysis.sweep import _Evaluator, _resolve
     from reducerlab.drives import build_model
 
     design = load_design(example_dir() / "khv.toml")
@@ -387,7 +387,7 @@ def test_affinity_probe_is_element_by_element():
     found = {}
     for path, lo, hi in (("mesh.half_backlash", 1e-6, 3e-6), ("input_speed", 100.0, 200.0),
                          ("gears.x1", 0.45, 0.8)):  # fmt: skip
-        ev = _Evaluator(design.model_dump(mode="python"), model, (_resolve(design, model, path),))
+        ev = Evaluator(design, model, (resolve(design, model, path),))
         members = _Members(ev, rigid_reduction(model.nonlinear()))
         members.probe(lo, hi)
         found[path] = members.affine is not None
@@ -396,7 +396,7 @@ def test_affinity_probe_is_element_by_element():
 
 def test_bifurcation_takes_units_and_tied_paths():
     # issue 16: values with units (the design field's unit) and tied paths, as in sweep
-    from reducerlab.analysis.sweep import parse_values
+    from reducerlab.analysis.parameters import parse_values
 
     design = load_design(example_dir() / "khv.toml")
     rpm = bifurcation(design, parse_values("input_speed", "1400 rpm,1500 rpm"), periods=20,

@@ -14,8 +14,9 @@ import time
 import numpy as np
 import pytest
 
+from reducerlab.analysis.parameters import Axis, parse_values
 from reducerlab.analysis.runfolder import load_chunk
-from reducerlab.analysis.sweep import Axis, SweepResult, parse_values, sweep
+from reducerlab.analysis.sweep import SweepResult, sweep
 from reducerlab.drives import build_model, load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
@@ -266,7 +267,7 @@ def test_tied_parameters_move_together():
 
 
 def test_a_range_count_that_is_not_a_whole_number_is_named():
-    from reducerlab.analysis.sweep import parse_values
+    from reducerlab.analysis.parameters import parse_values
 
     with pytest.raises(ReducerlabError, match=r"N = '1e99' must be a whole number of points"):
         parse_values("mesh.stiffness", "lin:1e8:2e9:1e99")

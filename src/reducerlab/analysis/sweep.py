@@ -13,14 +13,11 @@ batched eigenproblem with no Python loop per point.
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import json
-import math
 import os
-import re
 import shutil
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,11 +28,13 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..design import Design
-from ..errors import DesignError, ReducerlabError, names_source
+from ..errors import ReducerlabError, names_source
 from ..model import Model
 from ..results import Result, provenance
+from ..units import TWO_PI
 from .batch import eigh_batch
 from .modal import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
+from .parameters import Axis, Evaluator, Target, axis_targets
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes
 from .workers import check_workers, dask_client, worker_pool
@@ -43,328 +42,21 @@ from .workers import check_workers, dask_client, worker_pool
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["Axis", "SweepResult", "parse_values", "sweep"]
-
-TWO_PI = 2.0 * math.pi
+__all__ = ["Axis", "PointModes", "SweepResult", "sweep"]
 
 
-# ----------------------------------------------------------------------------- specs
-@dataclass(frozen=True)
-class Axis:
-    """One swept parameter.
-
-    Parameters
-    ----------
-    path : str
-        A dotted path into the design (``"mesh.stiffness"``,
-        ``"pinion.bearing.stiffness_x"``, ``"elements.4.stiffness"``), or a model
-        parameter (``"support:gear.x.stiffness"``, ``"speed"``). Prefix ``design:`` or
-        ``model:`` to choose when both exist; otherwise the design wins. Several paths
-        joined by ``+`` are tied: they take the same value (relative sweeps scale each
-        from its own design value); the coordinate shows the first one.
-    values : sequence
-        The values: numbers in SI, or strings with units for design fields. When
-        ``relative`` they are factors of the design value (1.5 = 150 %).
-    relative : bool
-    scale : {"linear", "log"}
-        How to space axes in figures.
-    """
-
-    path: str
-    values: tuple[Any, ...]
-    relative: bool = False
-    scale: str = "linear"
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.path, str) or not self.path.strip():
-            raise ReducerlabError("sweep: the parameter path must be a non-empty string")
-        vals = tuple(self.values)
-        if not vals:
-            raise ReducerlabError(f"sweep {self.path!r}: no values (empty range)")
-        for v in vals:
-            if isinstance(v, bool) or not isinstance(v, int | float | str | np.number):
-                raise ReducerlabError(
-                    f"sweep {self.path!r}: value {v!r} is not a number or a quantity string"
-                )
-            if isinstance(v, int | float | np.number) and not math.isfinite(float(v)):
-                raise ReducerlabError(f"sweep {self.path!r}: value {v!r} is not finite")
-        if self.relative and any(isinstance(v, str) for v in vals):
-            raise ReducerlabError(f"sweep {self.path!r}: relative values must be plain factors")
-        object.__setattr__(self, "values", vals)
-
-    @classmethod
-    def linspace(cls, path: str, start: float, stop: float, num: int) -> Axis:
-        """``num`` evenly spaced values from ``start`` to ``stop`` (SI)."""
-        _check_range(path, start, stop, num)
-        return cls(path, tuple(np.linspace(start, stop, num).tolist()))
-
-    @classmethod
-    def logspace(cls, path: str, start: float, stop: float, num: int) -> Axis:
-        """``num`` log-spaced values from ``start`` to ``stop`` (both > 0, SI)."""
-        _check_range(path, start, stop, num)
-        if not (start > 0 and stop > 0):
-            raise ReducerlabError(f"sweep {path!r}: a log range needs start, stop > 0")
-        return cls(path, tuple(np.geomspace(start, stop, num).tolist()), scale="log")
-
-    @classmethod
-    def relative_to_design(cls, path: str, factors: Iterable[float]) -> Axis:
-        """Factors of the design value, e.g. ``[1.5, 2.0, 2.5]`` for 150-250 %."""
-        return cls(path, tuple(factors), relative=True)
-
-
-def _check_range(path: str, start: Any, stop: Any, num: Any) -> None:
-    for name, v in (("start", start), ("stop", stop)):
-        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-            raise ReducerlabError(f"sweep {path!r}: {name} must be a finite number, got {v!r}")
-    if isinstance(num, bool) or not isinstance(num, int) or num < 1:
-        raise ReducerlabError(f"sweep {path!r}: the number of points must be >= 1, got {num!r}")
-
-
-_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-
-
-def _range_quantities(path: str, spec: str, kind: str, a: str, b: str) -> tuple:
-    """START and STOP of a range written with units (``lin:1300 rpm:1700 rpm:41``): their
-    magnitudes in START's unit, and that unit."""
-    from ..units import registry
-
-    ureg = registry()
-    rule = (
-        f"sweep {path!r}: {spec!r}: write {kind}:START:STOP:N with SI numbers, or both ends "
-        "as quantities with units such as 1300 rpm"
-    )
-    number = re.compile(r"\s*[-+]?(\d|\.\d)")
-    if not (number.match(a) and number.match(b)):
-        raise ReducerlabError(rule)
-    try:
-        qa, qb = ureg.Quantity(a.strip()), ureg.Quantity(b.strip())
-    except Exception:
-        raise ReducerlabError(rule) from None
-    if not (hasattr(qa, "units") and hasattr(qb, "units")) or qa.dimensionless:
-        raise ReducerlabError(rule)
-    if qa.dimensionality != qb.dimensionality:
-        raise ReducerlabError(
-            f"sweep {path!r}: {spec!r}: START and STOP have different dimensions "
-            f"({qa.units} and {qb.units})"
-        )
-    return float(qa.magnitude), float(qb.to(qa.units).magnitude), str(qa.units)
-
-
-def parse_values(
-    path: str, spec: str, *, limit: int | None = None, option: str | None = None
-) -> Axis:
-    """Parse a command-line value specification.
-
-    ``"1e8,2e8,3e8"`` (a list; items may carry units: ``"2e8 N/m, 3e8 N/m"``),
-    ``"lin:START:STOP:N"``, ``"log:START:STOP:N"`` (SI numbers, or both ends with units:
-    ``"lin:1300 rpm:1700 rpm:41"``), or
-    ``"rel:1.5,2,2.5"`` / ``"150%,200%,250%"`` (factors of the design value). With
-    ``limit``, more than ``limit`` values are refused, a range before any is made (the
-    message names ``option``, the command-line option, when given).
-    """
-    axis = _parse_values(path, spec, limit, option)
-    if limit is not None and len(axis.values) > limit:
-        raise ReducerlabError(
-            f"{option or f'sweep {path!r}'}: {len(axis.values)} values; at most {limit} are allowed"
-        )
-    return axis
-
-
-def parse_path_values(
-    text: str, *, limit: int | None = None, option: str = "PATH=VALUES",
-    example: str = "input_speed=lin:300 rpm:2000 rpm:41",
-) -> Axis:  # fmt: skip
-    """``"PATH=VALUES"`` (``sweep --grid``, ``regime-map -x/-y``, a design's
-    ``[report.regime_map]``) as an axis: :func:`parse_values` of the part after ``=``."""
-    if not isinstance(text, str) or "=" not in text:
-        raise ReducerlabError(f"{option} must be 'PATH=VALUES', e.g. '{example}'")
-    path, values = text.split("=", 1)
-    if not path.strip():
-        raise ReducerlabError(f"{option} {text!r}: no parameter path before '='")
-    return parse_values(path.strip(), values.strip(), limit=limit, option=option)
-
-
-def _parse_values(path: str, spec: str, limit: int | None, option: str | None) -> Axis:
-    if not isinstance(spec, str) or not spec.strip():
-        raise ReducerlabError(f"sweep {path!r}: empty value specification")
-    s = spec.strip()
-    m = re.fullmatch(r"(lin|log):([^:]+):([^:]+):([^:]+)", s)
-    if m:
-        kind, a, b, n = m.groups()
-        unit = None
-        try:
-            a_, b_ = float(a), float(b)
-        except ValueError:
-            a_, b_, unit = _range_quantities(path, spec, kind, a, b)
-        try:
-            n_ = int(n)
-        except ValueError:
-            raise ReducerlabError(
-                f"sweep {path!r}: {spec!r}: N = {n.strip()!r} must be a whole number of "
-                "points, e.g. 101"
-            ) from None
-        if limit is not None and n_ > limit:
-            raise ReducerlabError(
-                f"{option or f'sweep {path!r}'}: {spec!r} asks for {n_} values; at most "
-                f"{limit} are allowed"
-            )
-        ax = Axis.linspace(path, a_, b_, n_) if kind == "lin" else Axis.logspace(path, a_, b_, n_)
-        if unit is None:
-            return ax
-        # the design field converts each value from its unit (as for a list with units)
-        return Axis(path, [f"{float(v)!r} {unit}" for v in ax.values])
-    if s.startswith(("lin:", "log:")):
-        raise ReducerlabError(f"sweep {path!r}: {spec!r}: write lin:START:STOP:N or log:...")
-    relative = s.startswith("rel:")
-    items = [x.strip() for x in (s[4:] if relative else s).split(",") if x.strip()]
-    if not items:
-        raise ReducerlabError(f"sweep {path!r}: no values in {spec!r}")
-    percent = all(x.endswith("%") for x in items)
-    if percent:
-        relative = True
-        items = [x[:-1].strip() for x in items]
-    values: list[Any] = []
-    for x in items:
-        if re.fullmatch(_NUM, x):
-            values.append(float(x) / 100.0 if percent else float(x))
-        elif relative:
-            raise ReducerlabError(f"sweep {path!r}: relative value {x!r} is not a number")
-        elif re.match(_NUM, x):
-            values.append(x)  # a quantity with units, parsed by the design
-        else:
-            raise ReducerlabError(f"sweep {path!r}: value {x!r} is not a number")
-    return Axis(path, tuple(values), relative=relative)
-
-
-def axis_targets(
-    design: Design | None, model: Model, a: Axis, index: int = 0, what: str = "sweep"
-) -> tuple[list[_Target], NDArray]:
-    """The parameters an axis drives and its values in SI units.
-
-    A path ``a+b`` ties parameters (same value; relative values scale each by its own
-    base value); values may be quantities with units (``"500 rpm"``) for design fields,
-    converted by the field's unit; integer fields take whole numbers.
-    """
-    members = [_resolve(design, model, p.strip()) for p in a.path.split("+")]
-    if len({(t.where, t.path) for t in members}) != len(members):
-        raise ReducerlabError(f"{what} {a.path!r}: a tied path lists a parameter twice")
-    first = members[0].base
-    group = [
-        dataclasses.replace(
-            t, axis=index, scale=(t.base / first if (a.relative and first) else 1.0)
-        )
-        for t in members
-    ]
-    t = group[0]
-    vals = list(a.values)
-    if a.relative:
-        vals = [float(v) * t.base for v in vals]
-    if any(isinstance(v, str) for v in vals):
-        if any(m.where != "design" for m in group):
-            raise ReducerlabError(
-                f"{what} {a.path!r}: a model parameter takes SI numbers, not {vals[0]!r}"
-            )
-        vals = [_si_of(design, t, v, what) for v in vals]
-    col = np.asarray(vals, dtype=float)
-    if any(m.integer for m in group) and not np.all(col == np.round(col)):
-        raise ReducerlabError(f"{what} {a.path!r}: an integer field takes whole numbers")
-    return group, col
-
-
-# ----------------------------------------------------------------------------- targets
-@dataclass(frozen=True)
-class _Target:
-    where: str  # "design" or "model"
-    path: str
-    keys: tuple[Any, ...]
-    base: float
-    integer: bool = False
-    axis: int = 0  # which sweep axis drives it
-    scale: float = 1.0  # value = axis value * scale (tied relative parameters)
-
-
-def _walk(data: Any, keys: Sequence[Any]) -> Any:
-    for k in keys:
-        data = data[k]
-    return data
-
-
-def _design_keys(data: dict[str, Any], path: str) -> tuple[Any, ...] | None:
-    keys: list[Any] = []
-    node: Any = data
-    for part in path.split("."):
-        if isinstance(node, dict) and part in node:
-            keys.append(part)
-            node = node[part]
-        elif isinstance(node, list) and part.isdigit() and int(part) < len(node):
-            keys.append(int(part))
-            node = node[int(part)]
-        else:
-            return None
-    if isinstance(node, bool) or not isinstance(node, int | float):
-        return None
-    return tuple(keys)
-
-
-def _resolve(design: Design | None, model: Model, path: str) -> _Target:
-    where = None
-    raw = path
-    if path.startswith(("design:", "model:")):
-        where, path = path.split(":", 1)
-    if where in (None, "design") and design is not None:
-        data = design.model_dump(mode="python")
-        keys = _design_keys(data, path)
-        if keys is not None:
-            value = _walk(data, keys)
-            return _Target("design", path, keys, float(value), isinstance(value, int))
-        if where == "design":
-            raise ReducerlabError(f"sweep: {raw!r} is not a numeric field of the design")
-    if where == "design":
-        raise ReducerlabError(f"sweep: {raw!r}: no design to sweep (a model was given)")
-    try:
-        value = model.parameter(path)
-    except ReducerlabError as exc:
-        hint = " or a numeric design field" if design is not None else ""
-        raise ReducerlabError(f"sweep: unknown parameter path {raw!r}{hint} ({exc})") from None
-    return _Target("model", path, (), float(value))
-
-
+# ----------------------------------------------------------------------------- points
 @dataclass
-class _Evaluator:
-    """Builds M and K for parameter tuples; picklable for worker processes."""
+class _Points:
+    """``M`` and ``K`` of sweep points: each point's model, or, when they are affine in
+    the swept values (:func:`_affine`), one batched expression; picklable for worker
+    processes."""
 
-    design_data: dict[str, Any] | None
-    model: Model
-    targets: tuple[_Target, ...]
+    ev: Evaluator
     affine: tuple[NDArray, NDArray, NDArray, NDArray] | None = None  # M0, K0, dM, dK
     anchor: NDArray | None = None
     affine_rest: tuple[NDArray, NDArray] | None = None  # stiffness at rest: K0, dK
     affine_blocks: list[tuple[list[int], NDArray, NDArray]] | None = None  # idx, Ke0, dKe
-
-    def model_at(self, values: Sequence[Any]) -> Model:
-        from ..drives import build_model, design_from_dict
-
-        model = self.model
-        per = [float(values[t.axis]) * t.scale for t in self.targets]
-        if any(t.where == "design" for t in self.targets):
-            data = json.loads(json.dumps(self.design_data))
-            for t, v in zip(self.targets, per, strict=True):
-                if t.where == "design":
-                    parent = _walk(data, t.keys[:-1])
-                    parent[t.keys[-1]] = round(v) if t.integer else v
-            try:
-                model = build_model(design_from_dict(data, "sweep point"))
-            except DesignError as exc:
-                raise ReducerlabError(
-                    f"sweep point {dict(zip([t.path for t in self.targets], per, strict=True))}"
-                    f" is not a valid design:\n{exc}"
-                ) from None
-            if model.dof_names != self.model.dof_names:
-                raise ReducerlabError("sweep: the swept field changes the model's DOFs")
-        for t, v in zip(self.targets, per, strict=True):
-            if t.where == "model":
-                model = model.with_parameter(t.path, v)
-        return model
 
     def matrices(self, points: NDArray) -> PointModes:
         """``M, K`` (n_points, n, n) at parameter rows ``points`` (n_points, n_axes), the
@@ -383,10 +75,10 @@ class _Evaluator:
                 for idx, Ke, dKe in self.affine_blocks or []
             ]
             M = M0 if not np.any(dM) else M0 + np.einsum("pa,aij->pij", t, dM)
-            return PointModes(M, K, rest, blocks, self.model.dof_names)  # one M: factorised once
+            return PointModes(M, K, rest, blocks, self.ev.model.dof_names)  # one M: factorised once
         Ms, Ks, Rs, Bs = [], [], [], []
         for row in points:
-            model = self.model_at(list(row))
+            model = self.ev.model_at(list(row))
             mats = model.matrices()
             Ms.append(mats.M)
             Ks.append(mats.K)
@@ -395,7 +87,7 @@ class _Evaluator:
         rest = None
         if any(r is not None for r in Rs):
             rest = np.array([k if r is None else r for k, r in zip(Ks, Rs, strict=True)])
-        return PointModes(np.array(Ms), np.array(Ks), rest, Bs, self.model.dof_names)
+        return PointModes(np.array(Ms), np.array(Ks), rest, Bs, self.ev.model.dof_names)
 
     def solve(self, points: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         """Eigenvalues (rigid modes exactly 0), shapes and weighted shapes."""
@@ -462,10 +154,10 @@ class PointModes:
         return lam, phi, y
 
 
-def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
+def _affine(points: _Points, lows: NDArray, highs: NDArray) -> bool:
     """Detect ``M, K`` affine in the swept values; store the batch form if so."""
     n_ax = len(lows)
-    base_model = ev.model_at(list(lows))
+    base_model = points.ev.model_at(list(lows))
     base = base_model.matrices()
     base_rest = rest_stiffness(base_model)
     dM, dK, dR = [], [], []
@@ -476,7 +168,7 @@ def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
         if span == 0:
             return False
         p[a] = highs[a]
-        model = ev.model_at(list(p))
+        model = points.ev.model_at(list(p))
         ends.append(model)
         m = model.matrices()
         dM.append((m.M - base.M) / span)
@@ -489,7 +181,7 @@ def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
     dM_, dK_ = np.array(dM), np.array(dK)
     # probe: an interior point off the axes must be predicted exactly
     probe = lows + (highs - lows) * np.linspace(0.37, 0.61, n_ax)
-    model = ev.model_at(list(probe))
+    model = points.ev.model_at(list(probe))
     m = model.matrices()
     t = probe - lows
     pM = base.M + np.einsum("a,aij->ij", t, dM_)
@@ -506,10 +198,10 @@ def _affine(ev: _Evaluator, lows: NDArray, highs: NDArray) -> bool:
         pR = base_rest + np.einsum("a,aij->ij", t, np.array(dR))
         if rest is None or np.abs(rest - pR).max() > 1e-10 * scale_K:
             return False
-        ev.affine_rest = (base_rest, np.array(dR))
-    ev.affine_blocks = blocks  # set with the rest, once every probe passed
-    ev.affine = (base.M, base.K, dM_, dK_)
-    ev.anchor = lows.astype(float)
+        points.affine_rest = (base_rest, np.array(dR))
+    points.affine_blocks = blocks  # set with the rest, once every probe passed
+    points.affine = (base.M, base.K, dM_, dK_)
+    points.anchor = lows.astype(float)
     return True
 
 
@@ -546,7 +238,7 @@ def _affine_blocks(
 _ARRAYS = ("lam", "phi", "y")
 
 
-def _solve_chunk(ev: _Evaluator, points: NDArray, path: str, key: str, index: int) -> str:
+def _solve_chunk(ev: _Points, points: NDArray, path: str, key: str, index: int) -> str:
     lam, phi, y = ev.solve(points)
     save_chunk(path, key, index, points, {"lam": lam, "phi": phi, "y": y})
     return path
@@ -577,7 +269,7 @@ class _Run:
 
 
 def _submit_all(
-    ev: _Evaluator,
+    ev: _Points,
     jobs: list[tuple[int, NDArray]],
     run: _Run,
     workers: int | None,
@@ -652,7 +344,7 @@ def sweep(
     -------
     SweepResult
     """
-    from ..drives import build_model
+    from ..drives import design_and_model
 
     axes = [axes] if isinstance(axes, Axis) else list(axes)
     if not 1 <= len(axes) <= 2 or not all(isinstance(a, Axis) for a in axes):
@@ -663,12 +355,7 @@ def sweep(
         raise ReducerlabError(f"sweep: chunk_size must be a positive integer, got {chunk_size!r}")
     if workers is not None:
         check_workers(workers, "sweep")
-    if isinstance(target, Design):
-        design, model = target, build_model(target)
-    elif isinstance(target, Model):
-        design, model = None, target
-    else:
-        raise ReducerlabError(f"sweep: target must be a Design or a Model, got {type(target)}")
+    design, model = design_and_model(target, "sweep")
     groups, columns = [], []
     for i, a in enumerate(axes):
         group, col = axis_targets(design, model, a, i, "sweep")
@@ -678,9 +365,7 @@ def sweep(
     firsts = tuple(group[0] for group in groups)
     grid = np.meshgrid(*columns, indexing="ij")
     points = np.stack([g.ravel() for g in grid], axis=-1)  # (n_points, n_axes)
-    ev = _Evaluator(
-        design.model_dump(mode="python") if design is not None else None, model, targets
-    )
+    ev = _Points(Evaluator(design, model, targets))
     lows = np.array([c.min() for c in columns])
     highs = np.array([c.max() for c in columns])
     vectorised = points.shape[0] > 2 and _affine(ev, lows, highs)
@@ -732,22 +417,10 @@ def _tempdir() -> str:
     return tempfile.mkdtemp(prefix="reducerlab-sweep-")
 
 
-def _si_of(design: Design, t: _Target, value: str, what: str = "sweep") -> float:
-    from ..drives import design_from_dict
-
-    data = design.model_dump(mode="python")
-    _walk(data, t.keys[:-1])[t.keys[-1]] = value
-    try:
-        new = design_from_dict(data, f"{what} value").model_dump(mode="python")
-    except DesignError as exc:
-        raise ReducerlabError(f"{what} {t.path!r}: value {value!r} rejected:\n{exc}") from None
-    return float(_walk(new, t.keys))
-
-
 def _assemble(
     axes: list[Axis],
     columns: list[NDArray],
-    targets: tuple[_Target, ...],
+    targets: tuple[Target, ...],
     lam: NDArray,
     phi: NDArray,
     y: NDArray,
@@ -783,7 +456,7 @@ def _assemble(
     return SweepResult(data)
 
 
-def _add_tracking(result: SweepResult, ev: _Evaluator, params: NDArray) -> None:
+def _add_tracking(result: SweepResult, ev: _Points, params: NDArray) -> None:
     ds = result.data
     y = ds["weighted_shape"].values
     freq = ds["frequency"].values
