@@ -1,5 +1,6 @@
 """Parameter sweeps of modal analysis: any design field or model parameter, over a list,
-a linear or logarithmic range, relative to the design value, or a grid of two.
+a linear or logarithmic range, relative to the design value, or a grid of two (the
+paths, their values and the model at a point: :mod:`.parameters`).
 
 Points are evaluated in chunks. Each finished chunk is written to the run folder at
 once (``chunks/chunk_NNNNN.npz``, written atomically and stamped with the run key, its
