@@ -15,9 +15,9 @@ from typer.testing import CliRunner
 
 import reducerlab as rl
 from reducerlab.analysis.body_modal import BodyModalResult
-from reducerlab.analysis.resonance import resonance_check
 from reducerlab.analysis.modal import modal
 from reducerlab.analysis.nonlinear import response
+from reducerlab.analysis.resonance import resonance_check
 from reducerlab.cli import app
 from reducerlab.errors import DesignError, ReducerlabError
 from reducerlab.examples import example_dir, example_files

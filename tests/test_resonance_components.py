@@ -19,8 +19,8 @@ from reducerlab.analysis.resonance import format_check, resonance_check
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
-from reducerlab.plot.components import plot_component_comparison
 from reducerlab.plot.campbell import plot_campbell
+from reducerlab.plot.components import plot_component_comparison
 
 NUTATION = example_dir() / "nutation_double_sided.toml"
 RPM = 60.0 / (2.0 * math.pi)

@@ -392,8 +392,7 @@ def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | N
         return None
     import numpy as np
 
-    from .units import RPM
-    from .units import QUANTITIES
+    from .units import QUANTITIES, RPM
 
     axis = _axis(option, "speeds", spec, MAX_SPEEDS)
     if axis.relative or any(isinstance(v, str) for v in axis.values):

@@ -113,8 +113,8 @@ def kinematics_section(ctx: Context) -> Section | None:
     """Transmission ratio, member speeds, mesh frequencies (designs with kinematics)."""
     if ctx.design.kinematics() is None:
         return None
-    from ..analysis.kinematics import kinematics
-    from ..drives import kinematics_of
+    from ...analysis.kinematics import kinematics
+    from ...drives import kinematics_of
 
     drive, speed = kinematics_of(ctx.design)
     res = kinematics(drive, speed, title=ctx.design.name, metadata=ctx.design.provenance)

@@ -55,8 +55,8 @@ def sensitivity_section(ctx: Context) -> Section | None:
     """Relative sensitivities of every natural frequency to every model parameter."""
     if not ctx.has_model():
         return None
-    from ..analysis.modal import frequency_sensitivity
-    from ..model.inspect import parameter_paths
+    from ...analysis.modal import frequency_sensitivity
+    from ...model.inspect import parameter_paths
 
     model = ctx.model()
     params = [p for p, _ in parameter_paths(model)]
