@@ -150,6 +150,8 @@ def resonance_check(
         False if any list of findings is non-empty. Its ``campbell`` is the Campbell
         diagram used (complex branches with gyroscopic, Coriolis or circulatory terms).
     """
+    from ..drives import design_and_model
+
     if not (isinstance(margin, int | float) and 0 < margin < 1):
         raise ReducerlabError(f"margin must be a fraction in (0, 1), got {margin!r}")
     comps = as_components(components)
@@ -160,8 +162,6 @@ def resonance_check(
         raise ReducerlabError("the design has no operating speed: give a speed range")
     speeds = np.linspace(lo, hi, points) if hi > lo else np.array([lo])
     grid = np.unique(np.concatenate([speeds, np.linspace(0.0, 1.5 * hi, 201)]))
-    from ..drives import design_and_model
-
     _, model = design_and_model(target, "resonance check")
     # gyroscopic, Coriolis or circulatory terms: check the damped, whirl-split branches
     rows = modes_over(model, speeds)  # complex modes at each speed: stability and branches

@@ -129,7 +129,7 @@ def campbell_section(ctx: Context) -> Section | None:
     s.blocks.append(
         interactive(
             plotly_campbell(res, check),
-            res.plot(),
+            check.plot(),
             "Campbell diagram: hover for values, drag to zoom"
             + (" (damped, whirl-split branches)" if gyro else ""),
             div_id="campbell",
