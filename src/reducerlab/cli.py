@@ -392,7 +392,8 @@ def _parse_speeds(spec: str | None, option: str = "--speeds") -> list[float] | N
         return None
     import numpy as np
 
-    from .units import QUANTITIES, RPM
+    from .analysis.campbell import RPM
+    from .units import QUANTITIES
 
     axis = _axis(option, "speeds", spec, MAX_SPEEDS)
     if axis.relative or any(isinstance(v, str) for v in axis.values):
@@ -608,8 +609,7 @@ def check(
     """Resonance verdict: exits 1 when a natural frequency meets an excitation, or a gear
     body's mode meets an excitation or a system mode (paper 000 Table 5)."""
     from .analysis.body_modal import BodyModalResult
-    from .analysis.components import ComponentModes
-    from .analysis.resonance import format_check, resonance_check
+    from .analysis.campbell import ComponentModes, format_check, resonance_check
     from .drives import load_design
 
     with _user_errors():
@@ -630,7 +630,7 @@ def check(
         with _busy("resonance check"):
             report = resonance_check(d, margin=margin, speed_range=rng, components=components)
         if files is not None:
-            _write_check(d, report, files)
+            _write_check(d, report, components, files)
     typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
     if not report["ok"]:
         raise typer.Exit(code=1)
@@ -640,7 +640,7 @@ def _all_body_modes(d, design: Path, have: set[str]) -> list:
     """Body modes of every gear of a nutation design not given already (progress bar)."""
     from .analysis.body_modal import body_modal as run_body_modal
     from .analysis.body_modal import check_bodies
-    from .analysis.components import ComponentModes
+    from .analysis.campbell import ComponentModes
 
     try:
         check_bodies(d)
@@ -661,18 +661,29 @@ def _all_body_modes(d, design: Path, have: set[str]) -> list:
     return out
 
 
-def _write_check(d, report, files: OutputSet) -> None:
-    """check.json, components.png (Table 5-style, with body modes) and campbell.png: the
-    Campbell diagram the verdict used (``report.campbell``), with the body lines."""
-    from .io import stamp
+def _write_check(d, report: dict, components: list, files: OutputSet) -> None:
+    """check.json, components.png (Table 5-style) and campbell.png with the body lines."""
+    import numpy as np
 
+    from .analysis.campbell import campbell as run_campbell
+    from .io import stamp
+    from .plot.components import plot_component_comparison
+    from .plot.sweep import plot_campbell
+
+    hi = report["speed_range_rpm"][1] * 2 * math.pi / 60  # rad/s
+    res_c = run_campbell(d, np.linspace(0.0, 1.5 * hi, 151))
+    fmax = None
+    if components:
+        fmax = 1.05 * max(max(c.frequencies) for c in components)
     with files:
         files.path("check.json").write_text(
-            json.dumps({**report.to_dict(), **stamp(d.provenance)}, indent=2) + "\n"
+            json.dumps({**report, **stamp(d.provenance)}, indent=2) + "\n"
         )
-        if report.components:
-            _savefig(report.plot_components(), files.path("components.png"), d.provenance)
-        _savefig(report.plot(), files.path("campbell.png"), d.provenance)
+        if components:
+            _savefig(plot_component_comparison(report), files.path("components.png"),
+                     d.provenance)  # fmt: skip
+        _savefig(plot_campbell(res_c, components, fmax=fmax), files.path("campbell.png"),
+                 d.provenance)  # fmt: skip
 
 
 #: Target error of the Poincaré points (analysis.response.accurate_steps).
