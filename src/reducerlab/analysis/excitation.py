@@ -254,7 +254,7 @@ def campbell_dataset(
             "excitation": list(orders),
         },
         attrs={
-            "title": getattr(target, "name", "") or model.name,
+            "title": target.name or model.name,
             "operating_min_rad_s": operating[0],
             "operating_max_rad_s": operating[1],
             **provenance(model.metadata),
