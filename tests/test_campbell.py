@@ -9,13 +9,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from reducerlab.analysis.campbell import (
-    CampbellResult,
-    campbell,
-    excitation_orders,
-    format_check,
-    resonance_check,
-)
+from reducerlab.analysis.campbell import CampbellResult, campbell
+from reducerlab.analysis.excitation import excitation_orders
+from reducerlab.analysis.resonance import format_check, resonance_check
 from reducerlab.cli import app
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError

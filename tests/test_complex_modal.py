@@ -240,7 +240,7 @@ def test_cli_campbell_complex(tmp_path):
 def test_resonance_check_gives_the_stability_verdict():
     # a mode with negative damping makes the check fail whatever the crossings, and
     # the report names it; a damped model reports its least damped mode
-    from reducerlab.analysis.campbell import format_check, resonance_check
+    from reducerlab.analysis.resonance import format_check, resonance_check
 
     bad = Model([Dof("a", "x")], [Inertia("a.x", 1.0), Support("a.x", 1e4, 0.0),
                                   NegativeDamper()], speed=100.0)  # fmt: skip

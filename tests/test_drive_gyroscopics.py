@@ -128,7 +128,7 @@ def test_cycloid_rotating_frame_keeps_paper_frequencies():
 def test_resonance_check_uses_complex_branches_with_speed_terms():
     """With Coriolis terms the verdict is taken on the damped, whirl-split frequencies
     and its crossings carry their whirl; the paper model keeps the undamped ones."""
-    from reducerlab.analysis.campbell import resonance_check
+    from reducerlab.analysis.resonance import resonance_check
 
     paper = resonance_check(rl.load_design(CYC))
     assert paper["frequencies"] == "undamped"

@@ -15,9 +15,9 @@ from typer.testing import CliRunner
 
 import reducerlab as rl
 from reducerlab.analysis.body_modal import BodyModalResult
-from reducerlab.analysis.campbell import resonance_check
 from reducerlab.analysis.modal import modal
 from reducerlab.analysis.nonlinear import response
+from reducerlab.analysis.resonance import resonance_check
 from reducerlab.cli import app
 from reducerlab.errors import DesignError, ReducerlabError
 from reducerlab.examples import example_dir, example_files
@@ -209,7 +209,7 @@ def test_given_body_modes_enter_the_report_and_the_verdict():
     page = parse(r.html)
     assert {"campbell", "bodies"} <= set(page.sections)
     assert _column(page, "body-modes", 1) == [5000.0, 5000.0, 9000.0]
-    from reducerlab.analysis.campbell import ComponentModes
+    from reducerlab.analysis.components import ComponentModes
 
     check = resonance_check(d, components=[ComponentModes.from_body_modal(body)])
     assert r.section("campbell").values["ok"] == check["ok"]

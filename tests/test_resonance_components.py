@@ -12,18 +12,15 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from reducerlab.analysis.campbell import (
-    ComponentModes,
-    campbell,
-    excitation_orders,
-    format_check,
-    resonance_check,
-)
+from reducerlab.analysis.campbell import campbell
+from reducerlab.analysis.components import ComponentModes
+from reducerlab.analysis.excitation import excitation_orders
+from reducerlab.analysis.resonance import format_check, resonance_check
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
+from reducerlab.plot.campbell import plot_campbell
 from reducerlab.plot.components import plot_component_comparison
-from reducerlab.plot.sweep import plot_campbell
 
 NUTATION = example_dir() / "nutation_double_sided.toml"
 RPM = 60.0 / (2.0 * math.pi)

@@ -25,6 +25,8 @@ _LAZY = {
     "ModalResult": "reducerlab.analysis.modal",
     "frequency_sensitivity": "reducerlab.analysis.modal",
     "mac": "reducerlab.analysis.modal",
+    "campbell": "reducerlab.analysis.campbell",
+    "resonance_check": "reducerlab.analysis.resonance",
     "Model": "reducerlab.model",
     "Dof": "reducerlab.model",
     "DesignError": "reducerlab.errors",

@@ -23,7 +23,7 @@ Without damping and gyroscopic terms the damped frequencies are the undamped one
 
 from __future__ import annotations
 
-import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -33,14 +33,16 @@ from numpy.typing import NDArray
 from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Coriolis, Gyroscopic, Model, Nutating
 from ..results import Result, provenance
+from ..units import TWO_PI
+from .excitation import campbell_axes, campbell_dataset, find_crossings
 from .modal import RIGID_TOL, _rigid_and_elastic, has_skew_terms
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["ComplexCampbellResult", "ComplexModalResult", "complex_campbell", "complex_modes"]
+    from .components import ComponentModes
 
-TWO_PI = 2.0 * math.pi
+__all__ = ["ComplexCampbellResult", "ComplexModalResult", "complex_campbell", "complex_modes"]
 
 #: An orbit whose minor axis is below this share of its major axis is planar (no whirl).
 PLANAR = 0.05
@@ -237,32 +239,9 @@ class ComplexModalResult(Result):
 
     def plot(self) -> Figure:
         """Damped frequencies (marker by whirl) and damping ratios of every mode."""
-        from matplotlib.figure import Figure
+        from ..plot.modal import plot_complex_modes
 
-        ds = self.data
-        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
-        a1, a2 = fig.subplots(2, 1, sharex=True)
-        modes = ds["mode"].values
-        marks = {"forward": ("^", "C0"), "backward": ("v", "C3"), "planar": ("o", "C2"),
-                 "rigid": ("s", "k")}  # fmt: skip
-        for w in sorted(set(ds["whirl"].values.tolist())):
-            sel = ds["whirl"].values == w
-            mk, col = marks.get(w, ("d", "C7"))
-            a1.plot(modes[sel], ds["frequency"].values[sel], mk, color=col, label=w)
-            a2.plot(modes[sel], ds["damping_ratio"].values[sel], mk, color=col)
-        bad = ~ds["stable"].values
-        if bad.any():
-            a1.plot(modes[bad], ds["frequency"].values[bad], "x", color="red", ms=10,
-                    label="unstable")  # fmt: skip
-        a1.set_ylabel("damped frequency (Hz)")
-        a2.set_ylabel("damping ratio")
-        a2.set_xlabel("mode")
-        a1.legend(fontsize=7)
-        rpm = ds.attrs["speed_rad_s"] * 60 / TWO_PI
-        a1.set_title(f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm", fontsize=9)
-        for ax in (a1, a2):
-            ax.grid(alpha=0.3)
-        return fig
+        return plot_complex_modes(self)
 
 
 def modes_over(model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL) -> list[xr.Dataset]:
@@ -310,7 +289,7 @@ def complex_campbell(
         range (``points`` values).
     orders : dict, optional
         Excitation name -> order (multiple of the input rotation frequency); default
-        :func:`~reducerlab.analysis.campbell.excitation_orders`.
+        :func:`~reducerlab.analysis.excitation.excitation_orders`.
 
     Returns
     -------
@@ -319,9 +298,9 @@ def complex_campbell(
         modes numbered by frequency at each speed; excitation lines; crossings found
         between samples and refined by root finding on the same numbered mode.
     """
-    from .campbell import _model_of, campbell_axes, campbell_dataset, find_crossings
+    from ..drives import design_and_model
 
-    model = _model_of(target)
+    _, model = design_and_model(target, "complex campbell")
     speeds, lo, hi, orders = campbell_axes(target, model, speeds, orders, points,
                                            "complex campbell")  # fmt: skip
     freq, zeta, whirl, stable = _branches(model, speeds, rigid_tol)
@@ -385,42 +364,13 @@ class ComplexCampbellResult(Result):
             lines.append("every mode is stable over the speeds computed")
         return "\n".join(lines)
 
-    def plot(self) -> Figure:
+    def plot(
+        self, components: Sequence[ComponentModes] = (), *, fmax: float | None = None
+    ) -> Figure:
         """Damped frequencies against speed: forward whirl as up-triangles, backward as
-        down-triangles, unstable points as red crosses; excitation lines; crossings."""
-        from matplotlib.figure import Figure
+        down-triangles, unstable points as red crosses; excitation lines; crossings;
+        ``components``: body modes drawn as horizontal lines (see
+        :func:`~reducerlab.plot.campbell.plot_complex_campbell`)."""
+        from ..plot.campbell import plot_complex_campbell
 
-        ds = self.data
-        fig = Figure(figsize=(7.5, 5.0), layout="constrained")
-        ax = fig.subplots()
-        rpm = ds["speed"].values * 60 / TWO_PI
-        f = ds["frequency"].values
-        w = ds["whirl"].values
-        st = ds["stable"].values
-        marks = {"forward": ("^", "C0"), "backward": ("v", "C3"), "planar": (".", "C2"),
-                 "none": (".", "C7"), "ccw": (".", "C7"), "cw": (".", "C7")}  # fmt: skip
-        R = np.repeat(rpm[:, None], f.shape[1], axis=1)
-        for label, (mk, col) in marks.items():
-            sel = (w == label) & st
-            if sel.any():
-                ax.plot(R[sel], f[sel], mk, color=col, ms=3, label=label)
-        if (~st).any():
-            ax.plot(R[~st], f[~st], "x", color="red", ms=6, label="unstable")
-        for k, name in enumerate(ds["excitation"].values):
-            ax.plot(rpm, ds["excitation_frequency"].values[:, k], "--", lw=0.8, color="0.5")
-            ax.annotate(str(name), (rpm[-1], ds["excitation_frequency"].values[-1, k]),
-                        fontsize=6, color="0.4")  # fmt: skip
-        if ds.sizes["crossing"]:
-            ax.plot(ds["crossing_speed"].values * 60 / TWO_PI, ds["crossing_frequency"].values,
-                    "o", mfc="none", color="k", ms=7, label="crossing")  # fmt: skip
-        lo, hi = ds.attrs["operating_min_rad_s"], ds.attrs["operating_max_rad_s"]
-        if hi > lo:
-            ax.axvspan(lo * 60 / TWO_PI, hi * 60 / TWO_PI, color="0.9", zorder=0)
-        top = np.nanmax(f) if np.any(np.isfinite(f)) else 1.0
-        ax.set_ylim(0, 1.1 * top)
-        ax.set_xlabel("input speed (rpm)")
-        ax.set_ylabel("damped natural frequency (Hz)")
-        ax.set_title(f"complex Campbell diagram: {ds.attrs.get('title', '')}", fontsize=9)
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3)
-        return fig
+        return plot_complex_campbell(self, components, fmax=fmax)

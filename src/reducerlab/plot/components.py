@@ -2,7 +2,7 @@
 
 :func:`plot_component_comparison` is paper 000's Table 5 as a figure: for each order
 1..N, the system natural frequency next to each gear body's. :func:`draw_component_lines`
-adds the body modes to a Campbell diagram (:func:`~reducerlab.plot.sweep.plot_campbell`
+adds the body modes to a Campbell diagram (:func:`~reducerlab.plot.campbell.plot_campbell`
 with ``components``): a body mode is a constant frequency, a horizontal line, and it
 meets the excitation line ``order * speed / 2 pi`` at ``speed = 2 pi f / order``.
 
@@ -23,7 +23,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..analysis.campbell import ComponentModes
+    from ..analysis.components import ComponentModes
 
 __all__ = ["component_label", "draw_component_lines", "plot_component_comparison"]
 
@@ -55,7 +55,7 @@ def component_label(label: str, frequency: float, kind: str = "") -> str:
 
 def _as_components(components: Any) -> list[ComponentModes]:
     """ComponentModes from ComponentModes objects or the report's component dicts."""
-    from ..analysis.campbell import ComponentModes
+    from ..analysis.components import ComponentModes
 
     if isinstance(components, ComponentModes | Mapping):
         components = [components]
@@ -95,7 +95,7 @@ def plot_component_comparison(
     Parameters
     ----------
     data : dict or sequence of float
-        A :func:`~reducerlab.analysis.campbell.resonance_check` report made with
+        A :func:`~reducerlab.analysis.resonance.resonance_check` report made with
         components (its ``system`` frequencies at the top speed of the range and its
         ``components``), or the system natural frequencies (Hz, ascending; rigid modes
         0) with ``components`` given, or a ``(system frequencies, components)`` pair.

@@ -1,22 +1,33 @@
-"""Figures of modal results: mode-shape bar charts, energy maps, sensitivity maps."""
+"""Figures of modal results: mode-shape bar charts, energy maps, sensitivity maps, complex
+modes, and the report's interactive (plotly) mode shapes and sensitivity map; plotly is
+imported only when its figure is built."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ReducerlabError
+from ..units import TWO_PI
 
 if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
+    from ..analysis.complex_modal import ComplexModalResult
     from ..analysis.modal import ModalResult, SensitivityResult
 
-__all__ = ["plot_energy", "plot_mode_shapes", "plot_sensitivity"]
+__all__ = [
+    "plot_complex_modes",
+    "plot_energy",
+    "plot_mode_shapes",
+    "plot_sensitivity",
+    "plotly_mode_shapes",
+    "plotly_sensitivity",
+]
 
 
 def _figure(**kw: object) -> Figure:
@@ -156,4 +167,140 @@ def plot_sensitivity(result: SensitivityResult) -> Figure:
             ax.text(c, r, f"{v:.2f}", ha="center", va="center", fontsize=6)
     fig.colorbar(im, ax=ax, label="(p/f) df/dp")
     ax.set_title("relative frequency sensitivity", fontsize=9)
+    return fig
+
+
+def plot_complex_modes(result: ComplexModalResult) -> Figure:
+    """Damped frequencies (marker by whirl) and damping ratios of every complex mode;
+    unstable modes crossed in red.
+
+    Parameters
+    ----------
+    result : ComplexModalResult
+    """
+    ds = result.data
+    fig = _figure(figsize=(7.0, 4.2), layout="constrained")
+    a1, a2 = fig.subplots(2, 1, sharex=True)
+    modes = ds["mode"].values
+    marks = {"forward": ("^", "C0"), "backward": ("v", "C3"), "planar": ("o", "C2"),
+             "rigid": ("s", "k")}  # fmt: skip
+    for w in sorted(set(ds["whirl"].values.tolist())):
+        sel = ds["whirl"].values == w
+        mk, col = marks.get(w, ("d", "C7"))
+        a1.plot(modes[sel], ds["frequency"].values[sel], mk, color=col, label=w)
+        a2.plot(modes[sel], ds["damping_ratio"].values[sel], mk, color=col)
+    bad = ~ds["stable"].values
+    if bad.any():
+        a1.plot(modes[bad], ds["frequency"].values[bad], "x", color="red", ms=10,
+                label="unstable")  # fmt: skip
+    a1.set_ylabel("damped frequency (Hz)")
+    a2.set_ylabel("damping ratio")
+    a2.set_xlabel("mode")
+    a1.legend(fontsize=7)
+    rpm = ds.attrs["speed_rad_s"] * 60 / TWO_PI
+    a1.set_title(f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm", fontsize=9)
+    for ax in (a1, a2):
+        ax.grid(alpha=0.3)
+    return fig
+
+
+def plotly_mode_shapes(result: ModalResult) -> Any:
+    """Interactive bar chart (plotly) of the mass-weighted mode shapes, one mode per menu
+    entry: each DOF's bar is ``sign(shape) sqrt(kinetic energy share)``, the largest 1.
+
+    Parameters
+    ----------
+    result : ModalResult
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+    """
+    import plotly.graph_objects as go
+
+    ds = result.data
+    dofs = [str(d) for d in ds["dof"].values]
+    ke = ds["kinetic_energy"].values  # (mode, dof), sums to 1 per mode
+    sign = np.sign(ds["shape"].values.T)
+    amp = sign * np.sqrt(np.clip(ke, 0.0, None))
+    fig = go.Figure()
+    n = amp.shape[0]
+    labels = []
+    for j in range(n):
+        f = float(ds["frequency"].values[j])
+        cls = str(ds["classification"].values[j])
+        labels.append(f"mode {j + 1}: {f:.5g} Hz ({cls})")
+        a = amp[j] / max(float(np.max(np.abs(amp[j]))), 1e-300)
+        fig.add_trace(
+            go.Bar(
+                x=dofs,
+                y=a,
+                name=f"mode {j + 1}",
+                visible=j == min(1, n - 1),
+                hovertemplate="%{x}: %{y:.3f}<extra></extra>",
+            )
+        )
+    buttons = [
+        dict(
+            label=labels[j],
+            method="update",
+            args=[{"visible": [k == j for k in range(n)]}, {"title.text": labels[j]}],
+        )
+        for j in range(n)
+    ]
+    fig.update_layout(
+        updatemenus=[
+            dict(
+                buttons=buttons, direction="down", x=0, xanchor="left", y=1.18, active=min(1, n - 1)
+            )
+        ],
+        title=dict(text=labels[min(1, n - 1)], x=0.5, y=0.97, font=dict(size=13)),
+        yaxis_title="mass-weighted amplitude (largest 1)",
+        height=430,
+        margin=dict(t=90, l=60, r=20, b=90),
+        template="plotly_white",
+        showlegend=False,
+    )
+    return fig
+
+
+def plotly_sensitivity(result: SensitivityResult) -> Any:
+    """Interactive heat map (plotly) of the relative sensitivities ``(p/f) df/dp``
+    (mode x parameter), symmetric colour scale.
+
+    Parameters
+    ----------
+    result : SensitivityResult
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+    """
+    import plotly.graph_objects as go
+
+    ds = result.data
+    rel = ds["relative"].values
+    lim = float(np.nanmax(np.abs(rel))) if np.any(np.isfinite(rel)) else 1.0
+    modes = [
+        f"{int(m)}: {f:.5g} Hz"
+        for m, f in zip(ds["mode"].values, ds["frequency"].values, strict=True)
+    ]
+    fig = go.Figure(
+        go.Heatmap(
+            z=rel,
+            x=[str(p) for p in ds["parameter"].values],
+            y=modes,
+            zmin=-lim,
+            zmax=lim,
+            colorscale="RdBu_r",
+            colorbar=dict(title="(p/f) df/dp"),
+            hovertemplate="mode %{y}<br>%{x}<br>(p/f) df/dp = %{z:.4f}<extra></extra>",
+        )
+    )
+    fig.update_layout(
+        height=max(320, 60 + 28 * len(modes)),
+        template="plotly_white",
+        margin=dict(t=20, l=120, r=20, b=160),
+        yaxis_autorange="reversed",
+    )
     return fig

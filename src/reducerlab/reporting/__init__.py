@@ -29,7 +29,8 @@ from .. import __version__
 from ..design import Design
 from ..errors import ReducerlabError
 from .blocks import Section, table
-from .sections import SECTIONS, Context, repo_assumptions
+from .context import Context, repo_assumptions
+from .sections import SECTIONS
 
 __all__ = ["Report", "report", "write_index"]
 

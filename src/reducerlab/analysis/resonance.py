@@ -1,0 +1,414 @@
+"""The resonance verdict over the operating speed range (paper 000's closing check).
+
+:func:`resonance_check` lists every crossing of a natural frequency with an excitation
+line inside the range, every (mode, excitation) pair closer than a margin, the modes
+that grow (complex modes at each speed) and, with gear-body modes
+(:class:`~reducerlab.analysis.components.ComponentModes`, paper 000 §4), their crossings
+with the excitation lines and coincidences with the system modes (paper 000 Table 5).
+Its :class:`ResonanceResult` carries the Campbell diagram the verdict used: the undamped
+one, or the damped, whirl-split branches of :func:`.complex_modal.complex_campbell` when
+the model has gyroscopic, Coriolis or circulatory terms. The report and ``check -o``
+draw that diagram (:meth:`ResonanceResult.plot`) and never compute it again.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from ..design import Design
+from ..errors import ReducerlabError, names_source
+from ..model import Model
+from ..units import RPM, TWO_PI
+from .campbell import CampbellResult, campbell, frequencies_over
+from .complex_modal import ComplexCampbellResult, complex_campbell, modes_over, stack_branches
+from .components import ComponentModes, as_components
+from .excitation import operating_range
+from .modal import has_skew_terms
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["ResonanceResult", "format_check", "resonance_check"]
+
+
+class ResonanceResult(dict[str, Any]):
+    """The verdict of :func:`resonance_check` and the Campbell diagram it used.
+
+    A :class:`dict` (JSON-ready as it stands: ``res["ok"]``, ``res["crossings"]``,
+    ``json.dumps(res)``; see :func:`resonance_check` for its keys), with
+
+    Attributes
+    ----------
+    campbell : CampbellResult or ComplexCampbellResult
+        The diagram the verdict read its excitation lines and crossings from: undamped,
+        or damped and whirl-split (``self["frequencies"]`` tells which), over 0 to 1.5x
+        the top of the checked range and the checked speeds.
+    components : tuple of ComponentModes
+        The gear bodies the verdict checked (empty without).
+    """
+
+    def __init__(
+        self,
+        verdict: dict[str, Any],
+        campbell: CampbellResult | ComplexCampbellResult,
+        components: Sequence[ComponentModes] = (),
+    ) -> None:
+        super().__init__(verdict)
+        self.campbell = campbell
+        self.components = tuple(components)
+
+    @property
+    def ok(self) -> bool:
+        """No finding: no crossing, near miss, unstable mode or body-mode finding."""
+        return bool(self["ok"])
+
+    def to_dict(self) -> dict[str, Any]:
+        """The verdict as a plain dict (JSON-ready)."""
+        return dict(self)
+
+    def table(self) -> str:
+        """The verdict as text (:func:`format_check`)."""
+        return format_check(self)
+
+    def plot(self, *, fmax: float | None = None) -> Figure:
+        """The Campbell diagram the verdict used, with the gear-body modes as horizontal
+        lines (:func:`~reducerlab.plot.campbell.plot_resonance`).
+
+        Parameters
+        ----------
+        fmax : float, optional
+            Top of the frequency axis (Hz); default 1.05 x the highest body mode with
+            components, else 1.1 x the highest natural frequency.
+        """
+        from ..plot.campbell import plot_resonance
+
+        return plot_resonance(self, fmax=fmax)
+
+    def plot_components(self) -> Figure:
+        """The gear-body modes against the system modes, order by order (paper 000
+        Table 5; :func:`~reducerlab.plot.components.plot_component_comparison`)."""
+        from ..plot.components import plot_component_comparison
+
+        return plot_component_comparison(self)
+
+
+@names_source
+def resonance_check(
+    target: Design | Model,
+    *,
+    margin: float = 0.10,
+    speed_range: tuple[float, float] | None = None,
+    points: int = 101,
+    components: Sequence[ComponentModes] | ComponentModes = (),
+) -> ResonanceResult:
+    """Resonance verdict over the operating speed range (paper 000's closing check).
+
+    Lists every crossing of a natural frequency with an excitation inside the range,
+    and every (mode, excitation) pair whose frequencies come within ``margin``
+    (relative to the excitation) somewhere in the range, with the closest approach.
+
+    With ``components`` (finite-element modes of the gear bodies, paper 000 §4), each
+    body mode is also checked against
+
+    * every excitation line: a constant body frequency ``f`` meets the line
+      ``order * speed / 2 pi`` at exactly ``speed = 2 pi f / order``
+      (``component_crossings`` when inside the range); ``component_near`` lists the
+      (body mode, excitation) pairs within ``margin`` (relative to the excitation) at
+      their exact closest approach in the range;
+    * every elastic system natural frequency at the speeds of the range
+      (``coincidences`` when within ``margin``, relative to the system frequency):
+      paper 000's Table 5 comparison.
+
+    Parameters
+    ----------
+    target : Design or Model
+    margin : float
+        Relative distance to an excitation that counts, in (0, 1) (0.10 = 10 %).
+    speed_range : tuple of float, optional
+        ``(min, max)`` input speeds (rad/s); default the design's operating range
+        (:func:`~reducerlab.analysis.excitation.operating_range`).
+    points : int
+        Speeds checked across the range.
+    components : ComponentModes or sequence of them
+        Gear-body modes to check (unique labels).
+
+    Returns
+    -------
+    ResonanceResult
+        A dict ``{"ok": bool, "margin": ..., "speed_range_rpm": [...], "crossings": [...],
+        "near": [...], "title": ...}``; with components also ``"component_crossings"``,
+        ``"component_near"``, ``"coincidences"``, ``"components"`` (per body: label,
+        frequencies, types, source and its ``closest`` approach to an excitation and
+        to a system mode) and ``"system"`` (the system natural frequencies over the
+        range: ``frequencies_hz`` at its top speed, ``min_hz``, ``max_hz``). ``ok`` is
+        False if any list of findings is non-empty. Its ``campbell`` is the Campbell
+        diagram used (complex branches with gyroscopic, Coriolis or circulatory terms).
+    """
+    from ..drives import design_and_model
+
+    if not (isinstance(margin, int | float) and 0 < margin < 1):
+        raise ReducerlabError(f"margin must be a fraction in (0, 1), got {margin!r}")
+    comps = as_components(components)
+    lo, hi = speed_range if speed_range is not None else operating_range(target)
+    if not (0 <= lo <= hi) or not math.isfinite(hi):
+        raise ReducerlabError(f"speed range must satisfy 0 <= min <= max, got ({lo}, {hi})")
+    if hi == 0:
+        raise ReducerlabError("the design has no operating speed: give a speed range")
+    speeds = np.linspace(lo, hi, points) if hi > lo else np.array([lo])
+    grid = np.unique(np.concatenate([speeds, np.linspace(0.0, 1.5 * hi, 201)]))
+    _, model = design_and_model(target, "resonance check")
+    # gyroscopic, Coriolis or circulatory terms: check the damped, whirl-split branches
+    rows = modes_over(model, speeds)  # complex modes at each speed: stability and branches
+    gyroscopic = has_skew_terms(model.with_speed(float(hi)))
+    res: CampbellResult | ComplexCampbellResult
+    if gyroscopic:
+        res = complex_campbell(target, grid)
+        freq, _, whirl, _ = stack_branches(rows)
+        freq = np.where(np.isnan(freq), 0.0, freq)
+    else:
+        res = campbell(target, grid)
+        freq, whirl = frequencies_over(model, speeds), None
+    ds = res.data
+    orders = dict(zip([str(e) for e in ds["excitation"].values], ds["order"].values, strict=True))
+    near = []
+    for name, order in orders.items():
+        fe = order * speeds / TWO_PI
+        for j in range(freq.shape[1]):
+            fn = freq[:, j]
+            if np.all(fn <= 0):
+                continue
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rel = np.where(fe > 0, np.abs(fn - fe) / fe, np.inf)
+            i = int(np.argmin(rel))
+            if rel[i] <= margin:
+                near.append(
+                    {
+                        "mode": j + 1,
+                        "excitation": name,
+                        "speed_rpm": float(speeds[i] * RPM),
+                        "natural_hz": float(fn[i]),
+                        "excitation_hz": float(fe[i]),
+                        "distance": float(rel[i]),
+                    }
+                    | ({"whirl": str(whirl[i, j])} if whirl is not None else {})
+                )
+    crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
+    near.sort(key=lambda r: r["distance"])
+    stability = _stability(rows, speeds)
+    report: dict[str, Any] = {
+        "ok": not crossings and not near and not stability["unstable"],
+        "margin": margin,
+        "frequencies": "complex (damped, whirl-split)" if gyroscopic else "undamped",
+        "speed_range_rpm": [lo * RPM, hi * RPM],
+        "crossings": crossings,
+        "near": near,
+        "stability": stability,
+        "title": ds.attrs.get("title", ""),
+    }
+    if comps:
+        plain = {name: float(order) for name, order in orders.items()}
+        report.update(_component_check(comps, plain, speeds, freq, float(lo), float(hi), margin))
+        report["ok"] = report["ok"] and not (
+            report["component_crossings"] or report["component_near"] or report["coincidences"]
+        )
+    return ResonanceResult(report, res, comps)
+
+
+def _stability(rows: list[xr.Dataset], speeds: NDArray) -> dict[str, Any]:
+    """From the complex modes at each speed (damping, gyroscopic and Coriolis terms): the
+    modes that grow (``unstable``) and the smallest damping ratio of an elastic mode."""
+    unstable, least = [], None
+    for w, ds in zip(speeds, rows, strict=True):
+        elastic = ds["whirl"].values != "rigid"
+        for m, f, z, g, ok in zip(ds["mode"].values[elastic], ds["frequency"].values[elastic],
+                                  ds["damping_ratio"].values[elastic],
+                                  ds["growth_rate"].values[elastic],
+                                  ds["stable"].values[elastic], strict=True):  # fmt: skip
+            if not ok:
+                unstable.append({"mode": int(m), "speed_rpm": float(w * RPM),
+                                 "frequency_hz": float(f), "growth_rate": float(g)})  # fmt: skip
+            if least is None or z < least["damping_ratio"]:
+                least = {"mode": int(m), "speed_rpm": float(w * RPM), "frequency_hz": float(f),
+                         "damping_ratio": float(z)}  # fmt: skip
+    return {"unstable": unstable, "least_damped": least}
+
+
+def _component_check(
+    components: tuple[ComponentModes, ...],
+    orders: dict[str, float],
+    speeds: NDArray,
+    freq: NDArray,
+    lo: float,
+    hi: float,
+    margin: float,
+) -> dict[str, Any]:
+    """Body modes against excitation lines (exact) and system natural frequencies."""
+    crossings, near, coincidences, summary = [], [], [], []
+    for comp in components:
+        best_exc: dict[str, Any] | None = None
+        best_sys: dict[str, Any] | None = None
+        for k, (f, kind) in enumerate(zip(comp.frequencies, comp.types, strict=True), 1):
+            head = {"component": comp.label, "mode": k, "type": kind}
+            for name, order in orders.items():
+                w_star = TWO_PI * f / order  # f = order w / 2 pi: exact for a constant f
+                if lo <= w_star <= hi:
+                    crossings.append(
+                        {
+                            **head,
+                            "excitation": name,
+                            "speed_rad_s": w_star,
+                            "speed_rpm": w_star * RPM,
+                            "frequency_hz": f,
+                        }
+                    )
+                # |f - fe| / fe = |f / fe - 1| is monotone on either side of w*: the
+                # closest approach in the range is at w* clipped to it
+                w = min(max(w_star, lo), hi)
+                fe = order * w / TWO_PI
+                row = {
+                    **head,
+                    "excitation": name,
+                    "speed_rpm": w * RPM,
+                    "natural_hz": f,
+                    "excitation_hz": fe,
+                    "distance": abs(f - fe) / fe,
+                }
+                if row["distance"] <= margin:
+                    near.append(row)
+                if best_exc is None or row["distance"] < best_exc["distance"]:
+                    best_exc = row
+            for j in range(freq.shape[1]):
+                fn = freq[:, j]
+                if np.all(fn <= 0):
+                    continue  # rigid (0 Hz) or divergent throughout
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rel = np.where(fn > 0, np.abs(f - fn) / fn, np.inf)
+                i = int(np.argmin(rel))
+                row = {
+                    **head,
+                    "system_mode": j + 1,
+                    "speed_rpm": float(speeds[i] * RPM),
+                    "natural_hz": f,
+                    "system_hz": float(fn[i]),
+                    "distance": float(rel[i]),
+                }
+                if row["distance"] <= margin:
+                    coincidences.append(row)
+                if best_sys is None or row["distance"] < best_sys["distance"]:
+                    best_sys = row
+        strip = ("component",)
+        summary.append(
+            {
+                **comp.to_dict(),
+                "closest": {
+                    "excitation": None
+                    if best_exc is None
+                    else {k: v for k, v in best_exc.items() if k not in strip},
+                    "system_mode": None
+                    if best_sys is None
+                    else {k: v for k, v in best_sys.items() if k not in strip},
+                },
+            }
+        )
+    crossings.sort(key=lambda r: r["speed_rad_s"])
+    near.sort(key=lambda r: r["distance"])
+    coincidences.sort(key=lambda r: r["distance"])
+    return {
+        "component_crossings": crossings,
+        "component_near": near,
+        "coincidences": coincidences,
+        "components": summary,
+        "system": {
+            "speed_rpm": [float(speeds[0] * RPM), float(speeds[-1] * RPM)],
+            "frequencies_hz": [float(v) for v in freq[-1]],
+            "min_hz": [float(v) for v in freq.min(axis=0)],
+            "max_hz": [float(v) for v in freq.max(axis=0)],
+        },
+    }
+
+
+def format_check(report: dict[str, Any]) -> str:
+    """Human-readable verdict of :func:`resonance_check`."""
+    lo, hi = report["speed_range_rpm"]
+    rng = f"{lo:.6g} rpm" if lo == hi else f"{lo:.6g}-{hi:.6g} rpm"
+    m = 100 * report["margin"]
+    lines = [f"Resonance check: {report['title']} over {rng}, margin {m:g} %"]
+    if report.get("frequencies", "undamped") != "undamped":
+        lines.append(f"  frequencies: {report['frequencies']}")
+    for c in report["crossings"]:
+        whirl = f", {c['whirl']} whirl" if c.get("whirl") else ""
+        lines.append(
+            f"  CROSSING  mode {c['mode']} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
+            f"({c['frequency_hz']:.5g} Hz{whirl})"
+        )
+    for r in report["near"]:
+        lines.append(
+            f"  NEAR      mode {r['mode']} ({r['natural_hz']:.5g} Hz"
+            + (f", {r['whirl']} whirl" if r.get("whirl") else "")
+            + ") within "
+            f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
+            f"at {r['speed_rpm']:.5g} rpm"
+        )
+    for c in report.get("component_crossings", ()):
+        lines.append(
+            f"  CROSSING  {_body_mode(c)} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
+            f"({c['frequency_hz']:.5g} Hz)"
+        )
+    for r in report.get("component_near", ()):
+        lines.append(
+            f"  NEAR      {_body_mode(r)} ({r['natural_hz']:.5g} Hz) within "
+            f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
+            f"at {r['speed_rpm']:.5g} rpm"
+        )
+    for r in report.get("coincidences", ()):
+        lines.append(
+            f"  COINCIDE  {_body_mode(r)} ({r['natural_hz']:.5g} Hz) within "
+            f"{100 * r['distance']:.2f} % of system mode {r['system_mode']} "
+            f"({r['system_hz']:.5g} Hz) at {r['speed_rpm']:.5g} rpm"
+        )
+    for comp in report.get("components", ()):
+        f = comp["frequencies"]
+        parts = [f"  BODY      {comp['label']}: {len(f)} mode(s) {f[0]:.5g}-{f[-1]:.5g} Hz"]
+        ex, sy = comp["closest"]["excitation"], comp["closest"]["system_mode"]
+        if ex is not None:
+            parts.append(
+                f"closest excitation {100 * ex['distance']:.2f} % (mode {ex['mode']} x "
+                f"{ex['excitation']})"
+            )
+        if sy is not None:
+            parts.append(
+                f"closest system mode {100 * sy['distance']:.2f} % (mode {sy['mode']} ~ "
+                f"system mode {sy['system_mode']})"
+            )
+        lines.append(", ".join(parts))
+    st = report.get("stability")
+    if st is not None:
+        for u in st["unstable"][:10]:
+            lines.append(
+                f"  UNSTABLE  mode {u['mode']} ({u['frequency_hz']:.5g} Hz) grows at "
+                f"{u['growth_rate']:.4g} 1/s at {u['speed_rpm']:.5g} rpm"
+            )
+        if len(st["unstable"]) > 10:
+            lines.append(f"  ... {len(st['unstable']) - 10} more unstable (mode, speed) pairs")
+        z = st["least_damped"]
+        if z is not None:
+            lines.append(
+                f"  DAMPING   least damped: mode {z['mode']} ({z['frequency_hz']:.5g} Hz), "
+                f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
+            )
+    lines.append(
+        "verdict: no resonance risk" if report["ok"] else "verdict: RESONANCE RISK (see above)"
+    )
+    return "\n".join(lines)
+
+
+def _body_mode(row: dict[str, Any]) -> str:
+    """``"gear 1 mode 3 (folding)"`` of a component row."""
+    kind = f" ({row['type']})" if row.get("type") else ""
+    return f"{row['component']} mode {row['mode']}{kind}"

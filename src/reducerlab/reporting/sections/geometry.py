@@ -1,0 +1,117 @@
+"""Report sections on the gear geometry: tooth surfaces, the closed graph of an internal
+pair, and loaded tooth contact results given to the report."""
+
+from __future__ import annotations
+
+import math
+
+from ..blocks import Section, figure, note, table
+from ..context import Context
+
+__all__ = ["closed_graph_section", "contact_section", "surfaces_section"]
+
+
+def surfaces_section(ctx: Context) -> Section | None:
+    """One tooth sector of each gear of pair 1 (designs with tooth surfaces)."""
+    d = ctx.design
+    if not d.has_tooth_surfaces:
+        return None
+    from ...geometry import generate_tooth
+    from ...geometry.solid import build_gear_solid
+    from ...plot.surface import plot_tooth
+
+    s = Section("surfaces", "Tooth surfaces")
+    if d.gear_count > 2:
+        s.blocks.append(
+            note(
+                "Pair 1 (gears 1 and 2) shown; 'reducerlab surface --gear N' generates the others."
+            )
+        )
+    rows = []
+    for gear in (1, 2):
+        crown, bevel = d.tooth_generation(gear)
+        tooth = generate_tooth(crown, bevel, 15, 15)
+        solid = build_gear_solid(
+            crown, bevel, n_profile=15, n_face=15, n_land=3, n_space=7, rim=d.surface.rim
+        )
+        rows.append(
+            (
+                f"gear {gear}",
+                bevel.kind,
+                bevel.teeth,
+                math.degrees(bevel.cone_angle),
+                crown.profile.name,
+                tooth.report.summary().splitlines()[0],
+            )
+        )
+        s.blocks.append(figure(plot_tooth(solid), f"gear {gear}: one tooth sector", dpi=90))
+    s.blocks.insert(
+        0,
+        table(
+            ["gear", "kind", "teeth", "pitch cone (deg)", "profile", "check"], rows, name="gears"
+        ),
+    )
+    return s
+
+
+def closed_graph_section(ctx: Context) -> Section | None:
+    """The internal pair's closed graph and its conditions (KHV designs, whose gears
+    are an internal pair)."""
+    if ctx.design.type != "khv":
+        return None
+    from ...plot.khv import plot_closed_graph
+
+    gears = ctx.design.gears
+    pair = gears.pair()
+    s = Section("closed-graph", "Closed graph of the internal pair")
+    rows = [(c.name, "ok" if c.ok else "FAIL", c.margin, c.rule) for c in pair.conditions()]
+    s.values["conditions_ok"] = all(c.ok for c in pair.conditions())
+    s.blocks.append(table(["condition", "", "margin", "rule"], rows, name="conditions"))
+    s.blocks.append(
+        figure(
+            plot_closed_graph(pair, gears.shift_line if gears.x2 is None else None),
+            "closed graph: feasible shift coefficients and the design point",
+        )
+    )
+    return s
+
+
+def contact_section(ctx: Context) -> Section | None:
+    """Loaded tooth contact results given to the report."""
+    given = ctx.given("contact")
+    if not given:
+        return None
+    from ...plot.contact import plot_contact
+
+    s = Section("contact", "Loaded tooth contact")
+    for r in given:
+        w = ctx.foreign(r)
+        if w is not None:
+            s.blocks.append(w)
+        summ = r.summary()
+        s.values.setdefault("summaries", []).append(summ)
+        rows = [
+            ("mean mesh stiffness (N/m)", summ["k_mean"]),
+            ("transmission error peak-to-peak (um)", summ["te_peak_to_peak"] * 1e6),
+            ("peak contact pressure (MPa)", summ["peak_pressure_max"] * 1e-6),
+            ("interior contact pressure (MPa)", summ["interior_pressure_max"] * 1e-6),
+            ("von Mises stress, max (MPa)", summ["von_mises_max"] * 1e-6),
+            ("mean contact area (mm^2)", summ["contact_area_mean"] * 1e6),
+            ("mean normal force (N)", summ["normal_force_mean"]),
+        ]
+        s.blocks.append(
+            table(
+                ["quantity", "value"],
+                rows,
+                digits=5,
+                name="contact",
+                caption=str(r.attrs.get("title", "")),
+            )
+        )
+        s.blocks.append(
+            figure(
+                plot_contact(r),
+                "contact pattern, mesh stiffness and transmission error over the mesh cycle",
+            )
+        )
+    return s

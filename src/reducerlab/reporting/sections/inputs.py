@@ -1,0 +1,151 @@
+"""Report sections on what the drive is: its design inputs (as written and in SI, with
+the papers' assumptions in force) and its kinematics."""
+
+from __future__ import annotations
+
+import html
+import re
+import tomllib
+from typing import Any
+
+from ...design import Design, apply_overrides, field_kind
+from ...units import QUANTITIES, RPM
+from ..blocks import Block, Section, details, figure, note, table
+from ..context import Context
+
+__all__ = ["PAPERS", "assumption_sections", "design_section", "drive_family",
+           "kinematics_section"]  # fmt: skip
+
+#: Papers whose choices in docs/assumptions.md apply to each drive (the design type, or
+#: for a kinematics-only design its ``drive``); a section applies when its heading
+#: starts with one of these.
+PAPERS = {
+    "nutation": ("Paper 000", "Paper 001", "Paper 002", "Papers 000", "Papers 001"),
+    "cycloid": ("Paper 003", "Papers 000, 002, 003"),
+    "khv": ("Paper 004",),
+}
+
+
+def drive_family(design: Design) -> str:
+    """The key of :data:`PAPERS` whose papers apply to the design's drive
+    (:attr:`~reducerlab.design.Design.drive_name`), or ''."""
+    return next((k for k in PAPERS if k in design.drive_name), "")
+
+
+def _flatten(data: Any, prefix: str = "") -> list[tuple[str, Any]]:
+    out: list[tuple[str, Any]] = []
+    if isinstance(data, dict):
+        for k, v in data.items():
+            out += _flatten(v, f"{prefix}.{k}" if prefix else str(k))
+    elif isinstance(data, list) and any(isinstance(v, dict) for v in data):
+        for i, v in enumerate(data):
+            out += _flatten(v, f"{prefix}.{i}")
+    else:
+        out.append((prefix, data))
+    return out
+
+
+def _lookup(data: Any, path: str) -> Any:
+    """The value at a dotted design path (list items by index), None when absent."""
+    # NOTE: the same walk as sweep's _design_keys and design.set_path (issue 25: one
+    # path walker for the design's dotted paths belongs with the parameters module)
+    for part in path.split("."):
+        if isinstance(data, dict) and part in data:
+            data = data[part]
+        elif isinstance(data, list) and part.isdigit() and int(part) < len(data):
+            data = data[int(part)]
+        else:
+            return None
+    return data
+
+
+def assumption_sections(text: str, family: str) -> list[tuple[str, str]]:
+    """``(heading, body)`` of the docs/assumptions.md sections that apply to a drive
+    family (a key of :data:`PAPERS`)."""
+    keys = PAPERS.get(family, ())
+    parts = re.split(r"^## ", text, flags=re.M)[1:]
+    out = []
+    for part in parts:
+        heading, _, body = part.partition("\n")
+        if any(heading.startswith(k) for k in keys):
+            out.append((heading.strip(), body.strip()))
+    return out
+
+
+def design_section(ctx: Context) -> Section:
+    """Design inputs as written (with their units) and in SI, and the assumptions."""
+    d = ctx.design
+    s = Section("design", "Design inputs")
+    written = tomllib.loads(ctx.text.removeprefix("\ufeff")) if ctx.text else {}
+    if written and ctx.overrides:
+        written = apply_overrides(written, ctx.overrides)
+    rows = []
+    for key, value in _flatten(d.model_dump(mode="json", exclude={"report"})):
+        if key in ("name", "description"):
+            continue
+        as_written = _lookup(written, key)
+        kind = field_kind(d, key)
+        rows.append((key, "" if as_written is None else str(as_written),
+                     value if isinstance(value, int | float) else str(value),
+                     QUANTITIES[kind].si_unit if kind else ""))  # fmt: skip
+    s.blocks.append(note(f"{d.name or d.type}: type = {d.type!r}, source {d.source}"))
+    if d.description:
+        s.blocks.append(note(d.description))
+    if ctx.overrides:
+        s.blocks.append(note("Set on the command line (--set), shown as written below: "
+                             + "; ".join(ctx.overrides), "warning"))  # fmt: skip
+    inputs = table(["field", "as written", "SI value", "SI unit"], rows, digits=8, name="inputs")
+    s.blocks.append(details(f"all {len(rows)} fields, as written and in SI", inputs.html, "table"))
+    if ctx.text:
+        s.blocks.append(details("the design file", f"<pre>{html.escape(ctx.text)}</pre>", "pre"))
+    sections = assumption_sections(ctx.assumptions, drive_family(d))
+    if sections:
+        items = "".join(details(h, f"<pre>{html.escape(b)}</pre>").html for h, b in sections)
+        s.blocks.append(
+            note("Choices in force where the papers are silent or ambiguous (docs/assumptions.md):")
+        )
+        s.blocks.append(Block(f'<div class="assumptions">{items}</div>', "assumptions"))
+    s.values["inputs"] = len(rows)
+    return s
+
+
+def kinematics_section(ctx: Context) -> Section | None:
+    """Transmission ratio, member speeds, mesh frequencies (designs with kinematics)."""
+    if ctx.design.kinematics() is None:
+        return None
+    from ...analysis.kinematics import kinematics
+    from ...drives import kinematics_of
+
+    drive, speed = kinematics_of(ctx.design)
+    res = kinematics(drive, speed, title=ctx.design.name, metadata=ctx.design.provenance)
+    ds = res.data
+    s = Section("kinematics", "Kinematics")
+    ratio = float(ds.attrs["ratio"])
+    s.values.update(
+        ratio=ratio,
+        speed_rpm=[float(v) for v in ds["speed_rpm"].values],
+        mesh_hz=[float(v) for v in ds["mesh_frequency"].values],
+    )
+    s.blocks.append(
+        table(
+            ["quantity", "value"],
+            [
+                ("transmission ratio i = omega_in / omega_out", ratio),
+                ("input speed (rpm)", float(ds.attrs["input_speed_rad_s"]) * RPM),
+            ],
+            digits=8,
+            name="ratio",
+        )
+    )
+    members = [
+        (str(m), float(v)) for m, v in zip(ds["member"].values, ds["speed_rpm"].values, strict=True)
+    ]
+    s.blocks.append(table(["member", "speed (rpm)"], members, digits=8, name="members"))
+    meshes = [
+        (str(m), float(v))
+        for m, v in zip(ds["mesh"].values, ds["mesh_frequency"].values, strict=True)
+    ]
+    s.blocks.append(table(["mesh", "mesh frequency (Hz)"], meshes, digits=8, name="meshes"))
+    if "omega" in ds:
+        s.blocks.append(figure(res.plot(), "angular velocity over one input turn"))
+    return s

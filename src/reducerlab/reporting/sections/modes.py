@@ -1,0 +1,225 @@
+"""Report sections on the linear vibration of the drive: natural frequencies and mode
+shapes, their sensitivities, the Campbell diagram with the resonance verdict, and the
+gear-body modes given to the report."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...analysis.resonance import resonance_check
+from ...plot.campbell import plotly_campbell
+from ...plot.modal import plotly_mode_shapes, plotly_sensitivity
+from ..blocks import Section, figure, interactive, note, pre, table, verdict
+from ..context import Context
+
+__all__ = ["bodies_section", "campbell_section", "modal_section", "sensitivity_section"]
+
+
+def modal_section(ctx: Context) -> Section | None:
+    """Natural frequencies, classification, mode shapes and energy shares."""
+    if not ctx.has_model():
+        return None
+    res = ctx.modal()
+    ds = res.data
+    s = Section("modal", "Natural frequencies and mode shapes")
+    freq = [float(f) for f in ds["frequency"].values]
+    s.values["frequencies_hz"] = freq
+    rows = [
+        (int(m), f, str(c))
+        for m, f, c in zip(ds["mode"].values, freq, ds["classification"].values, strict=True)
+    ]
+    s.blocks.append(
+        table(["mode", "frequency (Hz)", "classification"], rows, digits=7, name="modes")
+    )
+    if ds.attrs.get("skew_velocity_terms"):
+        s.blocks.append(
+            note(
+                "The model has gyroscopic, Coriolis or circulatory terms; these "
+                "undamped modes leave them out (see the Campbell section).",
+                "warning",
+            )
+        )
+    s.blocks.append(
+        interactive(
+            plotly_mode_shapes(res),
+            res.plot_shapes(),
+            "mode shapes: choose a mode",
+            div_id="mode-shapes",
+        )
+    )
+    s.blocks.append(figure(res.plot_energy(), "kinetic and strain energy shares"))
+    return s
+
+
+def sensitivity_section(ctx: Context) -> Section | None:
+    """Relative sensitivities of every natural frequency to every model parameter."""
+    if not ctx.has_model():
+        return None
+    from ...analysis.modal import frequency_sensitivity
+    from ...model.inspect import parameter_paths
+
+    model = ctx.model()
+    params = [p for p, _ in parameter_paths(model)]
+    res = frequency_sensitivity(model, params, ctx.modal())
+    ds = res.data
+    rel = ds["relative"].values  # (mode, parameter)
+    s = Section("sensitivity", "Sensitivity of the natural frequencies")
+    rows = []
+    for j, m in enumerate(ds["mode"].values):
+        r = rel[j]
+        if not np.any(np.isfinite(r)) or float(ds["frequency"].values[j]) == 0.0:
+            continue
+        k = int(np.nanargmax(np.abs(r)))
+        rows.append(
+            (int(m), float(ds["frequency"].values[j]), str(ds["parameter"].values[k]), float(r[k]))
+        )
+    s.values["top"] = rows
+    s.blocks.append(
+        note(
+            "Relative sensitivity (p / f) df/dp: a 1 % rise of the parameter "
+            "moves the frequency by that many per cent (exact derivatives)."
+        )
+    )
+    s.blocks.append(
+        table(
+            ["mode", "frequency (Hz)", "most sensitive parameter", "(p/f) df/dp"],
+            rows,
+            digits=4,
+            name="sensitivity",
+        )
+    )
+    s.blocks.append(
+        interactive(
+            plotly_sensitivity(res),
+            res.plot(),
+            "relative sensitivities (p/f) df/dp, every mode and parameter: hover for values",
+            div_id="sensitivity-map",
+        )
+    )
+    return s
+
+
+def campbell_section(ctx: Context) -> Section | None:
+    """The resonance verdict over the operating range and the Campbell diagram it used
+    (damped, whirl-split branches with gyroscopic terms), with the given body modes."""
+    if not ctx.has_model():
+        return None
+    _, hi = ctx.design.operating_range()
+    if hi == 0:
+        return None
+    s = Section("campbell", "Campbell diagram and resonance verdict")
+    check = resonance_check(ctx.design, components=ctx.components())
+    gyro = check["frequencies"] != "undamped"
+    res = check.campbell  # the diagram the verdict used: never computed again
+    s.values.update(
+        ok=bool(check["ok"]),
+        crossings=check["crossings"],
+        near=check["near"],
+        unstable=check["stability"]["unstable"],
+    )
+    text = check.table()
+    s.blocks.append(
+        verdict(
+            check["ok"],
+            "no resonance in the operating range"
+            if check["ok"]
+            else "RESONANCE RISK: see the findings below",
+        )
+    )
+    s.blocks.append(
+        interactive(
+            plotly_campbell(res, check),
+            check.plot(),
+            "Campbell diagram: hover for values, drag to zoom"
+            + (" (damped, whirl-split branches)" if gyro else ""),
+            div_id="campbell",
+        )
+    )
+    head = ["mode", "excitation", "speed (rpm)", "frequency (Hz)"] + (["whirl"] if gyro else [])
+    rows = [
+        (c["mode"], c["excitation"], c["speed_rpm"], c["frequency_hz"])
+        + ((c["whirl"],) if gyro else ())
+        for c in check["crossings"]
+    ]
+    if rows:
+        s.blocks.append(
+            table(
+                head,
+                rows,
+                name="crossings",
+                caption="crossings in the operating range",
+            )
+        )
+    near = [
+        (
+            r["mode"],
+            r["excitation"],
+            r["speed_rpm"],
+            r["natural_hz"],
+            r["excitation_hz"],
+            100 * r["distance"],
+        )
+        + ((r["whirl"],) if gyro else ())
+        for r in check["near"]
+    ]
+    if near:
+        s.blocks.append(
+            table(
+                [
+                    "mode",
+                    "excitation",
+                    "speed (rpm)",
+                    "natural (Hz)",
+                    "excitation (Hz)",
+                    "margin (%)",
+                ]
+                + (["whirl"] if gyro else []),
+                near,
+                name="near",
+                caption=f"modes within {100 * check['margin']:g} % of an "
+                "excitation (closest approach)",
+            )
+        )
+    if check.get("components"):
+        s.blocks.append(
+            figure(
+                check.plot_components(),
+                "gear-body modes against the excitations and the system modes (paper 000 Table 5)",
+            )
+        )
+    s.blocks.append(pre(text))
+    return s
+
+
+def bodies_section(ctx: Context) -> Section | None:
+    """Gear-body (finite-element) modes given to the report."""
+    given = ctx.given("body-modal")
+    if not given:
+        return None
+    s = Section("bodies", "Gear-body modes (finite elements)")
+    s.blocks.append(
+        note(
+            "Free-body finite-element modes of the gear blanks (paper 000 §4), "
+            "from 'reducerlab body-modal' results; the resonance verdict above "
+            "checks them against the excitations and the system modes."
+        )
+    )
+    for r in given:
+        ds = r.data
+        label = str(ds.attrs.get("title", "gear body"))
+        w = ctx.foreign(r)
+        if w is not None:
+            s.blocks.append(w)
+        rows = [
+            (int(m), float(f), str(t))
+            for m, f, t in zip(
+                ds["mode"].values, ds["frequency"].values, ds["type"].values, strict=True
+            )
+        ]
+        s.values.setdefault("frequencies_hz", []).append([row[1] for row in rows])
+        s.blocks.append(
+            table(
+                ["mode", "frequency (Hz)", "type"], rows, digits=6, caption=label, name="body-modes"
+            )
+        )
+    return s
