@@ -44,11 +44,11 @@ from ..design import (
     TorsionalDamping,
     TorsionalStiffness,
     angle_between,
-    field_rules,
     operating_range_of,
     quantity,
 )
-from ..kinematics import DoubleNutationDrive, NutationDrive, gyroscopic_moment
+from ..design_files import field_rules
+from ..kinematics import TRAINS, DriveKinematics, gyroscopic_moment
 from ..kinematics.mesh import internal_cone_angles
 from ..model import (
     Backlash,
@@ -454,15 +454,15 @@ class NutationDesign(Design):
         """``speed_range`` (rad/s) where given, else the input speed twice."""
         return operating_range_of(self.input_speed, self.speed_range)
 
-    def kinematics(self) -> DoubleNutationDrive | NutationDrive:
+    def kinematics(self) -> DriveKinematics:
         """Ratio and mesh frequencies (gear 2 fixed; output gear 4, or the nutating gear's
-        net rotation through a coupling for a single-sided drive)."""
+        net rotation through a coupling for a single-sided drive): the
+        ``double_nutation`` or ``nutation`` train."""
         if self.sides == "double":
-            return DoubleNutationDrive(
-                self.gear1.teeth, self.gear2.teeth, self.gear3.teeth, self.gear4.teeth,  # type: ignore[union-attr]
-                self.theta,
-            )  # fmt: skip
-        return NutationDrive(self.gear1.teeth, self.gear2.teeth, self.theta, output="nutating")
+            teeth = {f"z{k}": getattr(self, f"gear{k}").teeth for k in range(1, 5)}
+            return TRAINS["double_nutation"].build(teeth, self.theta)
+        teeth = {"nutating": self.gear1.teeth, "central": self.gear2.teeth}
+        return TRAINS["nutation"].build(teeth, self.theta, output="nutating")
 
 
 def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
