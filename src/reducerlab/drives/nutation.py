@@ -66,30 +66,12 @@ from ..model import (
     Support,
 )
 from ..model.laws import TimeLaw
+from .nutation_mesh import contact_normal, tilt_lever
 
-__all__ = ["NutationDesign", "build_model", "contact_normal"]
+__all__ = ["NutationDesign", "build_model"]
 
 #: Relative tolerance on the agreement of the mean cone distances of all gears.
 CONE_DISTANCE_TOL = 1e-3
-
-
-def contact_normal(delta: float, beta: float, alpha_n: float, nutation: float = 0.0):
-    """Unit contact normal ``(a_x, a_y, a_z)`` of a bevel gear (paper 000 Eq. 4).
-
-    Parameters
-    ----------
-    delta : float
-        Pitch cone angle (rad).
-    beta, alpha_n : float
-        Spiral (helix) angle and normal pressure angle (rad).
-    nutation : float
-        Rotation about y of the nutating gear's frame (rad); 0 for a central gear.
-    """
-    A = math.cos(delta) * math.sin(alpha_n) + math.sin(delta) * math.sin(beta) * math.cos(alpha_n)
-    C = math.sin(delta) * math.sin(alpha_n) - math.cos(delta) * math.sin(beta) * math.cos(alpha_n)
-    x, z = -A, C
-    c, s = math.cos(nutation), math.sin(nutation)
-    return (x * c + z * s, math.cos(beta) * math.cos(alpha_n), -x * s + z * c)
 
 
 class BlankSpec(Spec):
@@ -472,32 +454,6 @@ def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
                    ref_speed=speed)  # fmt: skip
 
 
-def contact_point(delta_c: float, nutation: float, cone_distance: float) -> tuple[float, ...]:
-    """Mean contact point of a pair in the nutating gear's own frame (m).
-
-    The point in space is the central gear's mean pitch point ``R_m (sin d_c, 0, cos d_c)``
-    of the mesh frame, where paper 000 Eq. 4's central-gear normal acts (apex at the
-    nutation centre); the nutating gear's frame is the mesh frame turned by the
-    nutation angle about y (Eq. 4's ``a_11, a_13``), so the point there is
-    ``R_y(-theta)`` of it.
-    """
-    x, z = cone_distance * math.sin(delta_c), cone_distance * math.cos(delta_c)
-    c, s = math.cos(nutation), math.sin(nutation)
-    return (x * c - z * s, 0.0, x * s + z * c)
-
-
-def _lever(
-    delta_n: float, delta_c: float, beta: float, alpha_n: float, nutation: float, R: float
-) -> tuple[float, float]:
-    """``(g_rx, g_ry)``: how a tilt of the nutating gear about its own transverse axes
-    changes the mesh deflection, ``(p x n)_x, (p x n)_y`` with ``p`` the mean contact
-    point (:func:`contact_point`) and ``n`` the contact normal of paper 000 Eq. 4, both
-    in the gear's own frame."""
-    n = contact_normal(delta_n, beta, alpha_n)
-    px, _, pz = contact_point(delta_c, nutation, R)
-    return (-pz * n[1], pz * n[0] - px * n[2])
-
-
 def build_model(design: NutationDesign) -> Model:
     """The 12-DOF (double) or 8-DOF (single) model of paper 000 on the generic core.
 
@@ -580,7 +536,7 @@ def build_model(design: NutationDesign) -> Model:
             f"{cbody}.rz": -a_c[1] * c.mean_radius,
         }  # fmt: skip
         if tilt is not None:
-            g["g13.rx"], g["g13.ry"] = _lever(dn, dc, b, an, th, cone[2 * j + 1])
+            g["g13.rx"], g["g13.ry"] = tilt_lever(dn, dc, b, an, th, cone[2 * j + 1])
         omega = 2 * math.pi * mesh_hz[j]
         error = Fourier(0.0, (spec.error_amplitude,), omega, ref_speed=design.input_speed)
         elements.append(
