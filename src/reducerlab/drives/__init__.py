@@ -2,6 +2,9 @@
 
 :func:`load_design` reads a TOML design file and validates it against the Design class
 its ``type`` field names; :func:`build_model` dispatches to that drive's builder.
+A design's kinematics (ratio, member speeds, mesh frequencies) are built by its kinematic
+train in :data:`reducerlab.kinematics.TRAINS`, which a kinematics-only design
+(``type = "kinematics"``) names in its ``drive`` field.
 """
 
 from __future__ import annotations
