@@ -18,7 +18,7 @@ import pytest
 import reducerlab as rl
 from reducerlab.analysis.complex_modal import complex_modes
 from reducerlab.analysis.modal import modal
-from reducerlab.drives.nutation import _lever, contact_normal, contact_point
+from reducerlab.drives.nutation_mesh import contact_normal, contact_point, tilt_lever
 from reducerlab.errors import DesignError
 
 NUT = "examples/nutation_double_sided.toml"
@@ -85,7 +85,7 @@ def test_lever_acts_at_the_contact_point_of_both_cones():
         assert math.atan2(mesh[0], mesh[2]) == pytest.approx(dc, rel=1e-14)
         b, a = d.helix_angle, d.normal_pressure_angle
         lever = np.cross(p, contact_normal(dn, b, a))
-        np.testing.assert_allclose(_lever(dn, dc, b, a, th, R), lever[:2], rtol=1e-14)
+        np.testing.assert_allclose(tilt_lever(dn, dc, b, a, th, R), lever[:2], rtol=1e-14)
 
 
 def test_tilt_inertia_is_about_the_nutation_centre():

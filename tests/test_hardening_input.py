@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from reducerlab.design import MAX_DESIGN_BYTES, read_toml
+from reducerlab.design_files import MAX_DESIGN_BYTES, read_toml
 from reducerlab.drives import design_from_dict, load_design
 from reducerlab.errors import DesignError, ModelError
 from reducerlab.examples import example_files

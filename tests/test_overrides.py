@@ -10,7 +10,7 @@ import pytest
 from typer.testing import CliRunner
 
 from reducerlab.cli import app
-from reducerlab.design import apply_overrides, read_toml
+from reducerlab.design_files import apply_overrides, read_toml
 from reducerlab.drives import load_design
 from reducerlab.errors import DesignError
 from reducerlab.examples import example_dir

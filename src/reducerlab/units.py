@@ -180,7 +180,7 @@ def shown(value: Any, limit: int = SHOW_CHARS) -> str:
 #: Units in which tables and figures show a quantity kind (SI inside): name, factor
 #: from SI. Lengths below 1 mm are shown in um (backlash, transmission error).
 DISPLAY: dict[str, tuple[str, float]] = {
-    "angular velocity": ("rpm", 60.0 / (2.0 * math.pi)),
+    "angular velocity": ("rpm", RPM),
     "angle": ("deg", 180.0 / math.pi),
     "time": ("ms", 1e3),
 }

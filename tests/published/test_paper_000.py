@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from reducerlab.analysis.modal import modal
 from reducerlab.cli import app
 from reducerlab.drives import build_model, design_from_dict, load_design
-from reducerlab.drives.nutation import contact_normal
+from reducerlab.drives.nutation_mesh import contact_normal
 from reducerlab.errors import DesignError
 from reducerlab.examples import example_dir
 

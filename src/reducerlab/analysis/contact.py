@@ -480,7 +480,7 @@ def design_with_mesh(path: Any, result: ContactResult) -> str:
     the original file are not carried over; a header names the source."""
     import tomli_w
 
-    from ..design import read_toml
+    from ..design_files import read_toml
 
     data = read_toml(path)
     pair = int(result.data.attrs["pair"])

@@ -14,13 +14,12 @@ from ..errors import ReducerlabError
 from ..kinematics import DriveKinematics
 from ..kinematics.euler import angular_velocity_body, angular_velocity_fixed
 from ..results import Result, provenance
+from ..units import RPM, TWO_PI
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = ["KinematicsResult", "kinematics"]
-
-RPM = 60.0 / (2.0 * math.pi)
 
 
 def kinematics(
@@ -71,7 +70,7 @@ def kinematics(
     )
     motion = drive.nutating_motion(input_speed)
     if motion is not None:
-        period = 2 * math.pi / abs(input_speed)
+        period = TWO_PI / abs(input_speed)
         t = np.linspace(0.0, period, points)
         phi, theta, psi = motion.angles(t)
         body = angular_velocity_body(theta, psi, motion.dphi, 0.0, motion.dpsi)

@@ -41,7 +41,13 @@ from ..errors import ReducerlabError
 from ..fe.elasticity import STEEL, Material
 from ..kinematics.rotations import rot_z
 
-__all__ = ["ToothCompliance", "bump_interaction", "fe_tooth_compliance", "flank_influence"]
+__all__ = [
+    "ToothCompliance",
+    "bump_interaction",
+    "fe_tooth_compliance",
+    "flank_influence",
+    "load_nodes",
+]
 
 Array = NDArray[np.float64]
 Stage = Callable[[str], None]
@@ -174,7 +180,7 @@ def fe_tooth_compliance(
     say("meshing five tooth sectors")
     mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, max(bs, ts)), sectors=range(-2, 3))
     # load grid, inset by the bump radius from the flank's edges (arc length)
-    u_nodes, v_nodes = _load_nodes(flank, a, n_u, n_v)
+    u_nodes, v_nodes = load_nodes(flank, a, n_u, n_v)
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
     P0, N0 = flank.evaluate(uu.ravel(), vv.ravel())
     skm = mesh.skfem()
@@ -243,9 +249,16 @@ def flank_influence(
     return Kfe, int(K.shape[0])
 
 
-def _load_nodes(flank, inset: float, n_u: int, n_v: int) -> tuple[Array, Array]:
-    """Load-point parameters, evenly spaced in arc length, ``inset`` (m) inside the
-    flank's edges (measured along the mid-face profile and the mid-height face line)."""
+def load_nodes(flank, inset: float, n_u: int, n_v: int) -> tuple[Array, Array]:
+    """Load-point parameters of a flank: ``n_u`` profile parameters and ``n_v`` face
+    parameters, evenly spaced in arc length, ``inset`` (m) inside the flank's edges
+    (measured along the mid-face profile and the mid-height face line).
+
+    Raises
+    ------
+    ReducerlabError
+        When the flank is too short for load bumps of radius ``inset``.
+    """
     lo, hi = flank.u_range
     s = np.linspace(lo, hi, 401)
     P, _ = flank.evaluate(s, np.full_like(s, 0.5))
@@ -330,12 +343,12 @@ def _force_of(b: Array, basis, n: Array) -> float:
 
 def _solve_many(K, F: Array, fixed: NDArray[np.int64]) -> Array:
     """``U = K^-1 F`` with the DOFs ``fixed`` held at zero (one factorisation)."""
-    from ..fe.elasticity import _pardiso_inverse
+    from ..fe.elasticity import pardiso_inverse
 
     n = K.shape[0]
     free = np.setdiff1d(np.arange(n), fixed)
     Kff = K[free][:, free].tocsr()
-    inv = _pardiso_inverse(Kff)
+    inv = pardiso_inverse(Kff)
     if inv is not None:
         Uf = inv.matmat(F[free])
     else:

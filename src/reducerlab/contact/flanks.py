@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
 from ..errors import ReducerlabError
-from ..geometry.bevel_surface import _B, BevelGear, _envelope
+from ..geometry.bevel_surface import BevelGear, axis_frame, envelope
 from ..geometry.solid import cone_coordinates, default_blank
 from ..geometry.spiral import CrownGear
 from ..kinematics.rotations import rot_x, rot_z
@@ -114,7 +114,7 @@ class BevelFlank:
         uu = np.clip(np.asarray(u, float).ravel(), 0.0, 1.0)
         rho = lo + (hi - lo) * np.asarray(v, float).ravel()
         rC, nC = self.crown.points(uu, rho, self.flank, 0)
-        pts, nrm, _, res, _ = _envelope(rC, nC, self.gear)
+        pts, nrm, _, res, _ = envelope(rC, nC, self.gear)
         if not np.all(np.abs(res) <= 1e-9):
             bad = int(np.sum(~(np.abs(res) <= 1e-9)))
             raise ReducerlabError(
@@ -255,7 +255,7 @@ class NutationPair:
         u0 = self.crown.profile.pitch_parameter()
         r, n = self.crown.points(np.array([u0]), np.array([self.crown.mean_cone_distance]),
                                  self.flank, 0)  # fmt: skip
-        return float(_envelope(r, n, self.external)[2][0])
+        return float(envelope(r, n, self.external)[2][0])
 
     def poses(self, phi: float) -> tuple[GearPose, GearPose]:
         ez = np.array([0.0, 0.0, 1.0])
@@ -263,7 +263,7 @@ class NutationPair:
         out = []
         phi_c = self.phase + phi * math.sin(self.external.cone_angle)
         for g, axial in ((self.external, mis.axial_a), (self.internal, mis.axial_b)):
-            Bt = _B(g.cone_angle).T
+            Bt = axis_frame(g.cone_angle).T
             R = Bt @ rot_z(phi_c / math.sin(g.cone_angle))
             axis = Bt @ ez
             out.append(GearPose(R, axial * axis, axis))

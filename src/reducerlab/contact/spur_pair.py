@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 from ..fe.elasticity import STEEL, Material
 from ..geometry.spur import SpurGear, SpurPair
-from .compliance import TEETH, ToothCompliance, _load_nodes, flank_influence
+from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
 from .flanks import GearPose
 
 __all__ = ["SpurFlank", "SpurMeshPair", "spur_tooth_compliance"]
@@ -306,7 +306,7 @@ def spur_tooth_compliance(
     say = stage or (lambda _s: None)
     a = 2.0 * ts  # bump radius: two tooth elements
     sflank = SpurFlank(gear, flank)
-    u_nodes, v_nodes = _load_nodes(sflank, a, n_u, n_v)
+    u_nodes, v_nodes = load_nodes(sflank, a, n_u, n_v)
     say(f"meshing a {SECTOR_TEETH}-tooth sector")
     mesh = mesh_spur_sector(gear, SECTOR_TEETH, rim=rim, sizes=MeshSizes(ts, bs))
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")

@@ -2,6 +2,9 @@
 
 :func:`load_design` reads a TOML design file and validates it against the Design class
 its ``type`` field names; :func:`build_model` dispatches to that drive's builder.
+A design's kinematics (ratio, member speeds, mesh frequencies) are built by its kinematic
+train in :data:`reducerlab.kinematics.TRAINS`, which a kinematics-only design
+(``type = "kinematics"``) names in its ``drive`` field.
 """
 
 from __future__ import annotations
@@ -10,7 +13,8 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from ..design import Design, apply_overrides, read_toml, validate_design
+from ..design import Design
+from ..design_files import apply_overrides, read_toml, validate_design
 from ..errors import DesignError, ReducerlabError, names_source
 from ..kinematics import DriveKinematics
 from ..model import Model
@@ -100,7 +104,7 @@ def load_design(path: str | Path, overrides: Sequence[str] = ()) -> Design:
     overrides : sequence of str
         ``PATH=VALUE`` settings applied to the file's fields before validation
         (``"input_speed=670 rpm"``, ``"gears.x1=0.5"``), as the command line's ``--set``;
-        see :func:`reducerlab.design.apply_overrides`.
+        see :func:`reducerlab.design_files.apply_overrides`.
 
     Raises
     ------
@@ -154,18 +158,18 @@ def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
         Naming the design's source when it has no kinematics or its ``input_speed`` is
         zero (a model may run at rest; speeds and mesh frequencies need a speed).
     """
-    method = getattr(design, "kinematics", None)
-    if method is None:
+    drive = design.kinematics()
+    if drive is None:
         raise DesignError(
             f"{design.source}: design type {design.type!r} defines no drive kinematics"
         )
-    speed = float(design.input_speed)
+    speed = float(design.operating_speed)
     if speed == 0.0:
         raise DesignError(
             f"{design.source}: input_speed = 0: member speeds and mesh frequencies need a "
             "non-zero input speed (e.g. input_speed = '1500 rpm')"
         )
-    return method(), speed
+    return drive, speed
 
 
 def design_and_model(target: Design | Model, what: str) -> tuple[Design | None, Model]:

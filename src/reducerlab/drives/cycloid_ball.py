@@ -42,10 +42,10 @@ from ..design import (
     SpeedRange,
     Stiffness,
     angle_between,
-    field_rules,
     operating_range_of,
 )
-from ..kinematics import CycloidBallDrive
+from ..design_files import field_rules
+from ..kinematics import TRAINS, DriveKinematics
 from ..model import (
     Centripetal,
     Constant,
@@ -238,9 +238,10 @@ class CycloidBallDesign(Design):
         """``speed_range`` (rad/s) where given, else the input speed twice."""
         return operating_range_of(self.input_speed, self.speed_range)
 
-    def kinematics(self) -> CycloidBallDrive:
-        """Ratio and ball-passing frequency of the drive."""
-        return CycloidBallDrive(self.centre_disc.lobes, self.planetary_disc.lobes, self.output)
+    def kinematics(self) -> DriveKinematics:
+        """Ratio and ball-passing frequency of the drive: the ``cycloid_ball`` train."""
+        lobes = {"centre": self.centre_disc.lobes, "planetary": self.planetary_disc.lobes}
+        return TRAINS["cycloid_ball"].build(lobes, output=self.output)
 
     @property
     def mesh_stiffness(self) -> float:

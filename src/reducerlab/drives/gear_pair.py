@@ -32,11 +32,11 @@ from ..design import (
     Stiffness,
     Torque,
     angle_between,
-    field_rules,
     operating_range_of,
     quantity,
 )
-from ..kinematics import ExternalGearPair
+from ..design_files import field_rules
+from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 from ..model.laws import TimeLaw
 
@@ -143,9 +143,9 @@ class GearPairDesign(Design):
         """``speed_range`` (rad/s) where given, else the input speed twice."""
         return operating_range_of(self.operating.speed, self.operating.speed_range)
 
-    def kinematics(self) -> ExternalGearPair:
-        """Kinematics of the pair (pinion input)."""
-        return ExternalGearPair(self.pinion.teeth, self.gear.teeth)
+    def kinematics(self) -> DriveKinematics:
+        """Kinematics of the pair (pinion input): the ``gear_pair`` train."""
+        return TRAINS["gear_pair"].build({"pinion": self.pinion.teeth, "gear": self.gear.teeth})
 
 
 def build_model(design: GearPairDesign) -> Model:

@@ -37,13 +37,13 @@ from ..design import (
     SpeedRange,
     Torque,
     angle_between,
-    field_rules,
     operating_range_of,
     quantity,
 )
+from ..design_files import field_rules
 from ..errors import ReducerlabError
 from ..geometry import InternalGearPair
-from ..kinematics import KHVDrive
+from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
 
@@ -176,9 +176,10 @@ class KHVDesign(Design):
         """``speed_range`` (rad/s) where given, else the input speed twice."""
         return operating_range_of(self.input_speed, self.speed_range)
 
-    def kinematics(self) -> KHVDrive:
-        """Carrier input, ring fixed, planet output."""
-        return KHVDrive(self.gears.planet_teeth, self.gears.ring_teeth)
+    def kinematics(self) -> DriveKinematics:
+        """Carrier input, ring fixed, planet output: the ``khv`` train."""
+        teeth = {"planet": self.gears.planet_teeth, "ring": self.gears.ring_teeth}
+        return TRAINS["khv"].build(teeth)
 
     @property
     def mesh_frequency(self) -> float:

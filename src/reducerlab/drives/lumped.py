@@ -50,10 +50,10 @@ from ..design import (
     TorsionalDamping,
     TorsionalStiffness,
     angle_between,
-    field_rules,
     operating_range_of,
     quantity,
 )
+from ..design_files import field_rules
 from ..errors import DesignError, ModelError
 from ..model import (
     Backlash,

@@ -44,11 +44,11 @@ from ..design import (
     TorsionalDamping,
     TorsionalStiffness,
     angle_between,
-    field_rules,
     operating_range_of,
     quantity,
 )
-from ..kinematics import DoubleNutationDrive, NutationDrive, gyroscopic_moment
+from ..design_files import field_rules
+from ..kinematics import TRAINS, DriveKinematics, gyroscopic_moment
 from ..kinematics.mesh import internal_cone_angles
 from ..model import (
     Backlash,
@@ -66,30 +66,12 @@ from ..model import (
     Support,
 )
 from ..model.laws import TimeLaw
+from .nutation_mesh import contact_normal, tilt_lever
 
-__all__ = ["NutationDesign", "build_model", "contact_normal"]
+__all__ = ["NutationDesign", "build_model"]
 
 #: Relative tolerance on the agreement of the mean cone distances of all gears.
 CONE_DISTANCE_TOL = 1e-3
-
-
-def contact_normal(delta: float, beta: float, alpha_n: float, nutation: float = 0.0):
-    """Unit contact normal ``(a_x, a_y, a_z)`` of a bevel gear (paper 000 Eq. 4).
-
-    Parameters
-    ----------
-    delta : float
-        Pitch cone angle (rad).
-    beta, alpha_n : float
-        Spiral (helix) angle and normal pressure angle (rad).
-    nutation : float
-        Rotation about y of the nutating gear's frame (rad); 0 for a central gear.
-    """
-    A = math.cos(delta) * math.sin(alpha_n) + math.sin(delta) * math.sin(beta) * math.cos(alpha_n)
-    C = math.sin(delta) * math.sin(alpha_n) - math.cos(delta) * math.sin(beta) * math.cos(alpha_n)
-    x, z = -A, C
-    c, s = math.cos(nutation), math.sin(nutation)
-    return (x * c + z * s, math.cos(beta) * math.cos(alpha_n), -x * s + z * c)
 
 
 class BlankSpec(Spec):
@@ -454,15 +436,15 @@ class NutationDesign(Design):
         """``speed_range`` (rad/s) where given, else the input speed twice."""
         return operating_range_of(self.input_speed, self.speed_range)
 
-    def kinematics(self) -> DoubleNutationDrive | NutationDrive:
+    def kinematics(self) -> DriveKinematics:
         """Ratio and mesh frequencies (gear 2 fixed; output gear 4, or the nutating gear's
-        net rotation through a coupling for a single-sided drive)."""
+        net rotation through a coupling for a single-sided drive): the
+        ``double_nutation`` or ``nutation`` train."""
         if self.sides == "double":
-            return DoubleNutationDrive(
-                self.gear1.teeth, self.gear2.teeth, self.gear3.teeth, self.gear4.teeth,  # type: ignore[union-attr]
-                self.theta,
-            )  # fmt: skip
-        return NutationDrive(self.gear1.teeth, self.gear2.teeth, self.theta, output="nutating")
+            teeth = {f"z{k}": getattr(self, f"gear{k}").teeth for k in range(1, 5)}
+            return TRAINS["double_nutation"].build(teeth, self.theta)
+        teeth = {"nutating": self.gear1.teeth, "central": self.gear2.teeth}
+        return TRAINS["nutation"].build(teeth, self.theta, output="nutating")
 
 
 def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
@@ -470,32 +452,6 @@ def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
         return Constant(spec.stiffness)
     return Fourier(spec.stiffness, tuple(spec.harmonics), omega, tuple(spec.phases),
                    ref_speed=speed)  # fmt: skip
-
-
-def contact_point(delta_c: float, nutation: float, cone_distance: float) -> tuple[float, ...]:
-    """Mean contact point of a pair in the nutating gear's own frame (m).
-
-    The point in space is the central gear's mean pitch point ``R_m (sin d_c, 0, cos d_c)``
-    of the mesh frame, where paper 000 Eq. 4's central-gear normal acts (apex at the
-    nutation centre); the nutating gear's frame is the mesh frame turned by the
-    nutation angle about y (Eq. 4's ``a_11, a_13``), so the point there is
-    ``R_y(-theta)`` of it.
-    """
-    x, z = cone_distance * math.sin(delta_c), cone_distance * math.cos(delta_c)
-    c, s = math.cos(nutation), math.sin(nutation)
-    return (x * c - z * s, 0.0, x * s + z * c)
-
-
-def _lever(
-    delta_n: float, delta_c: float, beta: float, alpha_n: float, nutation: float, R: float
-) -> tuple[float, float]:
-    """``(g_rx, g_ry)``: how a tilt of the nutating gear about its own transverse axes
-    changes the mesh deflection, ``(p x n)_x, (p x n)_y`` with ``p`` the mean contact
-    point (:func:`contact_point`) and ``n`` the contact normal of paper 000 Eq. 4, both
-    in the gear's own frame."""
-    n = contact_normal(delta_n, beta, alpha_n)
-    px, _, pz = contact_point(delta_c, nutation, R)
-    return (-pz * n[1], pz * n[0] - px * n[2])
 
 
 def build_model(design: NutationDesign) -> Model:
@@ -580,7 +536,7 @@ def build_model(design: NutationDesign) -> Model:
             f"{cbody}.rz": -a_c[1] * c.mean_radius,
         }  # fmt: skip
         if tilt is not None:
-            g["g13.rx"], g["g13.ry"] = _lever(dn, dc, b, an, th, cone[2 * j + 1])
+            g["g13.rx"], g["g13.ry"] = tilt_lever(dn, dc, b, an, th, cone[2 * j + 1])
         omega = 2 * math.pi * mesh_hz[j]
         error = Fourier(0.0, (spec.error_amplitude,), omega, ref_speed=design.input_speed)
         elements.append(

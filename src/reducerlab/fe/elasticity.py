@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from ..errors import ModelError, ReducerlabError
 
-__all__ = ["STEEL", "BodyModes", "Material", "assemble", "body_modes"]
+__all__ = ["STEEL", "BodyModes", "Material", "assemble", "body_modes", "pardiso_inverse"]
 
 
 @dataclass(frozen=True)
@@ -189,7 +189,7 @@ def body_modes(
     d = K.diagonal() / M.diagonal()
     scale = float(np.min(d[d > 0]))
     sigma = -SHIFT * scale
-    opinv = _pardiso_inverse(K - sigma * M) if solver in ("auto", "pardiso") else None
+    opinv = pardiso_inverse(K - sigma * M) if solver in ("auto", "pardiso") else None
     if solver == "pardiso" and opinv is None:
         raise ReducerlabError(
             "body_modes: solver 'pardiso' needs pypardiso (pip install pypardiso)"
@@ -209,7 +209,7 @@ def body_modes(
     return BodyModes(np.sqrt(lam) / (2 * math.pi), shapes, int(rigid.sum()))
 
 
-def _pardiso_inverse(A: Any) -> Any:
+def pardiso_inverse(A: Any) -> Any:
     """``A^-1`` as a LinearOperator by MKL PARDISO (symmetric positive definite ``A``,
     factorised once), or None when pypardiso is not installed."""
     try:

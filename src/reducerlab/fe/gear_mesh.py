@@ -47,7 +47,9 @@ __all__ = [
     "MeshError",
     "MeshSizes",
     "check_sizes",
+    "gmsh_session",
     "mesh_gear",
+    "tet_options",
 ]
 
 Array = NDArray[np.float64]
@@ -198,7 +200,7 @@ class GearBodyMesh:
         return from_meshio(meshio.Mesh(self.points, [("tetra10", self.tets)]))
 
 
-def _tet_options(gmsh: Any) -> None:
+def tet_options(gmsh: Any) -> None:
     """Meshing options of the gear sectors: sizes from the background field only,
     Frontal-Delaunay surfaces, HXT tetrahedra (parallel), optimised."""
     for name, value in (
@@ -213,7 +215,15 @@ def _tet_options(gmsh: Any) -> None:
 
 
 @contextlib.contextmanager
-def _gmsh_session() -> Iterator[Any]:
+def gmsh_session() -> Iterator[Any]:
+    """A gmsh session, initialised quietly (no config files, no terminal output) and
+    finalised on exit; the ``gmsh`` module is what the ``with`` statement binds.
+
+    Raises
+    ------
+    MeshError
+        When the caller already has gmsh initialised.
+    """
     import gmsh
 
     if gmsh.isInitialized():  # pragma: no cover - a caller's own gmsh session
@@ -475,7 +485,7 @@ def mesh_gear(
     delta = gear.cone_angle
     say = stage or (lambda _s: None)
     polys, mount_z = _feature_polygons(gear, bl, features, m_n)
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         occ = gmsh.model.occ
         gmsh.option.setNumber("Geometry.OCCParallel", 1)
         gmsh.option.setNumber("General.NumThreads", threads)
@@ -537,7 +547,7 @@ def mesh_gear(
         a, b = sizes.tooth * MM, sizes.body * MM
         field.setString(fid, "F", f"{a!r} + {b - a!r}*Min(1, {d_expr})")
         field.setAsBackgroundMesh(fid)
-        _tet_options(gmsh)
+        tet_options(gmsh)
         say("meshing a tooth sector")
         try:
             gmsh.model.mesh.generate(3)

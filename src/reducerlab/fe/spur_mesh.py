@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 from ..geometry.spur import SpurGear
-from .gear_mesh import GMSH_TO_VTK, MeshError, MeshSizes, _gmsh_session, _tet_options
+from .gear_mesh import GMSH_TO_VTK, MeshError, MeshSizes, gmsh_session, tet_options
 
 __all__ = ["SpurSectorMesh", "default_spur_sizes", "mesh_spur_sector"]
 
@@ -266,7 +266,7 @@ def mesh_spur_sector(
         c, s = math.cos(a), math.sin(a)
         return np.stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]], -1)
 
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         occ = gmsh.model.occ
         gmsh.option.setNumber("General.NumThreads", threads)
 
@@ -332,7 +332,7 @@ def mesh_spur_sector(
         st, sb = sizes.tooth * MM, sizes.body * MM
         field.setString(fid, "F", f"{st!r} + {sb - st!r}*{ramp}")
         field.setAsBackgroundMesh(fid)
-        _tet_options(gmsh)
+        tet_options(gmsh)
         try:
             gmsh.model.mesh.generate(3)
             gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the curved surfaces

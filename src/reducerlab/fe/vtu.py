@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ReducerlabError
 
-__all__ = ["boundary_faces", "mode_field_names", "write_vtu"]
+__all__ = ["boundary_faces", "checked_points", "checked_tets", "mode_field_names", "write_vtu"]
 
 Array = NDArray[np.float64]
 
@@ -60,7 +60,7 @@ def boundary_faces(tets: ArrayLike, points: ArrayLike | None = None) -> NDArray[
         Bad arrays, or a face shared by more than two tetrahedra (not a conforming
         mesh of a solid).
     """
-    t = _tets(tets, None if points is None else len(_points(points)))
+    t = checked_tets(tets, None if points is None else len(checked_points(points)))
     faces = t[:, _TET_FACES].reshape(-1, 3)  # tet i's faces at rows 4 i .. 4 i + 3
     opposite = t.reshape(-1)
     s = np.sort(faces, axis=1)
@@ -153,9 +153,9 @@ def write_vtu(
     """
     import meshio
 
-    p = _points(points)
+    p = checked_points(points)
     n = len(p)
-    t = _tets(tets, n)
+    t = checked_tets(tets, n)
     if len(t) == 0:
         raise ReducerlabError("tets: need at least one tetrahedron")
     s = None
@@ -270,14 +270,38 @@ def finite_array(name: str, value: ArrayLike) -> Array:
     return a
 
 
-def _points(points: ArrayLike) -> Array:
+def checked_points(points: ArrayLike) -> Array:
+    """``points`` as a finite ``(n, 3)`` float array, ``n >= 1`` (m).
+
+    Raises
+    ------
+    ReducerlabError
+        Naming ``points`` and the rule broken.
+    """
     p = finite_array("points", points)
     if p.ndim != 2 or p.shape[1] != 3 or len(p) == 0:
         raise ReducerlabError(f"points: must have shape (n, 3) with n >= 1, got {p.shape}")
     return p
 
 
-def _tets(tets: ArrayLike, n: int | None, name: str = "tets") -> NDArray[np.int64]:
+def checked_tets(tets: ArrayLike, n: int | None, name: str = "tets") -> NDArray[np.int64]:
+    """``tets`` as an ``(m, 4)`` integer array of vertex indices of linear tetrahedra.
+
+    Parameters
+    ----------
+    tets : array_like
+        Vertex indices (integers, or floats with integer values).
+    n : int or None
+        Number of points the indices refer to (None: not checked against a count).
+    name : str
+        What the errors call the array.
+
+    Raises
+    ------
+    ReducerlabError
+        For a wrong shape, non-integer, negative or out-of-range indices, or a
+        tetrahedron that repeats a vertex.
+    """
     a = np.asarray(tets)
     if a.dtype == object or not (
         np.issubdtype(a.dtype, np.integer)

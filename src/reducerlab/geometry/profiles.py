@@ -44,6 +44,8 @@ __all__ = [
     "ProfileError",
     "ProfilePoints",
     "SplineProfile",
+    "profile_error",
+    "self_intersection",
 ]
 
 Array = NDArray[np.float64]
@@ -57,18 +59,20 @@ class ProfileError(DesignError):
     """
 
 
-def _fail(field: str, rule: str, value: object) -> ProfileError:
+def profile_error(field: str, rule: str, value: object) -> ProfileError:
+    """The :class:`ProfileError` for ``value`` breaking ``rule`` of ``field``, with the
+    message ``"field: rule; got value"`` (to ``raise``)."""
     return ProfileError(f"{field}: {rule}; got {value}")
 
 
 def _real(field: str, value: object) -> float:
     """``value`` as a float, or a :class:`ProfileError` naming ``field`` (SI units)."""
     if isinstance(value, bool):
-        raise _fail(field, "must be a real number (SI units)", repr(value))
+        raise profile_error(field, "must be a real number (SI units)", repr(value))
     try:
         return float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        raise _fail(field, "must be a real number (SI units)", repr(value)) from None
+        raise profile_error(field, "must be a real number (SI units)", repr(value)) from None
 
 
 @dataclass(frozen=True)
@@ -213,10 +217,12 @@ class BasicProfile(ABC):
             ``+1``: the flank at ``y > 0``; ``-1``: its mirror image.
         """
         if flank not in (1, -1):
-            raise _fail("flank", "must be +1 or -1", flank)
+            raise profile_error("flank", "must be +1 or -1", flank)
         uu = np.asarray(u, dtype=float)
         if np.any((uu < -1e-12) | (uu > 1 + 1e-12)):
-            raise _fail("u", "flank parameter must lie in [0, 1]", f"[{uu.min()}, {uu.max()}]")
+            raise profile_error(
+                "u", "flank parameter must lie in [0, 1]", f"[{uu.min()}, {uu.max()}]"
+            )
         x, y, dx, dy = self._flank(np.clip(uu, 0.0, 1.0))
         norm = np.hypot(dx, dy)
         # +1 flank, root -> tip: outward normal is the tangent turned by +90 deg
@@ -260,14 +266,14 @@ class BasicProfile(ABC):
         * its tangent never vanishes.
         """
         if not (self.module > 0 and math.isfinite(self.module)):
-            raise _fail(f"{self.name}.module", "normal module must be > 0 (m)", self.module)
+            raise profile_error(f"{self.name}.module", "normal module must be > 0 (m)", self.module)
         u = np.linspace(0.0, 1.0, self._n_check)
         x, y, dx, dy = self._flank(u)
         pts = np.stack([x, y, dx, dy])
         if not np.all(np.isfinite(pts)):
-            raise _fail(f"{self.name}.points", "all points must be finite", "NaN or inf")
+            raise profile_error(f"{self.name}.points", "all points must be finite", "NaN or inf")
         if not x[0] < x[-1]:
-            raise _fail(
+            raise profile_error(
                 f"{self.name}.points",
                 "wrong flank order: a flank must run from its root (first point) to its "
                 "tip (last point), x increasing",
@@ -276,39 +282,53 @@ class BasicProfile(ABC):
         s = np.sign(x)
         crossings = int(np.count_nonzero(s[1:] * s[:-1] < 0) + np.count_nonzero(s[1:-1] == 0))
         if crossings != 1:
-            raise _fail(
+            raise profile_error(
                 f"{self.name}.points",
                 "the flank must cross the pitch line x = 0 exactly once",
                 f"{crossings} crossings",
             )
         scale = float(np.ptp(x) + np.ptp(y))
         if np.min(y) <= 0:
-            raise _fail(
+            raise profile_error(
                 f"{self.name}.points",
                 "the flank must stay at y > 0 (it crosses the tooth centreline, so the two "
                 "flanks intersect; give the +1 flank)",
                 f"min y = {np.min(y):.6g} m",
             )
         if np.max(y) > 0.5 * self.pitch * (1 + 1e-9):
-            raise _fail(
+            raise profile_error(
                 f"{self.name}.points",
                 "the flank must stay within half a normal pitch of the centreline "
                 "(y <= pi m_n / 2), or it overlaps the next tooth",
                 f"max y = {np.max(y):.6g} m > {0.5 * self.pitch:.6g} m",
             )
         if np.min(np.hypot(dx, dy)) <= 1e-12 * scale:
-            raise _fail(f"{self.name}.points", "the tangent must not vanish", "zero tangent")
-        hit = _self_intersection(x, y)
+            raise profile_error(
+                f"{self.name}.points", "the tangent must not vanish", "zero tangent"
+            )
+        hit = self_intersection(x, y)
         if hit is not None:
-            raise _fail(
+            raise profile_error(
                 f"{self.name}.points",
                 "the flank must not intersect itself",
                 f"segments {hit[0]} and {hit[1]} of the {self._n_check}-point polyline cross",
             )
 
 
-def _self_intersection(x: Array, y: Array) -> tuple[int, int] | None:
-    """First pair of crossing non-adjacent segments of a polyline, or None (vectorised)."""
+def self_intersection(x: Array, y: Array) -> tuple[int, int] | None:
+    """First pair of crossing non-adjacent segments of a polyline, or None (vectorised).
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Vertex coordinates of the polyline (any consistent unit).
+
+    Returns
+    -------
+    (int, int) or None
+        Indices ``(i, j)``, ``j >= i + 2``, of segments ``(i, i+1)`` and ``(j, j+1)`` that
+        cross properly (touching end points do not count).
+    """
     p = np.stack([x, y], axis=-1)
     a, b = p[:-1], p[1:]
     n = len(a)
@@ -428,24 +448,24 @@ class InvoluteProfile(_PiecewiseProfile):
             thickness = _real("involute.thickness", thickness)
         self.module = module
         if not (self.module > 0 and math.isfinite(self.module)):
-            raise _fail("involute.module", "normal module must be > 0 (m)", module)
+            raise profile_error("involute.module", "normal module must be > 0 (m)", module)
         if not 0 < pressure_angle < math.radians(60):
-            raise _fail(
+            raise profile_error(
                 "involute.pressure_angle",
                 "must lie in (0, 60) deg",
                 f"{math.degrees(pressure_angle):g} deg",
             )
         if not pitch_radius > 0:
-            raise _fail("involute.pitch_radius", "must be > 0 (m) or inf", pitch_radius)
+            raise profile_error("involute.pitch_radius", "must be > 0 (m) or inf", pitch_radius)
         for field, v in (("addendum", addendum), ("dedendum", dedendum)):
             if not 0 < v < 3:
-                raise _fail(f"involute.{field}", "coefficient must lie in (0, 3)", v)
+                raise profile_error(f"involute.{field}", "coefficient must lie in (0, 3)", v)
         if not 0 <= root_fillet < dedendum:
-            raise _fail("involute.root_fillet", "must lie in [0, dedendum)", root_fillet)
+            raise profile_error("involute.root_fillet", "must lie in [0, dedendum)", root_fillet)
         m = self.module
         s = 0.5 * math.pi * m if thickness is None else float(thickness)
         if not 0 < s < math.pi * m:
-            raise _fail("involute.thickness", "must lie in (0, pi m_n)", s)
+            raise profile_error("involute.thickness", "must lie in (0, pi m_n)", s)
         self.pressure_angle = float(pressure_angle)
         self.pitch_radius = float(pitch_radius)
         self.addendum, self.dedendum = addendum * m, dedendum * m
@@ -470,11 +490,13 @@ class InvoluteProfile(_PiecewiseProfile):
             while g(hi) < 0:
                 hi *= 2
                 if hi > 1e3:
-                    raise _fail("involute.addendum", "tip not reachable on the involute", xh)
+                    raise profile_error(
+                        "involute.addendum", "tip not reachable on the involute", xh
+                    )
             if g(0.0) > 0 and clamp:
                 return 1e-6  # just above the base circle: the tangent vanishes at t = 0
             if g(0.0) > 0:
-                raise _fail(
+                raise profile_error(
                     "involute.dedendum",
                     "the working flank would reach below the base circle "
                     "(r_b = r cos(alpha_n)); reduce the dedendum or raise pitch_radius",
@@ -513,11 +535,13 @@ class InvoluteProfile(_PiecewiseProfile):
 
         g = lambda s: centre(s)[0] - (-hf + rf)  # noqa: E731
         if g(0.0) > 0 or g(1.0) < 0:
-            raise _fail("involute.root_fillet", "no fillet tangent to flank and root line", rf)
+            raise profile_error(
+                "involute.root_fillet", "no fillet tangent to flank and root line", rf
+            )
         sf = brentq(g, 0.0, 1.0, xtol=1e-15, rtol=1e-15)
         cx, cy = centre(sf)
         if cy > half_p:
-            raise _fail(
+            raise profile_error(
                 "involute.root_fillet",
                 "fillets of adjacent flanks overlap (fillet centre beyond the space "
                 "centreline y = pi m_n / 2)",
@@ -623,7 +647,7 @@ class DoubleCircularArcProfile(_PiecewiseProfile):
         self.name = "double_arc"
         self.module = _real("double_arc.module", module)
         if not (self.module > 0 and math.isfinite(self.module)):
-            raise _fail("double_arc.module", "normal module must be > 0 (m)", module)
+            raise profile_error("double_arc.module", "normal module must be > 0 (m)", module)
         self.rack = rack
         self.pressure_angle = rack.pressure_angle
         self._build()
@@ -645,7 +669,7 @@ class DoubleCircularArcProfile(_PiecewiseProfile):
         d = xf + k.dedendum
         rg = (rf**2 - d**2 - k.concave_centre_offset**2) / (2 * (rf - d))
         if not 0 < rg < k.dedendum:
-            raise _fail("double_arc.rack", "no root fillet tangent to the concave arc", rg)
+            raise profile_error("double_arc.rack", "no root fillet tangent to the concave arc", rg)
         xg, yg = -k.dedendum + rg, half_p
         ex, ey = xg - xf, yg - yf
         e = math.hypot(ex, ey)
@@ -658,7 +682,9 @@ class DoubleCircularArcProfile(_PiecewiseProfile):
         dd = p1 - p2
         rt = -(dd @ dd) / (2 * (dd @ u1))
         if not rt > 0:
-            raise _fail("double_arc.rack", "no transition arc between convex and concave", rt)
+            raise profile_error(
+                "double_arc.rack", "no transition arc between convex and concave", rt
+            )
         ct = p1 + rt * u1
         self.transition_radius = rt * m
         self.fillet_radius = rg * m
@@ -722,7 +748,7 @@ class CallableProfile(BasicProfile):
                 np.broadcast_to(np.asarray(b, dtype=float), u.shape).copy(),
             )
         except (TypeError, ValueError) as exc:
-            raise _fail(
+            raise profile_error(
                 f"{self.name}.{what}",
                 "must map an array u of shape (n,) to a pair (x, y) of arrays of shape (n,)"
                 " (or scalars)",
@@ -766,21 +792,25 @@ class SplineProfile(BasicProfile):
         self.module = _real(f"{name}.module", module)
         p = np.asarray(points, dtype=float)
         if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 4:
-            raise _fail(f"{name}.points", "must be an (n, 2) array of (x, y) with n >= 4", p.shape)
+            raise profile_error(
+                f"{name}.points", "must be an (n, 2) array of (x, y) with n >= 4", p.shape
+            )
         if not np.all(np.isfinite(p)):
-            raise _fail(f"{name}.points", "all points must be finite", "NaN or inf")
+            raise profile_error(f"{name}.points", "all points must be finite", "NaN or inf")
         seg = np.hypot(*np.diff(p, axis=0).T)
         if np.any(seg <= 0):
             k = int(np.argmin(seg))
-            raise _fail(f"{name}.points", "consecutive points must differ", f"points {k}, {k + 1}")
+            raise profile_error(
+                f"{name}.points", "consecutive points must differ", f"points {k}, {k + 1}"
+            )
         t = np.concatenate([[0.0], np.cumsum(seg)])
         self.points = p
         self._spline = make_interp_spline(t / t[-1], p, k=3)
         self._dspline = self._spline.derivative()
         self.validate()
-        hit = _self_intersection(p[:, 0], p[:, 1])
+        hit = self_intersection(p[:, 0], p[:, 1])
         if hit is not None:
-            raise _fail(
+            raise profile_error(
                 f"{name}.points",
                 "the flank must not intersect itself",
                 f"polyline segments {hit[0]} and {hit[1]} cross",

@@ -58,7 +58,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..kinematics.rotations import rot_z
-from .bevel_surface import BevelGear, _envelope, _tooth_flanks, check_generation
+from .bevel_surface import BevelGear, check_generation, envelope, tooth_flanks
 from .profiles import BasicProfile, ProfileError
 from .spiral import CrownGear
 
@@ -431,7 +431,7 @@ class _Flank:
 
         def gen(rho: Array) -> tuple[Array, Array, Array, Array]:
             rC, nC = self.crown.points(uf, rho, self.flank, self.tooth)
-            p, n, _, res, _ = _envelope(rC, nC, self.gear)
+            p, n, _, res, _ = envelope(rC, nC, self.gear)
             return p, n, res, cone_coordinates(p, delta)[0]
 
         rho = Lf.copy()
@@ -589,7 +589,7 @@ def build_gear_solid(
             progress(done, total)
 
     L = np.linspace(bl.front, bl.back, n_face)
-    (fa, ta), (fb, tb) = _tooth_flanks(gear)
+    (fa, ta), (fb, tb) = tooth_flanks(gear)
     A = _Flank(crown, gear, fa, ta)
     B = _Flank(crown, gear, fb, tb)
     u_p = prof.pitch_parameter()

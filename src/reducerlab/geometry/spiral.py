@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .profiles import BasicProfile, _fail
+from .profiles import BasicProfile, profile_error
 
 __all__ = ["CrownGear", "CrownSurface", "LogSpiral"]
 
@@ -36,9 +36,9 @@ Array = NDArray[np.float64]
 
 
 def _check(field: str, ok: bool, rule: str, value: object) -> None:
-    """Raise :func:`profiles._fail`'s :class:`ProfileError` unless ``ok``."""
+    """Raise :func:`profiles.profile_error`'s :class:`ProfileError` unless ``ok``."""
     if not ok:
-        raise _fail(field, rule, value)
+        raise profile_error(field, rule, value)
 
 
 @dataclass(frozen=True)

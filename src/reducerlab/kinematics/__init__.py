@@ -1,6 +1,6 @@
 """Kinematics: rotations and frames, Euler-angle motion of a nutating gear, relative
 motion at the mesh, and transmission ratios of every drive, derived from the rolling of
-pitch cones (see ``docs/kinematics.md``)."""
+pitch cones (see ``docs/kinematics.md``); :data:`TRAINS` registers every drive kind's train."""
 
 from .euler import (
     angular_acceleration_body,
@@ -16,6 +16,7 @@ from .mesh import (
     relative_rotation_axis,
     relative_velocity,
 )
+from .registry import TRAINS, Train
 from .rotations import Transform, euler_zxz, rot_x, rot_y, rot_z, skew, unskew
 from .trains import (
     CycloidBallDrive,
@@ -27,12 +28,14 @@ from .trains import (
 )
 
 __all__ = [
+    "TRAINS",
     "CycloidBallDrive",
     "DoubleNutationDrive",
     "DriveKinematics",
     "ExternalGearPair",
     "KHVDrive",
     "NutationDrive",
+    "Train",
     "Transform",
     "angular_acceleration_body",
     "angular_acceleration_fixed",

@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ReducerlabError
+from ..units import TWO_PI
 from .mesh import external_cone_angles, internal_cone_angles
 
 __all__ = [
@@ -41,8 +42,6 @@ __all__ = [
     "NutationDrive",
     "rolling_spin",
 ]
-
-TWO_PI = 2.0 * math.pi
 
 
 def _sigma(contact: str) -> int:

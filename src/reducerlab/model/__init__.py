@@ -3,22 +3,18 @@
 from .assembly import Matrices, Model
 from .dofs import FAMILIES, KINDS, Dof
 from .elements import (
-    Centripetal,
     Contribution,
-    Coriolis,
     Coupling,
     CubicSpring,
     Element,
-    Gyroscopic,
     Inertia,
     Line,
     Load,
     Mesh,
-    Nutating,
-    StationaryDamping,
     Support,
 )
 from .laws import Backlash, Constant, Fourier, PiecewisePolynomial, TimeLaw, dead_zone
+from .rotating import Centripetal, Coriolis, Gyroscopic, Nutating, StationaryDamping
 from .system import NonlinearSystem
 
 __all__ = [

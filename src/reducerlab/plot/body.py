@@ -412,12 +412,12 @@ def _scale(scale: float | None) -> float | None:
 
 def _geometry(points: ArrayLike, tets_or_faces: ArrayLike) -> tuple[Array, NDArray[np.int64]]:
     """The points and the outward boundary triangles."""
-    from ..fe.vtu import _points, _tets, boundary_faces
+    from ..fe.vtu import boundary_faces, checked_points, checked_tets
 
-    p = _points(points)
+    p = checked_points(points)
     a = np.asarray(tets_or_faces)
     if a.ndim == 2 and a.shape[1] == 4:
-        faces = boundary_faces(_tets(a, len(p), "tets_or_faces"), p)
+        faces = boundary_faces(checked_tets(a, len(p), "tets_or_faces"), p)
     elif a.ndim == 2 and a.shape[1] == 3:
         if a.dtype == object or not np.issubdtype(a.dtype, np.integer):
             raise ReducerlabError("tets_or_faces: must be an array of integer vertex indices")

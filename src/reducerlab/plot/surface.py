@@ -92,9 +92,9 @@ def plot_tooth(solid: GearSolid, title: str | None = None) -> Figure:
 def gear_to_mesh_frame(solid: GearSolid) -> NDArray[np.float64]:
     """Rotation (3x3) from the gear frame ``S_i`` to the fixed frame ``S0`` at the crown
     angle 0, where both gears of a pair touch the crown gear along ``+y_0`` (in mesh)."""
-    from ..geometry.bevel_surface import _B
+    from ..geometry.bevel_surface import axis_frame
 
-    return _B(solid.gear.cone_angle).T
+    return axis_frame(solid.gear.cone_angle).T
 
 
 def plot_gear_pair(
