@@ -8,7 +8,9 @@ import re
 import tomllib
 from typing import Any
 
-from ...design import Design, apply_overrides, field_kind
+from ...analysis.parameters import lookup
+from ...design import Design, field_kind
+from ...design_files import apply_overrides
 from ...units import QUANTITIES, RPM
 from ..blocks import Block, Section, details, figure, note, table
 from ..context import Context
@@ -45,20 +47,6 @@ def _flatten(data: Any, prefix: str = "") -> list[tuple[str, Any]]:
     return out
 
 
-def _lookup(data: Any, path: str) -> Any:
-    """The value at a dotted design path (list items by index), None when absent."""
-    # NOTE: the same walk as sweep's _design_keys and design.set_path (issue 25: one
-    # path walker for the design's dotted paths belongs with the parameters module)
-    for part in path.split("."):
-        if isinstance(data, dict) and part in data:
-            data = data[part]
-        elif isinstance(data, list) and part.isdigit() and int(part) < len(data):
-            data = data[int(part)]
-        else:
-            return None
-    return data
-
-
 def assumption_sections(text: str, family: str) -> list[tuple[str, str]]:
     """``(heading, body)`` of the docs/assumptions.md sections that apply to a drive
     family (a key of :data:`PAPERS`)."""
@@ -83,7 +71,7 @@ def design_section(ctx: Context) -> Section:
     for key, value in _flatten(d.model_dump(mode="json", exclude={"report"})):
         if key in ("name", "description"):
             continue
-        as_written = _lookup(written, key)
+        as_written = lookup(written, key)
         kind = field_kind(d, key)
         rows.append((key, "" if as_written is None else str(as_written),
                      value if isinstance(value, int | float) else str(value),

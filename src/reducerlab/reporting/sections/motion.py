@@ -114,7 +114,7 @@ def bifurcation_section(ctx: Context) -> Section | None:
     s = Section("bifurcation", "Bifurcation diagram")
     if req is not None:
         from ...analysis.nonlinear import bifurcation
-        from ...analysis.sweep import parse_values
+        from ...analysis.parameters import parse_values
 
         field_ = "report.bifurcation.values"
         axis = _requested(field_, parse_values, req.parameter, req.values, limit=400)
@@ -151,8 +151,8 @@ def regime_map_section(ctx: Context) -> Section | None:
 
     s = Section("regime-map", "Regime map")
     if req is not None:
+        from ...analysis.parameters import parse_path_values
         from ...analysis.regime_map import regime_map
-        from ...analysis.sweep import parse_path_values
 
         axes = [_requested(f"report.regime_map.{name}", parse_path_values, getattr(req, name),
                            limit=200) for name in ("x", "y")]  # fmt: skip
