@@ -42,10 +42,13 @@ import time
 
 import numpy as np
 
-from reducerlab.analysis.nonlinear import axis_members
-from reducerlab.analysis.response import ensemble, forcing_period, state_bounds, static_states
+from reducerlab.analysis.members import axis_members
 from reducerlab.analysis.sweep import Axis, _Evaluator, _resolve
 from reducerlab.drives import build_model, load_design
+from reducerlab.dynamics.coordinates import static_states
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.guards import state_bounds
+from reducerlab.dynamics.systems import forcing_period
 from reducerlab.examples import example_dir
 from reducerlab.model.laws import evaluate_flat, flat_mean
 
@@ -160,7 +163,7 @@ def main() -> None:
     d = load_design(example_dir() / "nutation_double_sided.toml")
     ev = bundled(d.model_dump(mode="python"), build_model(d),
                  (_resolve(d, build_model(d), "mesh1.stiffness"),))  # fmt: skip
-    from reducerlab.analysis.response import to_system
+    from reducerlab.dynamics.coordinates import to_system
 
     plain = [to_system(ev.model_at([v])) for v in np.linspace(1.5e8, 3e8, 100)]
     maps_against_rk4("bundled (constant stiffness, no load)", plain, 600, None)

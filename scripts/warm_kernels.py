@@ -9,7 +9,8 @@ import time
 from pathlib import Path
 
 import reducerlab as rl
-from reducerlab.analysis.nonlinear import bifurcation, response
+from reducerlab.analysis.bifurcation import bifurcation
+from reducerlab.analysis.response import response
 from reducerlab.analysis.sweep import parse_values
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

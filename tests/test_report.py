@@ -17,7 +17,7 @@ import reducerlab as rl
 from reducerlab.analysis.body_modal import BodyModalResult
 from reducerlab.analysis.campbell import resonance_check
 from reducerlab.analysis.modal import modal
-from reducerlab.analysis.nonlinear import response
+from reducerlab.analysis.response import response
 from reducerlab.cli import app
 from reducerlab.errors import DesignError, ReducerlabError
 from reducerlab.examples import example_dir, example_files
@@ -151,7 +151,7 @@ def test_numbers_are_the_apis(reports):
 
 
 def test_bifurcation_asked_by_the_design_is_the_apis(reports):
-    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.bifurcation import bifurcation
     from reducerlab.analysis.sweep import parse_values
 
     d = rl.load_design(example_dir() / "khv_rattle.toml")

@@ -30,8 +30,9 @@ from ..design import Design
 from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..model.laws import flat_period
+from ..model.rigid import RIGID_TOL, element_blocks, rest_stiffness
 from ..results import Result, provenance
-from .modal import RIGID_TOL, element_blocks, has_skew_terms, rest_stiffness
+from .modal import has_skew_terms
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -33,9 +33,9 @@ from numpy.typing import NDArray
 from ..design import Design
 from ..errors import DesignError, ReducerlabError, names_source
 from ..model import Model
+from ..model.rigid import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
 from ..results import Result, provenance
 from .batch import eigh_batch
-from .modal import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes
 from .workers import check_workers, dask_client, worker_pool
