@@ -1,4 +1,4 @@
-"""One-period maps (analysis/floquet.py, issue 16): drives whose teeth stay in contact
+"""One-period maps (dynamics/maps.py, issue 16): drives whose teeth stay in contact
 are linear time-periodic systems, fast-forwarded by their monodromy map.
 
 Oracles: the linear oscillator's closed forms (steady amplitude
