@@ -14,7 +14,14 @@ from .guards import BOUND_FACTOR
 from .prepare import Prepared, with_steps
 from .steps import MAX_STEPS, Steps
 
-__all__ = ["ACCURACY", "PERIOD_ERROR_GAIN", "PILOT_PERIODS", "accurate_steps", "refine_steps"]
+__all__ = [
+    "ACCURACY",
+    "PERIOD_ERROR_GAIN",
+    "PILOT_PERIODS",
+    "accurate_steps",
+    "pilot_run",
+    "refine_steps",
+]
 
 
 #: Default target error of Poincaré points, relative to the motion's scale.
@@ -51,22 +58,38 @@ def accurate_steps(
     members is returned, at most :data:`MAX_STEPS`. Members that diverge or have no
     scale are left to the main run.
     """
-    from .kernel import block_width, rk4_ensemble
-
     Steps.accuracy(accuracy)  # a number in (0, 1)
-    E = len(systems)
     T, N = prep.period, prep.steps
-    bw = block_width(E)
-    P, _, status, _ = rk4_ensemble(
-        *prep.arrays, Y0, np.zeros(E), T, prep.offs, prep.dts, prep.periodic,
-        pilot, 1, 0, bounds, bw, -1, 0.0,
-    )  # fmt: skip
-    Y = P[:, 1].copy()
-    ok = (status[:, 0] == 0) & np.all(np.isfinite(Y), axis=1)
+    end, ran = pilot_run(prep, Y0, bounds, pilot)
+    Y = end.copy()
+    ok = ran & np.all(np.isfinite(Y), axis=1)
     if not np.any(ok):
         return N
     Y[~ok] = Y0[~ok]
     return refine_steps(prep, systems, Y, pilot * T, ok, bounds, accuracy)
+
+
+def pilot_run(
+    prep: Prepared, Y0: NDArray[np.float64], bounds: NDArray[np.float64], pilot: int
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """The pilot of :func:`accurate_steps`: ``pilot`` periods of the RK4 kernel from
+    ``Y0`` (E, 2n) with the steps of ``prep``.
+
+    Returns
+    -------
+    end : (E, 2n)
+        The state at the end (NaN for a member that left its ``bounds``).
+    ran : (E,)
+        Whether each member stayed within its bounds.
+    """
+    from .kernel import block_width, rk4_ensemble
+
+    E = Y0.shape[0]
+    P, _, status, _ = rk4_ensemble(
+        *prep.arrays, Y0, np.zeros(E), prep.period, prep.offs, prep.dts, prep.periodic,
+        pilot, 1, 0, bounds, block_width(E), -1, 0.0,
+    )  # fmt: skip
+    return P[:, 1], status[:, 0] == 0
 
 
 def refine_steps(

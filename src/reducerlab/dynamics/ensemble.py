@@ -211,11 +211,11 @@ def ensemble(
     )  # fmt: skip
     width = tH.shape[1]
     e_kind, e_par = prep.arrays.e_kind, prep.arrays.e_par
-    eP = law_values(e_kind, e_par, np.ascontiguousarray(tP * np.ones((E, 1))))
+    eP = law_values(e_kind, e_par, np.ascontiguousarray(tP * np.ones((E, 1))))[0]
     dP = np.einsum("eln,epn->epl", G, poincare[:, :, :n]) - eP
     if history:
         hist = hist[:, :width]
-        eH = law_values(e_kind, e_par, np.ascontiguousarray(tH))
+        eH = law_values(e_kind, e_par, np.ascontiguousarray(tH))[0]
         dH = np.einsum("eln,epn->epl", G, hist[:, :, :n]) - eH
     else:
         dH = np.empty((E, 0, L))

@@ -26,7 +26,6 @@ from ..model.layout import (
 
 __all__ = [
     "eval_law",
-    "law_pairs",
     "law_row",
     "law_values",
     "step_grid",
@@ -107,35 +106,24 @@ def step_grid(edges, counts, N):
 
 @nb.njit(cache=True, parallel=True)
 def law_values(kinds, params, times):
-    """Values ``(E, P, L)`` of the laws ``kinds`` (L,) with per-member ``params``
-    (E, L, width) at per-member ``times`` (E, P); NaN where the time is NaN."""
+    """Values and time derivatives, each ``(E, P, L)``, of the laws ``kinds`` (L,) with
+    per-member ``params`` (E, L, width) at per-member ``times`` (E, P) (s); NaN where
+    the time is NaN."""
     E, P = times.shape
     L = kinds.shape[0]
-    out = np.empty((E, P, L))
+    val = np.empty((E, P, L))
+    der = np.empty((E, P, L))
     for e in nb.prange(E):
         for p in range(P):
             t = times[e, p]
             for m in range(L):
                 if math.isnan(t):
-                    out[e, p, m] = np.nan
+                    val[e, p, m] = np.nan
+                    der[e, p, m] = np.nan
                 else:
-                    out[e, p, m] = eval_law(kinds[m], params[e, m], t)[0]
-    return out
-
-
-@nb.njit(cache=True)
-def law_pairs(kinds, params, times):
-    """Values and rates (E, K, L) of the laws at per-member times (E, K)."""
-    E, K = times.shape
-    L = kinds.shape[0]
-    val = np.empty((E, K, L))
-    der = np.empty((E, K, L))
-    for e in range(E):
-        for k in range(K):
-            for m in range(L):
-                v, dv = eval_law(kinds[m], params[e, m], times[e, k])
-                val[e, k, m] = v
-                der[e, k, m] = dv
+                    v, dv = eval_law(kinds[m], params[e, m], t)
+                    val[e, p, m] = v
+                    der[e, p, m] = dv
     return val, der
 
 

@@ -33,9 +33,9 @@ from numpy.typing import NDArray
 
 from ..model import NonlinearSystem
 from ..model.layout import constant_terms
-from .accuracy import refine_steps
+from .accuracy import pilot_run, refine_steps
 from .kernel import block_width, rk4_ensemble
-from .kernel_laws import eval_law, law_pairs
+from .kernel_laws import eval_law, law_values
 from .lyapunov import LYAPUNOV_D0
 from .prepare import KernelArrays, Prepared, subset
 
@@ -145,7 +145,7 @@ def affine_maps(prep: Prepared, sides: NDArray[np.float64]) -> tuple[NDArray, ..
     Dv = np.concatenate([start_v, Gv], axis=1)
     bases = np.concatenate([np.zeros((E, 1, n2)), base], axis=1)  # (E, N + 1, 2n)
     times = np.concatenate([np.zeros((E, 1)), prep.offs + prep.dts], axis=1)
-    ev, edot = law_pairs(prep.arrays.e_kind, prep.arrays.e_par, np.ascontiguousarray(times))
+    ev, edot = law_values(prep.arrays.e_kind, prep.arrays.e_par, np.ascontiguousarray(times))
     d = np.einsum("eln,ekn->ekl", G, bases[:, :, :n]) - ev
     dv = np.einsum("eln,ekn->ekl", G, bases[:, :, n:]) - edot
     return Phi, p, D, Dv, d, dv
@@ -364,13 +364,9 @@ def map_steps(
     ok = np.ones(len(systems), bool)
     bad = np.flatnonzero(failed >= 0)
     if bad.size:  # teeth that separate: their pilot by the RK4 kernel
-        sub = subset(prep, bad)
-        P, _, st, _ = rk4_ensemble(
-            *sub.arrays, Y0[bad], np.zeros(bad.size), sub.period, sub.offs, sub.dts,
-            sub.periodic, pilot, 1, 0, bounds[bad], block_width(bad.size), -1, 0.0,
-        )  # fmt: skip
-        Y[bad] = np.where(np.isfinite(P[:, 1]), P[:, 1], Y0[bad])
-        ok[bad] = st[:, 0] == 0
+        end, ran = pilot_run(subset(prep, bad), Y0[bad], bounds[bad], pilot)
+        Y[bad] = np.where(np.isfinite(end), end, Y0[bad])
+        ok[bad] = ran
     if not np.any(ok):
         return prep.steps
     return refine_steps(prep, systems, Y, pilot * prep.period, ok, bounds, accuracy)
