@@ -20,6 +20,7 @@ from ..errors import ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..model.rigid import element_blocks
 from ..units import display_unit
+from .policies import Continuation
 from .sweep import Axis, _Evaluator, axis_targets
 
 __all__ = [
@@ -37,7 +38,7 @@ __all__ = [
 def continue_sweep(
     members: Callable[[NDArray], list[NonlinearSystem]],
     values: NDArray,
-    direction: str,
+    direction: str | Continuation,
     run: Callable[[NDArray, list[NonlinearSystem], NDArray], tuple[NDArray, NDArray]],
     progress: Callable[[int, int], None] | None,
 ) -> dict[str, NDArray]:
@@ -45,7 +46,8 @@ def continue_sweep(
     member, with the end states), in the order of ``values``, for the ascending
     (``"up"``) and/or descending (``"down"``) sweep, each value started from the end
     state of the previous one, the first from static equilibrium; the two sweeps run
-    side by side as a two-member ensemble."""
+    side by side as a two-member ensemble. ``direction``: ``"up"``, ``"down"`` or
+    ``"both"`` (a :class:`~reducerlab.analysis.policies.Continuation` or its value)."""
     order = np.argsort(values, kind="stable")
     sweeps = {"up": order, "down": order[::-1]}
     names = ["up", "down"] if direction == "both" else [direction]
@@ -116,6 +118,8 @@ def fingerprint(s: NonlinearSystem) -> str:
     return h.hexdigest()[:16]
 
 
+#: The flat arrays of a system that :class:`Members` interpolates when they are affine in
+#: the value.
 FLAT = NonlinearSystem.ARRAYS
 
 
