@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from ..errors import ModelError, ReducerlabError
 from ..model import Model, NonlinearSystem, layout
-from ..model.laws import LAW_FOURIER, LAW_PIECEWISE
+from ..model.layout import LAW_FOURIER, LAW_PIECEWISE
 from ..model.rigid import RIGID_TOL, check_resolved, element_blocks, strain_ratio
 from .systems import at_rest, mass_problem
 

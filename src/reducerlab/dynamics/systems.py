@@ -11,7 +11,8 @@ from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 from ..model import Model, NonlinearSystem, layout
-from ..model.laws import LAW_FOURIER, LAW_PIECEWISE, flat_period
+from ..model.laws import flat_period
+from ..model.layout import LAW_FOURIER, LAW_PIECEWISE
 
 __all__ = [
     "at_rest",

@@ -1,7 +1,8 @@
 """Scalar laws of time (mesh stiffness, transmission error, loads) and the backlash.
 
 Each law evaluates vectorised over ``t`` and exports itself as a kind code plus a flat
-float array (:meth:`TimeLaw.flat`) that :func:`evaluate_flat` — and the compiled
+float array (:meth:`TimeLaw.flat`, in the layout that :mod:`reducerlab.model.layout`
+owns) that :func:`evaluate_flat` — and the compiled
 integrators built on it — evaluate without Python objects.
 """
 
@@ -22,9 +23,6 @@ from . import layout
 from .layout import LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE
 
 __all__ = [
-    "LAW_CONSTANT",
-    "LAW_FOURIER",
-    "LAW_PIECEWISE",
     "Backlash",
     "Constant",
     "Fourier",
