@@ -26,16 +26,13 @@ import time
 import numpy as np
 
 from reducerlab.analysis.parameters import Evaluator, resolve
-from reducerlab.analysis.response import (
-    _prepare,
-    accurate_steps,
-    ensemble,
-    simulate_reference,
-    state_bounds,
-    static_states,
-    to_system,
-)
 from reducerlab.drives import build_model, load_design
+from reducerlab.dynamics.accuracy import accurate_steps
+from reducerlab.dynamics.coordinates import static_states, to_system
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.guards import state_bounds
+from reducerlab.dynamics.prepare import prepare as _prepare
+from reducerlab.dynamics.reference import simulate_reference
 from reducerlab.examples import example_dir
 from reducerlab.model import Backlash, Dof, Fourier, Inertia, Load, Mesh, Model
 

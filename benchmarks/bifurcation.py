@@ -20,10 +20,12 @@ import time
 import numpy as np
 import scipy.integrate
 
-from reducerlab.analysis.nonlinear import bifurcation
+from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.parameters import Axis, Evaluator, resolve
-from reducerlab.analysis.response import ensemble, forcing_period, static_state, to_system
 from reducerlab.drives import build_model, load_design
+from reducerlab.dynamics.coordinates import static_state, to_system
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.systems import forcing_period
 from reducerlab.examples import example_dir
 
 PERIODS, KEEP = 600, 100
@@ -93,7 +95,7 @@ def main() -> None:
         )
     t_ivp = (time.perf_counter() - t0) / len(sample)
     per = t_kernel / n_values
-    from reducerlab.analysis.response import steps_for
+    from reducerlab.dynamics.steps import steps_for
 
     steps = steps_for(systems[0], forcing_period(systems[0]))
     gflops = flops_per_trajectory(systems[0], steps) * n_values / t_kernel / 1e9

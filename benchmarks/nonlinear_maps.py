@@ -24,18 +24,17 @@ import time
 
 import numpy as np
 
-from reducerlab.analysis.kernel import block_width, rk4_ensemble
-from reducerlab.analysis.nonlinear import axis_members, bifurcation
+from reducerlab.analysis.bifurcation import bifurcation
+from reducerlab.analysis.members import axis_members
 from reducerlab.analysis.parameters import Axis, parse_values
 from reducerlab.analysis.regime_map import regime_map
-from reducerlab.analysis.response import (
-    _prepare,
-    _with_steps,
-    ensemble,
-    state_bounds,
-    static_states,
-)
 from reducerlab.drives import build_model, load_design
+from reducerlab.dynamics.coordinates import static_states
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.guards import state_bounds
+from reducerlab.dynamics.kernel import block_width, rk4_ensemble
+from reducerlab.dynamics.prepare import prepare as _prepare
+from reducerlab.dynamics.prepare import with_steps as _with_steps
 from reducerlab.examples import example_dir
 
 VALUES, PERIODS, KEEP = 100, 600, 100

@@ -42,10 +42,13 @@ import time
 
 import numpy as np
 
-from reducerlab.analysis.nonlinear import axis_members
+from reducerlab.analysis.members import axis_members
 from reducerlab.analysis.parameters import Axis, Evaluator, resolve
-from reducerlab.analysis.response import ensemble, forcing_period, state_bounds, static_states
 from reducerlab.drives import build_model, load_design
+from reducerlab.dynamics.coordinates import static_states
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.guards import state_bounds
+from reducerlab.dynamics.systems import forcing_period
 from reducerlab.examples import example_dir
 from reducerlab.model.laws import evaluate_flat, flat_mean
 
@@ -159,7 +162,7 @@ def main() -> None:
     bundled = Evaluator  # the systems of benchmarks/bifurcation.py
     d = load_design(example_dir() / "nutation_double_sided.toml")
     ev = bundled(d, build_model(d), (resolve(d, build_model(d), "mesh1.stiffness"),))
-    from reducerlab.analysis.response import to_system
+    from reducerlab.dynamics.coordinates import to_system
 
     plain = [to_system(ev.model_at([v])) for v in np.linspace(1.5e8, 3e8, 100)]
     maps_against_rk4("bundled (constant stiffness, no load)", plain, 600, None)

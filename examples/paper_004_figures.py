@@ -12,7 +12,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from reducerlab.analysis.nonlinear import bifurcation, response
+from reducerlab.analysis.bifurcation import bifurcation
+from reducerlab.analysis.response import response
 from reducerlab.analysis.sweep import Axis
 from reducerlab.drives import design_from_dict, load_design
 from reducerlab.examples import example_dir

@@ -9,8 +9,9 @@ import time
 from pathlib import Path
 
 import reducerlab as rl
-from reducerlab.analysis.nonlinear import bifurcation, response
+from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.parameters import parse_values
+from reducerlab.analysis.response import response
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -18,7 +19,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 def main() -> None:
     t0 = time.perf_counter()
     response(rl.load_design(EXAMPLES / "gear_pair.toml"), periods=40, keep=10, history=2)
-    # long runs of many DOFs take the one-period maps (analysis/floquet.py)
+    # long runs of many DOFs take the one-period maps (dynamics/maps.py)
     response(rl.load_design(EXAMPLES / "nutation_double_sided.toml"), history=2)
     khv = rl.load_design(EXAMPLES / "khv_rattle.toml")
     bifurcation(khv, parse_values("gears.x1", "0.5,0.6"), periods=40, keep=10)

@@ -14,13 +14,11 @@ import math
 import numpy as np
 import pytest
 
-from reducerlab.analysis.response import (
-    _prepare,
-    accurate_steps,
-    ensemble,
-    simulate_reference,
-    state_bounds,
-)
+from reducerlab.dynamics.accuracy import accurate_steps
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.guards import state_bounds
+from reducerlab.dynamics.prepare import prepare as _prepare
+from reducerlab.dynamics.reference import simulate_reference
 from reducerlab.errors import ReducerlabError
 from test_chaos_literature import duffing, rattle  # the same literature systems
 
@@ -93,10 +91,11 @@ def test_fine_steps_read_the_stiffness_jumps_on_the_right_side():
     # wrong side of the jump: a first-order error (6e-6 of the state scale at 8192
     # steps, where 2048 steps are exact to 1e-14), which made the accuracy-driven step
     # count run away to its cap. Refinement must now change nothing beyond round-off.
-    from reducerlab.analysis.nonlinear import axis_members
-    from reducerlab.analysis.response import state_bounds, static_states
+    from reducerlab.analysis.members import axis_members
     from reducerlab.analysis.sweep import Axis
     from reducerlab.drives import build_model, load_design
+    from reducerlab.dynamics.coordinates import static_states
+    from reducerlab.dynamics.guards import state_bounds
     from reducerlab.examples import example_dir
 
     d = load_design(example_dir() / "khv.toml", ["mesh.damping_ratio=0.005"])

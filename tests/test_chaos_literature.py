@@ -22,8 +22,11 @@ import math
 import numpy as np
 import pytest
 
-from reducerlab.analysis.nonlinear import _period_of, classify
-from reducerlab.analysis.response import ensemble, lyapunov, simulate_reference
+from reducerlab.analysis.motion import classify
+from reducerlab.analysis.motion import period_of as _period_of
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.lyapunov import lyapunov
+from reducerlab.dynamics.reference import simulate_reference
 from reducerlab.model import (
     Backlash,
     CubicSpring,

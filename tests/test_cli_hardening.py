@@ -334,7 +334,7 @@ def test_response_takes_the_forcing_period(tmp_path):
     assert r.exit_code == 2 and "--period" in r.output and "--frequency" in r.output
     r = runner.invoke(app, [*args, "--period", "2 ms"])
     assert r.exit_code == 0, r.output
-    from reducerlab.analysis.nonlinear import ResponseResult
+    from reducerlab.analysis.response import ResponseResult
 
     back = ResponseResult.load(tmp_path / "r" / "response.nc")
     assert back.data.attrs["forcing_hz"] == pytest.approx(500.0)
@@ -351,6 +351,7 @@ def test_response_takes_the_forcing_period(tmp_path):
 
 # ------------------------------------------------------------------ stamps and reload
 def _result_classes() -> dict[str, type[Result]]:
+    import reducerlab.analysis.bifurcation
     import reducerlab.analysis.body_modal
     import reducerlab.analysis.campbell
     import reducerlab.analysis.complex_modal
@@ -358,8 +359,8 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.frequency_response
     import reducerlab.analysis.kinematics
     import reducerlab.analysis.modal
-    import reducerlab.analysis.nonlinear
     import reducerlab.analysis.regime_map
+    import reducerlab.analysis.response
     import reducerlab.analysis.sweep  # noqa: F401
 
     found, todo = {}, [Result]

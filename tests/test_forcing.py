@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from reducerlab.analysis.nonlinear import response
+from reducerlab.analysis.response import response
 from reducerlab.drives import build_model, load_design
 from reducerlab.errors import DesignError, ModelError
 from reducerlab.examples import example_dir

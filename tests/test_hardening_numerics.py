@@ -10,18 +10,15 @@ import numpy as np
 import pytest
 import scipy.linalg
 
+from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.campbell import campbell
 from reducerlab.analysis.modal import modal
-from reducerlab.analysis.nonlinear import bifurcation, response
-from reducerlab.analysis.response import (
-    BOUND_FACTOR,
-    check_stability,
-    ensemble,
-    state_bounds,
-    to_system,
-)
+from reducerlab.analysis.response import response
 from reducerlab.analysis.sweep import Axis, sweep
 from reducerlab.drives import build_model, design_from_dict, load_design
+from reducerlab.dynamics.coordinates import to_system
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.guards import BOUND_FACTOR, check_stability, state_bounds
 from reducerlab.errors import DivergenceError, ModelError, ReducerlabError
 from reducerlab.examples import example_dir
 from reducerlab.model import (
@@ -391,7 +388,8 @@ def test_a_diverging_value_is_marked_without_aborting_the_bifurcation():
     # 0.6 / 2) the motion grows without bound. That value is marked "diverged" (NaN
     # points), the damped values on either side keep their results; ensemble's default
     # (on_divergence="raise") still stops a run naming it.
-    from reducerlab.analysis.response import ensemble, to_system
+    from reducerlab.dynamics.coordinates import to_system
+    from reducerlab.dynamics.ensemble import ensemble
 
     res = bifurcation(damped_mathieu(0.02), Axis("mesh.damping", [0.5, 0.002, 0.4]), periods=200,
                       keep=5, exponents=True)  # fmt: skip

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from reducerlab.analysis.nonlinear import bifurcation
+from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.parameters import Axis, parse_values
 from reducerlab.analysis.runfolder import chunk_path, load_chunk, open_run, save_chunk
 from reducerlab.analysis.sweep import sweep

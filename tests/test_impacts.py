@@ -17,8 +17,10 @@ import numpy as np
 import pytest
 
 from reducerlab.analysis.impacts import IMPACT_CLASSES, contact_states, mesh_mode
-from reducerlab.analysis.nonlinear import response
-from reducerlab.analysis.response import ensemble, simulate_reference, static_state, to_system
+from reducerlab.analysis.response import response
+from reducerlab.dynamics.coordinates import static_state, to_system
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.reference import simulate_reference
 from reducerlab.errors import ReducerlabError
 from reducerlab.model import Backlash, Dof, Fourier, Inertia, Load, Mesh, Model
 
@@ -215,7 +217,7 @@ def test_continuation_shows_the_hysteresis_of_the_no_impact_boundary():
     # 1 + F_m + A cos(phi) at t = kT); ascending from F_m = 0.06 (rattle), it stays on
     # the rattle up to 0.12 although the no-impact orbit exists there: two attractors,
     # reached only by continuation, drawn as two sweeps.
-    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.bifurcation import bifurcation
     from reducerlab.analysis.sweep import Axis
 
     omega, A = 0.8, 0.09
@@ -256,7 +258,7 @@ def test_random_starts_reveal_the_coexisting_rattle():
     # inside the no-impact boundary) the run from rest finds the no-impact orbit and
     # random starts find the coexisting rattle (Kahraman and Singh's two attractors);
     # far on the hardening side (k = 0.45) the no-impact orbit is the only attractor.
-    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.bifurcation import bifurcation
     from reducerlab.analysis.sweep import Axis
 
     omega = 0.8

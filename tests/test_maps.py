@@ -1,4 +1,4 @@
-"""One-period maps (analysis/floquet.py, issue 16): drives whose teeth stay in contact
+"""One-period maps (dynamics/maps.py, issue 16): drives whose teeth stay in contact
 are linear time-periodic systems, fast-forwarded by their monodromy map.
 
 Oracles: the linear oscillator's closed forms (steady amplitude
@@ -16,8 +16,10 @@ import math
 import numpy as np
 import pytest
 
-from reducerlab.analysis.floquet import _margin
-from reducerlab.analysis.response import ensemble, state_bounds, static_states
+from reducerlab.dynamics.coordinates import static_states
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.guards import state_bounds
+from reducerlab.dynamics.maps import margin as _margin
 from reducerlab.errors import ReducerlabError
 from reducerlab.model import Backlash, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from reducerlab.analysis.nonlinear import bifurcation
+from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.regime_map import RegimeMapResult, motion_order, regime_map
 from reducerlab.analysis.sweep import Axis
 from reducerlab.cli import app

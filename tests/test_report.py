@@ -16,8 +16,8 @@ from typer.testing import CliRunner
 import reducerlab as rl
 from reducerlab.analysis.body_modal import BodyModalResult
 from reducerlab.analysis.modal import modal
-from reducerlab.analysis.nonlinear import response
 from reducerlab.analysis.resonance import resonance_check
+from reducerlab.analysis.response import response
 from reducerlab.cli import app
 from reducerlab.errors import DesignError, ReducerlabError
 from reducerlab.examples import example_dir, example_files
@@ -151,7 +151,7 @@ def test_numbers_are_the_apis(reports):
 
 
 def test_bifurcation_asked_by_the_design_is_the_apis(reports):
-    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.bifurcation import bifurcation
     from reducerlab.analysis.parameters import parse_values
 
     d = rl.load_design(example_dir() / "khv_rattle.toml")

@@ -9,17 +9,15 @@ import numba
 import numpy as np
 import pytest
 
-from reducerlab.analysis.nonlinear import bifurcation, classify, spectrum_peaks
-from reducerlab.analysis.response import (
-    ensemble,
-    forcing_period,
-    lyapunov,
-    simulate_reference,
-    static_states,
-    to_system,
-)
+from reducerlab.analysis.bifurcation import bifurcation
+from reducerlab.analysis.motion import classify, spectrum_peaks
 from reducerlab.analysis.sweep import Axis
 from reducerlab.drives import build_model, load_design
+from reducerlab.dynamics.coordinates import static_states, to_system
+from reducerlab.dynamics.ensemble import ensemble
+from reducerlab.dynamics.lyapunov import lyapunov
+from reducerlab.dynamics.reference import simulate_reference
+from reducerlab.dynamics.systems import forcing_period
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
 from reducerlab.model import (
@@ -199,7 +197,7 @@ def test_a_transient_towards_a_period_3_orbit_is_unsettled():
 def test_response_outputs_and_cli(tmp_path):
     from typer.testing import CliRunner
 
-    from reducerlab.analysis.nonlinear import ResponseResult, response
+    from reducerlab.analysis.response import ResponseResult, response
     from reducerlab.cli import app
 
     # linear permanent-contact gear pair forced at W by its error: the response sits at
@@ -276,7 +274,7 @@ def test_bifurcation_worker_processes_and_interpolated_members_change_nothing():
 def test_dimensionless_form_is_the_same_motion():
     # paper 004 Eq. 13-16: tau = omega_n t, X/b_c; with the same steps per period the
     # RK4 grids map onto each other, so the states agree to round-off
-    from reducerlab.analysis.response import dimensionless
+    from reducerlab.dynamics.coordinates import dimensionless
 
     s = rattle(b=1e-6)
     wn = math.sqrt(1e6 / 1.0)
@@ -312,7 +310,8 @@ def test_bifurcation_exponent_follows_the_trajectory_of_its_points():
     # labels the wrong attractor. The exponent is computed inside the kernel beside the
     # points' own trajectory: the points are those of a run without exponents, and the
     # exponent is that of lyapunov() from the same start with the same steps.
-    from reducerlab.analysis.nonlinear import _Members, axis_members
+    from reducerlab.analysis.members import Members as _Members
+    from reducerlab.analysis.members import axis_members
 
     design = load_design(example_dir() / "khv.toml")
     axis = Axis.linspace("gears.x1", 0.5, 0.7, 2)
@@ -332,7 +331,7 @@ def test_bifurcation_exponent_follows_the_trajectory_of_its_points():
 
 
 def test_review_regressions(tmp_path):
-    from reducerlab.analysis.nonlinear import response
+    from reducerlab.analysis.response import response
 
     s = rattle()
     # per-member y0 for lyapunov is repeated per pair (used to overrun the kernel)
@@ -377,10 +376,10 @@ def test_review_regressions(tmp_path):
 def test_affinity_probe_is_element_by_element():
     # the stiffness law's row mixes its period (ms, ~ 1/speed) with coefficients of
     # 1e8 N/m: the probe must see the 1/speed dependence, not hide it under the scale
-    from reducerlab.analysis.nonlinear import _Members
+    from reducerlab.analysis.members import Members as _Members
     from reducerlab.analysis.parameters import Evaluator, resolve
-    from reducerlab.analysis.response import rigid_reduction
     from reducerlab.drives import build_model
+    from reducerlab.dynamics.coordinates import rigid_reduction
 
     design = load_design(example_dir() / "khv.toml")
     model = build_model(design)

@@ -280,7 +280,7 @@ def test_a_range_with_units_is_converted_by_the_design_field():
     # by the field's unit (input_speed is stored in rad/s)
     import math
 
-    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.bifurcation import bifurcation
     from reducerlab.drives import load_design
 
     ax = parse_values("input_speed", "lin:1300 rpm:1700 rpm:3")

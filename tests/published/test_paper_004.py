@@ -193,7 +193,7 @@ def test_bundled_rattle_design_has_a_non_trivial_x1_diagram():
     # examples/khv_rattle.toml ships that speed. Values well inside each band (the band
     # edges at 1000 periods: 0.675/0.685 and 0.765/0.775); the classes come from the
     # Poincare points and the kernel's Lyapunov exponent of the same run, 600 periods.
-    from reducerlab.analysis.nonlinear import bifurcation
+    from reducerlab.analysis.bifurcation import bifurcation
 
     d = load_design(example_dir() / "khv_rattle.toml")
     assert d.input_speed == pytest.approx(1230 * 2 * math.pi / 60, rel=1e-12)

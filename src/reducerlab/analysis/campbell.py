@@ -20,10 +20,10 @@ from numpy.typing import NDArray
 from ..design import Design
 from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
+from ..model.rigid import RIGID_TOL, element_blocks, rest_stiffness
 from ..results import Result
 from ..units import RPM, TWO_PI
 from .excitation import campbell_axes, campbell_dataset, find_crossings
-from .modal import RIGID_TOL, element_blocks, rest_stiffness
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -32,10 +32,11 @@ from numpy.typing import NDArray
 
 from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Coriolis, Gyroscopic, Model, Nutating
+from ..model.rigid import RIGID_TOL, rigid_and_elastic
 from ..results import Result, provenance
 from ..units import TWO_PI
 from .excitation import campbell_axes, campbell_dataset, find_crossings
-from .modal import RIGID_TOL, _rigid_and_elastic, has_skew_terms
+from .modal import has_skew_terms
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -127,7 +128,7 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
     mats = model.matrices()
     M, C, K = mats.M, mats.C, mats.K
     n = model.n
-    _, phi_real, rigid, _ = _rigid_and_elastic(model, M, K, rigid_tol)
+    _, phi_real, rigid, _ = rigid_and_elastic(model, M, K, rigid_tol)
     n_rigid = int(np.count_nonzero(rigid))
     try:
         Minv = np.linalg.inv(M)

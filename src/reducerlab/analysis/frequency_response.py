@@ -18,16 +18,17 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..design import Design
+from ..drives import design_and_model
+from ..dynamics.accuracy import ACCURACY
+from ..dynamics.ensemble import ensemble
+from ..dynamics.guards import check_stability
 from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
 from .impacts import contact_states, mesh_mode
-from .response import (
-    ACCURACY,
-    check_stability,
-    ensemble,
-)
-from .sweep import Axis
+from .members import axis_coord, axis_label, axis_members, continue_sweep, shown_values
+from .parameters import Axis
+from .policies import Continuation
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -70,8 +71,6 @@ class FrequencyResponseResult(Result):
         ds = self.data
         fig = Figure(figsize=(7.5, 6.6), layout="constrained")
         axes = fig.subplots(3, 1, sharex=True)
-        from .nonlinear import axis_label, shown_values
-
         x = shown_values(ds["p0"])
         style = {"up": ("-o", "k", "ascending sweep"), "down": ("--x", "C3", "descending sweep")}
         for b in ds["branch"].values.tolist():
@@ -113,13 +112,12 @@ def frequency_response(
     back-side impacts per period (``analysis.impacts``). A value whose motion diverges
     is NaN. Values may carry units and paths may be tied, as in ``sweep``.
     """
-    from .nonlinear import _continue, axis_coord, axis_members, design_and_model
-
     design, model = design_and_model(target, "frequency_response")
-    if continuation not in ("up", "down", "both"):
-        raise ReducerlabError(
-            f"frequency_response: continuation must be 'up', 'down' or 'both', got {continuation!r}"
-        )
+    continuation = Continuation.parse(
+        continuation,
+        "frequency_response",
+        (Continuation.UP, Continuation.DOWN, Continuation.BOTH),
+    ).value
     for name, v, lo in (("periods", periods, 2), ("history", history, 1)):
         if isinstance(v, bool) or not isinstance(v, int) or v < lo:
             raise ReducerlabError(f"frequency_response: {name} must be an integer >= {lo}")
@@ -143,7 +141,7 @@ def frequency_response(
                 rows[k] = _measures(s, res, k, line, history)
         return rows, res.poincare[:, -1]
 
-    out = _continue(members, values, continuation, run, progress)
+    out = continue_sweep(members, values, continuation, run, progress)
     names = list(out)
     data = xr.Dataset(
         {

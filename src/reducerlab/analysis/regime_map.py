@@ -5,7 +5,7 @@ The question a gear-rattle study asks of a drive, "at which speeds and profile s
 (backlash, errors, ...) does it lose contact, rattle, or go period-n, quasi-periodic or
 chaotic?", is answered by a 2-D map: for every pair of values the steady motion of
 mesh line ``line`` is classified from its Poincaré points and its largest Lyapunov
-exponent (:func:`~reducerlab.analysis.nonlinear.classify`, the exponent computed inside
+exponent (:func:`~reducerlab.analysis.motion.classify`, the exponent computed inside
 the compiled kernel beside the points' own trajectory), and its impact class and tooth
 separation are read from the last periods (:mod:`.impacts`).
 
@@ -33,28 +33,23 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..design import Design
+from ..drives import design_and_model
+from ..dynamics.accuracy import ACCURACY
+from ..dynamics.coordinates import rigid_reduction, static_states
+from ..dynamics.guards import check_stability
+from ..dynamics.systems import at_rest
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
+from ..model.rigid import element_blocks
 from ..results import Result, provenance
 from ..units import length_unit
+from .bifurcation import IMPACT_COLUMNS, BifurcationChunk
 from .impacts import IMPACT_CLASSES
-from .modal import element_blocks
-from .nonlinear import (
-    IMPACT_COLUMNS,
-    _BifurcationChunk,
-    _fingerprint,
-    _Members,
-    attractor_scale,
-    axis_coord,
-    axis_label,
-    classify,
-    design_and_model,
-    different_attractors,
-    shown_values,
-)
-from .response import ACCURACY, at_rest, check_stability, rigid_reduction, static_states
+from .members import Members, axis_coord, axis_label, fingerprint, shown_values
+from .motion import attractor_scale, classify, different_attractors
+from .parameters import Axis, Evaluator, axis_targets
+from .policies import Continuation
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
-from .sweep import Axis, _Evaluator, axis_targets
 from .workers import dask_client
 
 if TYPE_CHECKING:
@@ -107,7 +102,7 @@ def regime_map(
         :meth:`RegimeMapResult.coexisting` marks where they found different attractors.
     accuracy : float
         Target error of the Poincaré points (see
-        :func:`~reducerlab.analysis.response.ensemble`); ignored with
+        :func:`~reducerlab.dynamics.ensemble.ensemble`); ignored with
         ``steps_per_period``.
     period : float, optional
         Sampling period (s) of systems without a periodic law.
@@ -125,14 +120,12 @@ def regime_map(
     -------
     RegimeMapResult
         ``poincare`` (branch, p1, p0, point), ``exponent`` (1/s) and the per-point
-        impact statistics of :data:`~reducerlab.analysis.nonlinear.IMPACT_COLUMNS` over
+        impact statistics of :data:`~reducerlab.analysis.bifurcation.IMPACT_COLUMNS` over
         (branch, p1, p0); ``p0`` holds the ``x`` values and ``p1`` the ``y`` values (SI).
     """
     design, model = design_and_model(target, "regime_map")
-    if continuation not in (None, "up", "down", "both"):
-        raise ReducerlabError(
-            f"regime_map: continuation must be 'up', 'down', 'both' or None, got {continuation!r}"
-        )
+    way = Continuation.parse(continuation, "regime_map")
+    continuation = None if way is Continuation.NONE else way.value
     for name, v, lo in (("periods", periods, 1), ("keep", keep, 1),
                         ("rows_per_chunk", rows_per_chunk, 1)):  # fmt: skip
         if isinstance(v, bool) or not isinstance(v, int) or v < lo:
@@ -147,12 +140,12 @@ def regime_map(
         raise ReducerlabError(
             f"regime_map: {xv.size} x {yv.size} points; at most {MAX_POINTS} are allowed"
         )
-    ev = _Evaluator(design.model_dump(mode="python") if design else None, model, tuple([*gx, *gy]))
+    ev = Evaluator(design, model, tuple([*gx, *gy]))
     base = model.nonlinear()
     if not 0 <= line < base.G.shape[0]:
         raise ReducerlabError(f"regime_map: line must be in 0..{base.G.shape[0] - 1}, got {line}")
     rest = at_rest(model)
-    members = _Members(ev, rigid_reduction(rest if rest is not None else base,
+    members = Members(ev, rigid_reduction(rest if rest is not None else base,
                                            element_blocks(model)))  # fmt: skip
     job = _RegimeChunk(members, xv, yv, x.path, periods, keep, steps_per_period, line, scale,
                        period, accuracy, continuation)  # fmt: skip
@@ -164,7 +157,7 @@ def regime_map(
         spec = {"x": x.path, "y": y.path, "x_values": xv.tolist(), "y_values": yv.tolist(),
                 "periods": periods, "keep": keep, "steps": steps_per_period, "line": line,
                 "scale": scale, "continuation": continuation, "accuracy": accuracy,
-                "period": period, "rows": rows_per_chunk, "model": _fingerprint(base),
+                "period": period, "rows": rows_per_chunk, "model": fingerprint(base),
                 "design": design.hash if design else None}  # fmt: skip
         key = open_run(folder, "regime_map_run.json", spec, "regime map run")
     results: dict[int, NDArray] = {}
@@ -220,7 +213,7 @@ def regime_map(
 class _RegimeChunk:
     """Rows of a regime map (picklable for Dask): (branch, row, x value, column)."""
 
-    members: _Members
+    members: Members
     x: NDArray
     y: NDArray
     x_path: str
@@ -242,7 +235,7 @@ class _RegimeChunk:
     def __call__(
         self, rows: list[int], progress: Callable[[int, int], None] | None = None
     ) -> NDArray:
-        job = _BifurcationChunk(self.members, self.x_path, self.periods, self.keep,
+        job = BifurcationChunk(self.members, self.x_path, self.periods, self.keep,
                                 self.steps, self.line, self.scale, True, self.period,
                                 self.accuracy)  # fmt: skip
         row_members = [replace(self.members, fixed=(float(self.y[j]),), affine=None)
@@ -371,7 +364,7 @@ class RegimeMapResult(Result):
     def labels(self) -> NDArray:
         """Motion class of every point (branch, p1, p0): ``period-n``,
         ``quasi-periodic``, ``chaotic`` (exponent above 1 % of the forcing frequency),
-        ``unsettled`` or ``diverged`` (:func:`~reducerlab.analysis.nonlinear.classify`;
+        ``unsettled`` or ``diverged`` (:func:`~reducerlab.analysis.motion.classify`;
         read from the stored ``motion`` once the result is assembled)."""
         ds = self.data
         if "motion" in ds:
@@ -402,7 +395,7 @@ class RegimeMapResult(Result):
 
     def coexisting(self) -> NDArray[np.bool_]:
         """Points (p1, p0) where the ascending and descending sweeps hold different
-        attractors (:func:`~reducerlab.analysis.nonlinear.different_attractors`: other
+        attractors (:func:`~reducerlab.analysis.motion.different_attractors`: other
         motion classes, or mean Poincaré deflections apart by more than 2 % of the map's
         largest Poincaré spread). All False with one branch."""
         ds = self.data

@@ -31,10 +31,10 @@ from numpy.typing import NDArray
 from ..design import Design
 from ..errors import ReducerlabError, names_source
 from ..model import Model
+from ..model.rigid import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
 from ..results import Result, provenance
 from ..units import TWO_PI
 from .batch import eigh_batch
-from .modal import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
 from .parameters import Axis, Evaluator, Target, axis_targets
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes

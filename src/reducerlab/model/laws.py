@@ -1,7 +1,8 @@
 """Scalar laws of time (mesh stiffness, transmission error, loads) and the backlash.
 
 Each law evaluates vectorised over ``t`` and exports itself as a kind code plus a flat
-float array (:meth:`TimeLaw.flat`) that :func:`evaluate_flat` — and the compiled
+float array (:meth:`TimeLaw.flat`, in the layout that :mod:`reducerlab.model.layout`
+owns) that :func:`evaluate_flat` — and the compiled
 integrators built on it — evaluate without Python objects.
 """
 
@@ -18,11 +19,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ModelError
+from . import layout
+from .layout import LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE
 
 __all__ = [
-    "LAW_CONSTANT",
-    "LAW_FOURIER",
-    "LAW_PIECEWISE",
     "Backlash",
     "Constant",
     "Fourier",
@@ -34,8 +34,6 @@ __all__ = [
     "flat_peak",
     "flat_period",
 ]
-
-LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE = 0, 1, 2
 
 
 class TimeLaw(ABC):
@@ -120,7 +118,7 @@ class Constant(TimeLaw):
         return np.zeros(np.shape(t))
 
     def flat(self) -> tuple[int, NDArray[np.float64]]:
-        return LAW_CONSTANT, np.array([self.mean], dtype=float)
+        return LAW_CONSTANT, layout.encode_constant(self.mean)
 
 
 @dataclass(frozen=True)
@@ -226,9 +224,8 @@ class Fourier(TimeLaw):
         return 2 * math.pi / float(np.real(self.omega))
 
     def flat(self) -> tuple[int, NDArray[np.float64]]:
-        n = len(self.amplitudes)
-        return LAW_FOURIER, np.array(
-            [self.mean, self.omega, n, *self.amplitudes, *self.phases], dtype=float
+        return LAW_FOURIER, layout.encode_fourier(
+            self.mean, self.omega, self.amplitudes, self.phases
         )
 
 
@@ -354,10 +351,8 @@ class PiecewisePolynomial(TimeLaw):
         return times[(times >= t0) & (times <= t1)]
 
     def flat(self) -> tuple[int, NDArray[np.float64]]:
-        c = np.asarray(self.coefficients, dtype=float)
-        n, m = c.shape
-        return LAW_PIECEWISE, np.array(
-            [self.period, self.t0, n, m, *self.breaks, *c.ravel()], dtype=float
+        return LAW_PIECEWISE, layout.encode_piecewise(
+            self.period, self.t0, self.breaks, self.coefficients
         )
 
 
@@ -369,44 +364,46 @@ def evaluate_flat(kind: int, params: NDArray[np.float64], t: float) -> tuple[flo
     if kind == LAW_CONSTANT:
         return float(params[0]), 0.0
     if kind == LAW_FOURIER:
-        mean, omega, n = params[0], params[1], int(params[2])
+        mean, omega = params[layout.FOURIER_MEAN], params[layout.FOURIER_OMEGA]
+        n = layout.fourier_count(params)
+        amps, phis = layout.amplitudes(params), layout.phases(params)
         val, der = mean, 0.0
         for r in range(1, n + 1):
-            arg = r * omega * t + params[2 + n + r]
-            val += params[2 + r] * math.cos(arg)
-            der -= params[2 + r] * r * omega * math.sin(arg)
+            arg = r * omega * t + phis[r - 1]
+            val += amps[r - 1] * math.cos(arg)
+            der -= amps[r - 1] * r * omega * math.sin(arg)
         return float(val), float(der)
     if kind == LAW_PIECEWISE:
-        period, t0, n, m = params[0], params[1], int(params[2]), int(params[3])
+        period, t0 = params[layout.PIECE_PERIOD], params[layout.PIECE_T0]
+        n, m = layout.piece_shape(params)
+        starts, coef = layout.breaks(params), layout.coefficients(params)
         s = ((t - t0) / period) % 1.0
         i = 0
-        while i + 1 < n and params[4 + i + 1] <= s:
+        while i + 1 < n and starts[i + 1] <= s:
             i += 1
-        base = 4 + n + i * m
         val, der = 0.0, 0.0
         for p in range(m - 1, -1, -1):  # Horner in s
             der = der * s + val if p < m - 1 else 0.0
-            val = val * s + params[base + p]
+            val = val * s + coef[i, p]
         return float(val), float(der / period)
     raise ModelError(f"unknown law kind {kind}")
 
 
 def flat_period(kind: int, params: NDArray[np.float64]) -> float:
     """Period (s) of a flat law; ``inf`` for a constant (or a zero-frequency series)."""
-    if kind == LAW_FOURIER and params[1] > 0:
-        return 2 * math.pi / float(params[1])
+    if kind == LAW_FOURIER and params[layout.FOURIER_OMEGA] > 0:
+        return 2 * math.pi / float(params[layout.FOURIER_OMEGA])
     if kind == LAW_PIECEWISE:
-        return float(params[0])
+        return float(params[layout.PIECE_PERIOD])
     return math.inf
 
 
 def flat_mean(kind: int, params: NDArray[np.float64]) -> float:
     """Time average of a flat law over one period (exact integral for piecewise laws)."""
     if kind == LAW_PIECEWISE:
-        n, deg = int(params[2]), int(params[3])
-        edges = np.append(params[4 : 4 + n], 1.0)
-        c = params[4 + n : 4 + n + n * deg].reshape(n, deg)
-        q = np.arange(1, deg + 1)
+        edges = np.append(layout.breaks(params), 1.0)
+        c = layout.coefficients(params)
+        q = np.arange(1, c.shape[1] + 1)
         return float(np.sum(c * (edges[1:, None] ** q - edges[:-1, None] ** q) / q))
     return float(params[0])
 
@@ -416,11 +413,9 @@ def flat_peak(kind: int, params: NDArray[np.float64]) -> float:
     plus the harmonic amplitudes of a Fourier law, the largest sum of coefficient
     magnitudes of a piecewise polynomial (``|c(s)| <= sum |c_q|`` for ``s`` in [0, 1])."""
     if kind == LAW_FOURIER:
-        n = int(params[2])
-        return float(abs(params[0]) + np.abs(params[3 : 3 + n]).sum())
+        return float(abs(params[layout.FOURIER_MEAN]) + np.abs(layout.amplitudes(params)).sum())
     if kind == LAW_PIECEWISE:
-        n, m = int(params[2]), int(params[3])
-        return float(np.abs(params[4 + n : 4 + n + n * m]).reshape(n, m).sum(axis=1).max())
+        return float(np.abs(layout.coefficients(params)).sum(axis=1).max())
     return float(abs(params[0]))
 
 

@@ -17,8 +17,9 @@ from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 from .laws import TimeLaw, evaluate_flat, flat_mean
+from .layout import pack_laws
 
-__all__ = ["NonlinearSystem", "Origin", "pack_laws"]
+__all__ = ["NonlinearSystem", "Origin"]
 
 
 @dataclass(frozen=True)
@@ -74,17 +75,6 @@ def _require_finite(owner: str, what: str, a: NDArray, rows: Sequence[str]) -> N
         )
 
 
-def pack_laws(laws: Sequence[TimeLaw]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """Kind codes ``(n,)`` and zero-padded parameter rows ``(n, p_max)`` of ``laws``."""
-    flats = [law.flat() for law in laws]
-    width = max((p.size for _, p in flats), default=1)
-    kinds = np.array([k for k, _ in flats], dtype=np.int64)
-    params = np.zeros((len(flats), width))
-    for i, (_, p) in enumerate(flats):
-        params[i, : p.size] = p
-    return kinds, params
-
-
 @dataclass(frozen=True)
 class NonlinearSystem:
     """``M q'' + C q' + K q + G^T [k(t) f + k3 f^3 + c (G q' - e'(t))] = F(t)``, with
@@ -101,7 +91,7 @@ class NonlinearSystem:
     line_names : list of str
         Name of each line.
     k_kind, k_params : ndarray
-        Stiffness laws of the lines (see :func:`pack_laws`), N/m.
+        Stiffness laws of the lines (see :func:`~reducerlab.model.layout.pack_laws`), N/m.
     line_damping : ndarray, shape (n_lines,)
         Mesh damping (N s/m).
     half_backlash : ndarray, shape (n_lines,)
@@ -187,7 +177,8 @@ class NonlinearSystem:
         load_laws: Sequence[TimeLaw],
         **arrays: object,
     ) -> NonlinearSystem:
-        """Build from law objects, packing each group with :func:`pack_laws`."""
+        """Build from law objects, packing each group with
+        :func:`~reducerlab.model.layout.pack_laws`."""
         k_kind, k_params = pack_laws(stiffness_laws)
         e_kind, e_params = pack_laws(error_laws)
         f_kind, f_params = pack_laws(load_laws)
@@ -274,7 +265,7 @@ class NonlinearSystem:
 
         ``rest_stiffness``, for a system at speed, is its linear stiffness at zero speed:
         the rigid modes must carry none of it, while the speed terms' action on them is
-        dropped (see :func:`reducerlab.analysis.response.at_rest`). ``check=False`` skips
+        dropped (see :func:`reducerlab.dynamics.systems.at_rest`). ``check=False`` skips
         the test that the rigid modes carry no stiffness, damping or mesh: for a ``T``
         made from the system's own rigid modes (``rigid_reduction``), where the test
         would only measure the eigen-solver's round-off (large when stiffness values

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from ..analysis.nonlinear import BifurcationResult
+    from ..analysis.bifurcation import BifurcationResult
     from ..analysis.regime_map import RegimeMapResult
 
 __all__ = ["plotly_bifurcation", "plotly_regime_map"]
@@ -30,7 +30,7 @@ def plotly_bifurcation(result: BifurcationResult) -> Any:
     """
     import plotly.graph_objects as go
 
-    from ..analysis.nonlinear import axis_label, shown_values
+    from ..analysis.members import axis_label, shown_values
 
     ds = result.data
     x = shown_values(ds["p0"])
@@ -76,7 +76,7 @@ def plotly_regime_map(result: RegimeMapResult) -> Any:
     """
     import plotly.graph_objects as go
 
-    from ..analysis.nonlinear import axis_label, shown_values
+    from ..analysis.members import axis_label, shown_values
 
     ds = result.data
     X, Y = shown_values(ds["p0"]), shown_values(ds["p1"])

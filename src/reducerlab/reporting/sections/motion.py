@@ -27,8 +27,9 @@ def response_section(ctx: Context) -> Section | None:
         return None
     from matplotlib.figure import Figure
 
-    from ...analysis.nonlinear import NOISE_M, response
-    from ...analysis.response import forcing_period, to_system
+    from ...analysis.response import NOISE_M, response
+    from ...dynamics.coordinates import to_system
+    from ...dynamics.systems import forcing_period
 
     s = Section("response", "Nonlinear response at the operating speed")
     try:
@@ -113,7 +114,7 @@ def bifurcation_section(ctx: Context) -> Section | None:
         return None
     s = Section("bifurcation", "Bifurcation diagram")
     if req is not None:
-        from ...analysis.nonlinear import bifurcation
+        from ...analysis.bifurcation import bifurcation
         from ...analysis.parameters import parse_values
 
         field_ = "report.bifurcation.values"

@@ -24,18 +24,9 @@ import math
 import numba as nb
 import numpy as np
 
-__all__ = [
-    "LAW_CONSTANT",
-    "LAW_FOURIER",
-    "LAW_PIECEWISE",
-    "block_width",
-    "eval_law",
-    "law_values",
-    "rk4_ensemble",
-    "step_grid",
-]
+from .kernel_laws import tabulate, tabulate_at
 
-from ..model.laws import LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE
+__all__ = ["BLOCK", "block_width", "rk4_ensemble"]
 
 #: Most members integrated in lock-step by one thread (a multiple of the SIMD width);
 #: smaller ensembles use smaller blocks so that every thread gets work.
@@ -49,137 +40,6 @@ def block_width(members: int) -> int:
     threads = nb.get_num_threads()
     per_thread = -(-members // threads)
     return BLOCK if per_thread >= BLOCK else 8
-
-
-@nb.njit(cache=True, fastmath=False)
-def eval_law(kind: int, p: np.ndarray, t: float) -> tuple[float, float]:
-    """Value and derivative of a flat law at time ``t`` (mirrors ``evaluate_flat``)."""
-    if kind == LAW_CONSTANT:
-        return p[0], 0.0
-    if kind == LAW_FOURIER:
-        mean, omega, n = p[0], p[1], int(p[2])
-        val, der = mean, 0.0
-        for r in range(1, n + 1):
-            arg = r * omega * t + p[2 + n + r]
-            val += p[2 + r] * math.cos(arg)
-            der -= p[2 + r] * r * omega * math.sin(arg)
-        return val, der
-    period, t0, n, m = p[0], p[1], int(p[2]), int(p[3])
-    s = (t - t0) / period
-    s = s - math.floor(s)
-    i = 0
-    while i + 1 < n and p[4 + i + 1] <= s:
-        i += 1
-    base = 4 + n + i * m
-    val, der = 0.0, 0.0
-    for q in range(m - 1, -1, -1):
-        if q < m - 1:
-            der = der * s + val
-        val = val * s + p[base + q]
-    return val, der / period
-
-
-@nb.njit(cache=True)
-def step_grid(edges, counts, N):
-    """Step starts and lengths (phases) of ``N`` steps per period for each member, whose
-    period is cut at ``edges[e, :counts[e]]`` (increasing, starting at 0, ending at 1):
-    each segment gets its share of ``N`` by largest remainder and at least one step."""
-    E = edges.shape[0]
-    offs = np.empty((E, N))
-    dts = np.empty((E, N))
-    for e in range(E):
-        S = counts[e] - 1
-        raw = np.empty(S)
-        steps = np.empty(S, np.int64)
-        total = 0
-        for j in range(S):
-            raw[j] = N * (edges[e, j + 1] - edges[e, j])
-            steps[j] = max(1, math.floor(raw[j]))
-            total += steps[j]
-        while total < N:
-            best, jb = -np.inf, 0
-            for j in range(S):
-                if raw[j] - steps[j] > best:
-                    best, jb = raw[j] - steps[j], j
-            steps[jb] += 1
-            total += 1
-        while total > N:
-            best, jb = np.inf, -1
-            for j in range(S):
-                if steps[j] > 1 and raw[j] - steps[j] < best:
-                    best, jb = raw[j] - steps[j], j
-            steps[jb] -= 1
-            total -= 1
-        q = 0
-        for j in range(S):
-            a, b = edges[e, j], edges[e, j + 1]
-            for i in range(steps[j]):
-                offs[e, q] = a + (b - a) * i / steps[j]
-                dts[e, q] = (b - a) / steps[j]
-                q += 1
-    return offs, dts
-
-
-@nb.njit(cache=True, parallel=True)
-def law_values(kinds, params, times):
-    """Values ``(E, P, L)`` of the laws ``kinds`` (L,) with per-member ``params``
-    (E, L, width) at per-member ``times`` (E, P); NaN where the time is NaN."""
-    E, P = times.shape
-    L = kinds.shape[0]
-    out = np.empty((E, P, L))
-    for e in nb.prange(E):
-        for p in range(P):
-            t = times[e, p]
-            for m in range(L):
-                if math.isnan(t):
-                    out[e, p, m] = np.nan
-                else:
-                    out[e, p, m] = eval_law(kinds[m], params[e, m], t)[0]
-    return out
-
-
-@nb.njit(cache=True, inline="always")
-def _law_row(tab, row, b, e, mb, ts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par, fv):
-    """``tab[row, :, b]`` for member ``e`` at time ``ts``: ``k`` (L), ``e`` (L),
-    ``de/dt`` (L), then the load acceleration ``M^-1 B f`` (n) from ``MB[mb]``."""
-    L = k_kind.shape[0]
-    n = MB.shape[1]
-    nf = f_kind.shape[0]
-    for m in range(L):
-        k, _ = eval_law(k_kind[m], k_par[e, m], ts)
-        v, dv = eval_law(e_kind[m], e_par[e, m], ts)
-        tab[row, m, b] = k
-        tab[row, L + m, b] = v
-        tab[row, 2 * L + m, b] = dv
-    for j in range(nf):
-        fv[j], _ = eval_law(f_kind[j], f_par[e, j], ts)
-    for i in range(n):
-        acc = 0.0
-        for j in range(nf):
-            acc += MB[mb, i, j] * fv[j]
-        tab[row, 3 * L + i, b] = acc
-
-
-@nb.njit(cache=True)
-def _tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par):
-    """Fill ``tab[3 N, W, B]`` for members ``lo:hi``: rows ``3q, 3q+1, 3q+2`` are the
-    RK4 sample times of step ``q`` (just inside its start, its middle, just inside its
-    end, so that a jump at a step boundary is seen from the correct side); columns are
-    ``k`` (L), ``e`` (L), ``de/dt`` (L), then the load acceleration ``M^-1 B f`` (n)."""
-    N = offs.shape[1]
-    fv = np.empty(f_kind.shape[0])
-    for e in range(lo, hi):
-        b = e - lo
-        for q in range(N):
-            dt = dts[e, q]
-            t = t_base[e] + offs[e, q]
-            # just inside the step: 1e-9 of it, and beyond the rounding of t (the law's
-            # phase (t - t0) / period is computed from the absolute time)
-            inside = max(1e-9 * dt, 16.0 * 2.220446049250313e-16 * (abs(t) + dt))
-            for s in range(3):
-                ts = t + inside if s == 0 else (t + 0.5 * dt if s == 1 else t + dt - inside)
-                _law_row(tab, 3 * q + s, b, e, b, ts, k_kind, k_par, e_kind, e_par, MB,
-                         f_kind, f_par, fv)  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=_FM)
@@ -323,19 +183,6 @@ def _event_times(tab, r0, y0, y1, dtv, Gb, hbb, tau) -> bool:
     return anyx
 
 
-@nb.njit(cache=True)
-def _tabulate_at(sub, times, lo, width, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par):
-    """Law rows ``sub[s, :, b]`` at the member times ``times[s, b]`` (s = 0, 1, 2), as
-    :func:`_tabulate` does for the fixed sample times; slots past ``width`` repeat the
-    last member."""
-    fv = np.empty(f_kind.shape[0])
-    for b in range(times.shape[1]):
-        mb = min(b, width - 1)
-        for s in range(3):
-            _law_row(sub, s, b, lo + mb, mb, times[s, b], k_kind, k_par, e_kind, e_par, MB,
-                     f_kind, f_par, fv)  # fmt: skip
-
-
 @nb.njit(cache=True, fastmath=_FM, inline="always")
 def _block(
     lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B_, f_kind, f_par,
@@ -448,7 +295,7 @@ def _block(
         if p == 0 or not periodic:
             for e in range(lo, hi):
                 t_base[e] = t_start[e] + p * period[e]
-            _tabulate(
+            tabulate(
                 tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par
             )
             for b in range(width, nb_):
@@ -489,9 +336,9 @@ def _block(
                     times[3, b] = t0 + dt1[b] + eps2
                     times[4, b] = t0 + dt1[b] + 0.5 * dt2[b]
                     times[5, b] = t0 + full - eps2
-                _tabulate_at(sub, times[:3], lo, width, k_kind, k_par, e_kind, e_par, MB,
+                tabulate_at(sub, times[:3], lo, width, k_kind, k_par, e_kind, e_par, MB,
                              f_kind, f_par)  # fmt: skip
-                _tabulate_at(sub[3:], times[3:], lo, width, k_kind, k_par, e_kind, e_par, MB,
+                tabulate_at(sub[3:], times[3:], lo, width, k_kind, k_par, e_kind, e_par, MB,
                              f_kind, f_par)  # fmt: skip
                 _rk4(sub, 0, y, dt1, k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb,
                      k3b, d, dv, fm)  # fmt: skip

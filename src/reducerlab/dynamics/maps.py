@@ -25,15 +25,31 @@ impact statistics and phase plots come from the full nonlinear equations.
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Callable, Sequence
 
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from ..model.laws import LAW_CONSTANT, LAW_FOURIER
-from .kernel import block_width, eval_law, rk4_ensemble
-from .response import subset
+from ..model import NonlinearSystem
+from ..model.layout import constant_terms
+from .accuracy import pilot_run, refine_steps
+from .kernel import block_width, rk4_ensemble
+from .kernel_laws import eval_law, law_values
+from .lyapunov import LYAPUNOV_D0
+from .prepare import KernelArrays, Prepared, subset
+
+__all__ = [
+    "affine_maps",
+    "contact_arrays",
+    "contact_sides",
+    "map_members",
+    "map_run",
+    "map_steps",
+    "maps_pay",
+    "margin",
+    "run_maps",
+]
 
 __all__ = ["affine_maps", "contact_sides", "map_members", "run_maps"]
 
@@ -45,13 +61,13 @@ MAP_BLOCK = 8
 CACHE_BYTES = 256 * 2**20
 
 
-def contact_sides(arrays: tuple, y_static: NDArray[np.float64]) -> NDArray[np.float64]:
+def contact_sides(arrays: KernelArrays, y_static: NDArray[np.float64]) -> NDArray[np.float64]:
     """Loaded flank of every line (E, L): the sign of the static deflection under the
-    mean loads (``y_static``: ``response.static_states``, backlash offsets ignored);
+    mean loads (``y_static``: ``coordinates.static_states``, backlash offsets ignored);
     0 where a line with backlash carries no static load (below 1e-6 of its half
     backlash: its teeth float, no contact map); 1 for a line without backlash (always
     linear). Whether the teeth stay in contact is checked along the motion."""
-    G, hb, e_kind, e_par = arrays[3], arrays[7], arrays[9], arrays[10]
+    G, hb, e_kind, e_par = arrays.G, arrays.hb, arrays.e_kind, arrays.e_par
     E, L, n = G.shape
     out = np.ones((E, L))
     for e in range(E):
@@ -63,27 +79,22 @@ def contact_sides(arrays: tuple, y_static: NDArray[np.float64]) -> NDArray[np.fl
     return out
 
 
-def _contact_arrays(arrays: tuple, sides: NDArray[np.float64]) -> tuple:
+def contact_arrays(arrays: KernelArrays, sides: NDArray[np.float64]) -> KernelArrays:
     """The contact system's kernel arrays: no backlash, the error shifted by
-    ``side * b`` (in contact ``k (delta - side b) = k (G q - (e + side b))``)."""
-    hb, e_kind, e_par = arrays[7], arrays[9], arrays[10].copy()
+    ``side * b`` (in contact ``k (delta - side b) = k (G q - (e + side b))``): the
+    constant, the mean of a Fourier series, the constant term of every piece of a
+    piecewise polynomial (:func:`reducerlab.model.layout.constant_terms`)."""
+    hb, e_kind, e_par = arrays.hb, arrays.e_kind, arrays.e_par.copy()
     for m in range(e_kind.shape[0]):
         shift = sides[:, m] * hb[:, m]
         kind = int(e_kind[m])
-        if kind in (LAW_CONSTANT, LAW_FOURIER):  # the mean comes first
-            e_par[:, m, 0] += shift
-        else:  # piecewise polynomial: the constant term of every piece
-            for e in range(e_par.shape[0]):
-                n, w = int(e_par[e, m, 2]), int(e_par[e, m, 3])
-                e_par[e, m, 4 + n : 4 + n + n * w : w] += shift[e]
-    out = list(arrays)
-    out[7] = np.zeros_like(hb)
-    out[10] = e_par
-    return tuple(out)
+        for e in range(e_par.shape[0]):
+            constant_terms(kind, e_par[e, m])[:] += shift[e]
+    return arrays._replace(hb=np.zeros_like(hb), e_par=e_par)
 
 
-def affine_maps(prep, sides: NDArray[np.float64]) -> tuple[NDArray, ...]:
-    """One-period maps of every member of ``prep`` (a ``response._Prepared``).
+def affine_maps(prep: Prepared, sides: NDArray[np.float64]) -> tuple[NDArray, ...]:
+    """One-period maps of every member of ``prep`` (:class:`~.prepare.Prepared`).
 
     Returns
     -------
@@ -97,9 +108,9 @@ def affine_maps(prep, sides: NDArray[np.float64]) -> tuple[NDArray, ...]:
     d, dv : (E, N + 1, L)
         Their constant parts (from the forcing from rest, minus the error and its rate).
     """
-    arrays = _contact_arrays(prep.arrays, sides)
+    arrays = contact_arrays(prep.arrays, sides)
     E = prep.period.size
-    G = arrays[3]
+    G = arrays.G
     n2 = 2 * G.shape[2]
     n = n2 // 2
     C = n2 + 1
@@ -134,30 +145,14 @@ def affine_maps(prep, sides: NDArray[np.float64]) -> tuple[NDArray, ...]:
     Dv = np.concatenate([start_v, Gv], axis=1)
     bases = np.concatenate([np.zeros((E, 1, n2)), base], axis=1)  # (E, N + 1, 2n)
     times = np.concatenate([np.zeros((E, 1)), prep.offs + prep.dts], axis=1)
-    ev, edot = _law_pairs(prep.arrays[9], prep.arrays[10], np.ascontiguousarray(times))
+    ev, edot = law_values(prep.arrays.e_kind, prep.arrays.e_par, np.ascontiguousarray(times))
     d = np.einsum("eln,ekn->ekl", G, bases[:, :, :n]) - ev
     dv = np.einsum("eln,ekn->ekl", G, bases[:, :, n:]) - edot
     return Phi, p, D, Dv, d, dv
 
 
 @nb.njit(cache=True)
-def _law_pairs(kinds, params, times):
-    """Values and rates (E, K, L) of the laws at per-member times (E, K)."""
-    E, K = times.shape
-    L = kinds.shape[0]
-    val = np.empty((E, K, L))
-    der = np.empty((E, K, L))
-    for e in range(E):
-        for k in range(K):
-            for m in range(L):
-                v, dv = eval_law(kinds[m], params[e, m], times[e, k])
-                val[e, k, m] = v
-                der[e, k, m] = dv
-    return val, der
-
-
-@nb.njit(cache=True)
-def _margin(D, Dv, d, dv, dts, y, sides, hb) -> float:
+def margin(D, Dv, d, dv, dts, y, sides, hb) -> float:
     """Smallest distance (m) beyond the half backlash on the loaded side, over every
     line with backlash and one period from state ``y``: at the step ends and at the
     interior minima of the cubic Hermite interpolant between them (negative: the teeth
@@ -210,9 +205,9 @@ def run_maps(Phi, p, D, Dv, d, dv, dts, sides, hb, y0, n_periods, n_keep, limit,
     contact in each.
 
     A period passes at once when the start state is close enough to the map's fixed
-    point ``ystar``: its margin ``safe`` (:func:`_margin` of the fixed point) exceeds
+    point ``ystar``: its margin ``safe`` (:func:`margin` of the fixed point) exceeds
     ``bound * |y - ystar|`` (``bound``: the largest change of a deflection along the
-    Hermite interpolant per unit change of the state); otherwise :func:`_margin` is
+    Hermite interpolant per unit change of the state); otherwise :func:`margin` is
     evaluated for the period.
 
     Returns the states at the start of the last ``n_keep`` periods and at the end
@@ -247,7 +242,7 @@ def run_maps(Phi, p, D, Dv, d, dv, dts, sides, hb, y0, n_periods, n_keep, limit,
             for i in range(n2):
                 dist += (y[i] - ystar[e, i]) ** 2
             near = safe[e] - bound[e] * math.sqrt(dist) > 0.0  # NaN (no fixed point): not
-            if not near and not _margin(D[e], Dv[e], d[e], dv[e], dts[e], y, sides[e],
+            if not near and not margin(D[e], Dv[e], d[e], dv[e], dts[e], y, sides[e],
                                         hb[e]) > 0.0:  # fmt: skip
                 failed[e] = per
                 break
@@ -298,7 +293,7 @@ def _fixed_point(Phi: NDArray, p: NDArray, D, Dv, d, dv, dts, sides, hb) -> tupl
         if not np.any(lines):
             safe[e], bound[e] = np.inf, 0.0
             continue
-        safe[e] = _margin(D[e], Dv[e], d[e], dv[e], dts[e], ystar[e], sides[e], hb[e])
+        safe[e] = margin(D[e], Dv[e], d[e], dv[e], dts[e], ystar[e], sides[e], hb[e])
         cx = np.linalg.norm(D[e][:, lines], axis=-1).max()
         cv = np.linalg.norm(Dv[e][:, lines], axis=-1).max()
         bound[e] = cx + (8.0 / 27.0) * float(dts[e].max()) * cv
@@ -306,7 +301,7 @@ def _fixed_point(Phi: NDArray, p: NDArray, D, Dv, d, dv, dts, sides, hb) -> tupl
 
 
 def map_members(
-    prep: Any,
+    prep: Prepared,
     sides: NDArray[np.float64],
     y0: NDArray[np.float64],
     limit: NDArray[np.float64],
@@ -324,7 +319,7 @@ def map_members(
     poincare = np.full((E, n_keep + 1, n2), np.nan)
     failed = np.zeros(E, np.int64)
     logs = np.zeros(E)
-    hb = prep.arrays[7]
+    hb = prep.arrays.hb
     for lo in range(0, E, MAP_BLOCK):
         idx = np.arange(lo, min(E, lo + MAP_BLOCK))
         sub = subset(prep, idx)
@@ -344,3 +339,79 @@ def map_members(
                        bound)  # fmt: skip
         poincare[idx], failed[idx], logs[idx] = out
     return poincare, failed, logs
+
+
+def maps_pay(n: int, periods: int) -> bool:
+    """Whether the one-period map is worth trying: it costs ``2n + 1`` periods."""
+    return periods >= 4 * (2 * n + 1)
+
+
+def map_steps(
+    prep: Prepared,
+    systems: Sequence[NonlinearSystem],
+    Y0: NDArray[np.float64],
+    bounds: NDArray[np.float64],
+    accuracy: float,
+    pilot: int,
+    sides: NDArray[np.float64],
+    cache: dict,
+) -> int:
+    """:func:`.accuracy.accurate_steps` with the pilot periods run through the one-period maps
+    (members whose teeth separate in the pilot run them with the RK4 kernel); the maps
+    stay in ``cache`` for the main run."""
+    P, failed, _ = map_members(prep, sides, Y0, bounds, pilot, 1, -1, 0.0, cache)
+    Y = P[:, -1].copy()
+    ok = np.ones(len(systems), bool)
+    bad = np.flatnonzero(failed >= 0)
+    if bad.size:  # teeth that separate: their pilot by the RK4 kernel
+        end, ran = pilot_run(subset(prep, bad), Y0[bad], bounds[bad], pilot)
+        Y[bad] = np.where(np.isfinite(end), end, Y0[bad])
+        ok[bad] = ran
+    if not np.any(ok):
+        return prep.steps
+    return refine_steps(prep, systems, Y, pilot * prep.period, ok, bounds, accuracy)
+
+
+def map_run(
+    prep: Prepared,
+    Y0: NDArray[np.float64],
+    bounds: NDArray[np.float64],
+    periods: int,
+    keep: int,
+    history: int,
+    exponents: bool,
+    sides: NDArray[np.float64],
+    rk4_run: Callable[[NDArray[np.intp], NDArray[np.float64]], tuple],
+    cache: dict,
+) -> tuple:
+    """:func:`.ensemble.ensemble`'s outputs with the periods before the history taken by the
+    one-period maps; members whose teeth separate (or that leave their bounds) in any
+    period go to ``rk4_run`` from their start."""
+    E, n2 = Y0.shape
+    N = prep.steps
+    n_keep = max(keep, history)
+    P, failed, logs = map_members(prep, sides, Y0, bounds, periods, n_keep,
+                                     periods - keep if exponents else -1, LYAPUNOV_D0,
+                                     cache)  # fmt: skip
+    poincare = np.ascontiguousarray(P[:, n_keep - keep :])
+    hist = np.full((E, history * N, n2), np.nan)
+    status = np.zeros((E, 3 + n2))
+    exponent = logs / (keep * prep.period) if exponents else None
+    good = np.flatnonzero(failed < 0)
+    if history and good.size:  # the last periods, every step: the full equations
+        sub = subset(prep, good)
+        start = P[good, n_keep - history]
+        _, H, st, _ = rk4_ensemble(
+            *sub.arrays, start, (periods - history) * sub.period, sub.period, sub.offs,
+            sub.dts, sub.periodic, history, 1, history, bounds[good], block_width(good.size),
+            -1, 0.0,
+        )  # fmt: skip
+        hist[good] = H
+        status[good] = st
+    bad = np.flatnonzero(failed >= 0)
+    if bad.size:
+        Pb, Hb, sb, lb = rk4_run(bad, Y0[bad])
+        poincare[bad], hist[bad], status[bad] = Pb, Hb, sb
+        if exponents:
+            exponent[bad] = lb
+    return poincare, hist, status, exponent, failed < 0
