@@ -16,8 +16,8 @@ import pytest
 import xarray as xr
 from typer.testing import CliRunner
 
-from reducerlab import __version__, cli
-from reducerlab.cli import app
+from reducerlab import __version__
+from reducerlab.cli import app, options
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
 from reducerlab.io import OutputSet, prepare_output_dir, prepare_output_file
@@ -317,7 +317,7 @@ def test_scheduler_address_and_connection_errors(tmp_path, monkeypatch, command)
     r = runner.invoke(app, [*base, "--scheduler", "garbage", "-o", str(tmp_path / "a")])
     assert r.exit_code == 2
     assert "--scheduler: 'garbage' is not a scheduler address; write tcp://HOST:PORT" in r.output
-    monkeypatch.setattr(cli, "SCHEDULER_TIMEOUT_S", 0.5)
+    monkeypatch.setattr(options, "SCHEDULER_TIMEOUT_S", 0.5)
     r = runner.invoke(app, [*base, "--scheduler", "tcp://127.0.0.1:1", "-o", str(tmp_path / "b")])
     assert r.exit_code == 2 and "Traceback" not in r.output
     assert "--scheduler tcp://127.0.0.1:1: cannot connect to a Dask scheduler" in r.output

@@ -1,0 +1,70 @@
+"""The gear bodies of a nutation design taken together (paper 000 §4): the element sizes
+of a body's mesh from the sizes a user gives, and the finite-element modes of every gear
+body as the component modes that the resonance check compares with the excitations and
+the system modes (paper 000 Table 5)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Collection
+from typing import Any
+
+from ..fe.gear_mesh import MeshSizes
+from .body_modal import body_modal
+from .campbell import ComponentModes
+
+__all__ = ["body_mesh_sizes", "gear_body_modes"]
+
+
+def body_mesh_sizes(
+    design: Any, gear: int, tooth: float | None = None, body: float | None = None
+) -> MeshSizes | None:
+    """The element sizes of gear ``gear``'s mesh with the sizes given (m), or None for
+    the default mesh when neither is given.
+
+    A size not given is the default (:meth:`~reducerlab.fe.gear_mesh.MeshSizes.default`
+    of the gear's normal module m_n: ``0.6 m_n`` in the teeth, ``1.5 m_n`` in the
+    blank); a default blank size is never finer than the teeth.
+
+    Parameters
+    ----------
+    design : NutationDesign
+        A design with tooth surfaces (``[surface]`` table).
+    gear : int
+        The gear, 1..``design.gear_count``.
+    tooth, body : float, optional
+        Element size in the teeth and in the blank (m).
+    """
+    if tooth is None and body is None:
+        return None
+    crown, _ = design.tooth_generation(gear)
+    default = MeshSizes.default(crown.profile.module)
+    t = default.tooth if tooth is None else tooth
+    b = default.body if body is None else body
+    return MeshSizes(t, max(b, t) if body is None else b)
+
+
+def gear_body_modes(
+    design: Any, skip: Collection[str] = (), stage: Callable[[str], None] | None = None
+) -> list[ComponentModes]:
+    """The free-free modes of every gear body of ``design`` (default mesh, no
+    convergence study), as :class:`~reducerlab.analysis.campbell.ComponentModes`
+    labelled ``"gear N"``.
+
+    Parameters
+    ----------
+    design : NutationDesign
+        A design with tooth surfaces (see
+        :func:`~reducerlab.analysis.body_modal.check_bodies`).
+    skip : collection of str
+        Labels of the gears whose modes are given already (``"gear 2"``): not computed.
+    stage : callable, optional
+        ``stage(description)`` at each stage of each gear (``"gear 1: meshing"``).
+    """
+    out = []
+    for g in range(1, design.gear_count + 1):
+        if f"gear {g}" in skip:
+            continue
+        say = None if stage is None else (lambda s, g=g: stage(f"gear {g}: {s}"))
+        res = body_modal(design, g, convergence=False, stage=say)
+        out.append(ComponentModes.from_body_modal(res))
+    return out

@@ -1,0 +1,133 @@
+"""``reducerlab check``: the resonance verdict (paper 000 Table 5), with the gear
+bodies' modes given as files or computed first."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from ..errors import ReducerlabError
+from ..io import OutputSet
+from .options import DesignArgument, Format, FormatOption, SetOption, parse_speeds
+from .output import busy, outputs, progress_bar, savefig, user_errors
+
+
+def check(
+    design: DesignArgument,
+    margin: Annotated[
+        float,
+        typer.Option(
+            help="Relative distance to an excitation that counts (0.10 = 10 %), in (0, 1)."
+        ),
+    ] = 0.10,
+    speed_range: Annotated[
+        str | None, typer.Option(help="Operating range in rpm 'MIN,MAX' (default: design's).")
+    ] = None,
+    fmt: FormatOption = Format.table,
+    body_modes: Annotated[
+        list[Path] | None,
+        typer.Option(
+            "--body-modes",
+            help="A gear body's modes (body_modal.nc from 'reducerlab body-modal'); repeat "
+            "for each gear.",
+        ),
+    ] = None,
+    bodies: Annotated[
+        bool,
+        typer.Option(
+            "--bodies",
+            help="Compute every gear body's modes first (needs a [surface] table; minutes).",
+        ),
+    ] = False,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "--output",
+            "-o",
+            help="Also write check.json, the Table 5-style comparison and the Campbell "
+            "diagram with the body lines (PNG) here.",
+        ),
+    ] = None,
+    sets: SetOption = None,
+) -> None:
+    """Resonance verdict: exits 1 when a natural frequency meets an excitation, or a gear
+    body's mode meets an excitation or a system mode (paper 000 Table 5)."""
+    from ..analysis.body_modal import BodyModalResult
+    from ..analysis.campbell import ComponentModes, format_check, resonance_check
+    from ..drives import load_design
+
+    with user_errors():
+        files = outputs(output)
+        components = []
+        for path in body_modes or []:
+            res_b = BodyModalResult.load(path)
+            components.append(ComponentModes.from_body_modal(res_b, source=str(path)))
+        rng = None
+        if speed_range is not None:
+            parts = parse_speeds(speed_range, "--speed-range")
+            if parts is None or len(parts) != 2:
+                raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
+            rng = (parts[0], parts[1])
+        d = load_design(design, sets or ())
+        if bodies:
+            components += _all_body_modes(d, design, {c.label for c in components})
+        with busy("resonance check"):
+            report = resonance_check(d, margin=margin, speed_range=rng, components=components)
+        if files is not None:
+            _write_check(d, report, components, files)
+    typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
+    if not report["ok"]:
+        raise typer.Exit(code=1)
+
+
+def _all_body_modes(d: Any, design: Path, have: set[str]) -> list:
+    """Body modes of every gear of a nutation design not given already (progress bar)."""
+    from ..analysis.body_modal import check_bodies
+    from ..analysis.gear_bodies import gear_body_modes
+
+    try:
+        check_bodies(d)
+    except ReducerlabError as exc:
+        raise ReducerlabError(
+            f"--bodies: {design}: {exc}; give --body-modes files instead"
+        ) from None
+    with progress_bar() as progress:
+        task = progress.add_task("gear bodies", total=None)
+        return gear_body_modes(d, skip=have, stage=lambda s: progress.update(task, description=s))
+
+
+def _write_check(d: Any, report: dict, components: list, files: OutputSet) -> None:
+    """check.json, components.png (Table 5-style) and campbell.png with the body lines.
+
+    The Campbell diagram is computed here again, undamped: to be drawn from the verdict's
+    own data once the resonance check returns it (issue 25)."""
+    import numpy as np
+
+    from ..analysis.campbell import campbell as run_campbell
+    from ..io import stamp
+    from ..plot.components import plot_component_comparison
+    from ..plot.sweep import plot_campbell
+
+    hi = report["speed_range_rpm"][1] * 2 * math.pi / 60  # rad/s
+    res_c = run_campbell(d, np.linspace(0.0, 1.5 * hi, 151))
+    fmax = None
+    if components:
+        fmax = 1.05 * max(max(c.frequencies) for c in components)
+    with files:
+        files.path("check.json").write_text(
+            json.dumps({**report, **stamp(d.provenance)}, indent=2) + "\n"
+        )
+        if components:
+            savefig(plot_component_comparison(report), files.path("components.png"),
+                    d.provenance)  # fmt: skip
+        savefig(plot_campbell(res_c, components, fmax=fmax), files.path("campbell.png"),
+                d.provenance)  # fmt: skip
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``check`` to the command line."""
+    app.command()(check)

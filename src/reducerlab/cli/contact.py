@@ -1,0 +1,135 @@
+"""``reducerlab contact``: loaded tooth contact analysis of a gear pair (papers 001,
+000 §2.3)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import ReducerlabError
+from .options import ProfileChoice, SetOption, quantity_option, signed_quantity
+from .output import output_set, progress_bar, savefig, user_errors, write_file, write_json
+
+
+def contact(
+    design: Annotated[Path, typer.Argument(help="Nutation design file (TOML), surface table")],
+    pair: Annotated[
+        int, typer.Option("--pair", help="Gear pair: 1 (gears 1-2) or 2 (gears 3-4).", min=1)
+    ] = 1,
+    power: Annotated[
+        str | None,
+        typer.Option(
+            help="Power through the pair at the design's input speed on the "
+            "external gear, e.g. '3 kW'."
+        ),
+    ] = None,
+    torque: Annotated[
+        str | None, typer.Option(help="Torque on the external gear, e.g. '19.1 N*m'.")
+    ] = None,
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "contact-output"
+    ),
+    positions: Annotated[
+        int, typer.Option(help="Mesh positions over one mesh cycle.", min=2, max=400)
+    ] = 24,
+    order: Annotated[
+        int, typer.Option(help="Harmonics of the Fourier fit (paper 000 Eq. 8).", min=0)
+    ] = 7,
+    profile: Annotated[
+        ProfileChoice | None, typer.Option(help="Override the design's surface.profile.")
+    ] = None,
+    cell: Annotated[
+        str | None,
+        typer.Option(help="Contact cell size, e.g. '0.05 mm' (default: from a pilot run)."),
+    ] = None,
+    tooth_size: Annotated[
+        str | None,
+        typer.Option(help="Element size of the finite-element tooth models (default 0.3 m_n)."),
+    ] = None,
+    axial_external: Annotated[
+        str | None, typer.Option(help="Misalignment: external gear moved along its axis.")
+    ] = None,
+    axial_internal: Annotated[
+        str | None, typer.Option(help="Misalignment: internal gear moved along its axis.")
+    ] = None,
+    offset: Annotated[
+        str | None, typer.Option(help="Misalignment: offset of the internal gear's axis.")
+    ] = None,
+    shaft_angle: Annotated[
+        str | None, typer.Option(help="Misalignment: shaft angle error, e.g. '0.05 deg'.")
+    ] = None,
+    rigid: Annotated[
+        bool,
+        typer.Option(
+            help="Rigid teeth (half-space contact only): a quick contact pattern; "
+            "the mesh stiffness is then far too high."
+        ),
+    ] = False,
+    write_design: Annotated[
+        Path | None,
+        typer.Option(
+            help="Also write a copy of the design whose [meshN] table holds the "
+            "fitted k_m, harmonics and phases (paper 000 Eq. 8)."
+        ),
+    ] = None,
+    sets: SetOption = None,
+) -> None:
+    """Loaded tooth contact analysis of a gear pair over one mesh cycle (papers 001, 000
+    §2.3): contact pattern and pressure, transmission error, contact force, subsurface
+    stress, mesh stiffness k(t) and its Fourier series; netCDF, JSON, table, figures."""
+    from ..analysis.contact import contact_analysis, design_with_mesh
+    from ..contact.flanks import Misalignment
+    from ..drives import load_design
+
+    with user_errors():
+        files = output_set(output)
+        d = load_design(design, sets or ())
+        P = quantity_option(power, "--power", "power")
+        T = quantity_option(torque, "--torque", "torque")
+        if (P is None) == (T is None):
+            raise ReducerlabError("--power/--torque: give exactly one of them")
+        h = quantity_option(cell, "--cell", "length")
+        ts = quantity_option(tooth_size, "--tooth-size", "length")
+        mis = {}
+        for text, option, kind, name in (
+            (axial_external, "--axial-external", "length", "axial_a"),
+            (axial_internal, "--axial-internal", "length", "axial_b"),
+            (offset, "--offset", "length", "offset"),
+            (shaft_angle, "--shaft-angle", "angle", "shaft_angle"),
+        ):
+            if text is not None:
+                mis[name] = signed_quantity(text, option, kind)
+        if write_design is not None and write_design.resolve() == design.resolve():
+            raise ReducerlabError("--write-design: must not overwrite the design file itself")
+        with progress_bar() as progress:
+            task = progress.add_task("contact analysis", total=None)
+            res = contact_analysis(
+                d, pair, power=P, torque=T, positions=positions, order=order, cell=h,
+                profile=None if profile is None else profile.value,
+                misalignment=Misalignment(**mis) if mis else None, tooth_size=ts,
+                rigid=rigid, stage=lambda text: progress.update(task, description=text),
+                progress=lambda done, total: progress.update(
+                    task, completed=done, total=total,
+                    description=f"loaded contact, position {done}/{total}",
+                ),
+            )  # fmt: skip
+            progress.update(task, description="writing results")
+            with files:
+                res.save(files.path("contact.nc"))
+                write_json(res, files.path("contact.json"))
+                files.path("contact.txt").write_text(res.table() + "\n")
+                savefig(res.figure(), files.path("contact.png"), res.data.attrs)
+                from ..plot.contact import plot_pressure_map
+
+                savefig(plot_pressure_map(res), files.path("pressure.png"), res.data.attrs)
+        if write_design is not None:
+            text = design_with_mesh(design, res)
+            write_file(write_design, lambda tmp: tmp.write_text(text))
+    typer.echo(res.table())
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``contact`` to the command line."""
+    app.command()(contact)

@@ -1,0 +1,297 @@
+"""``reducerlab response``, ``bifurcation``, ``frequency-response`` and ``regime-map``:
+the steady nonlinear response of a design and how it changes over parameters."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..analysis.policies import Continuation
+from ..dynamics.steps import MAX_STEPS, MIN_STEPS
+from .options import (
+    MAX_PERIODS,
+    MAX_VALUES,
+    MAX_WORKERS,
+    AccuracyOption,
+    DesignArgument,
+    Direction,
+    Format,
+    FormatOption,
+    FrequencyOption,
+    PeriodOption,
+    SchedulerOption,
+    SetOption,
+    axis,
+    check_periods,
+    forcing_period,
+    path_values,
+    scheduler_client,
+)
+from .output import add_with_figure, busy, output_set, save_with_figure, user_errors, write_json
+
+
+def bifurcation(
+    design: DesignArgument,
+    param: Annotated[str, typer.Option("--param", "-p", help="Parameter path.")],
+    values: Annotated[
+        str, typer.Option("--values", "-v", help="'lin:START:STOP:N', a list, or 'rel:...'.")
+    ],
+    periods: Annotated[
+        int, typer.Option(help="Mesh periods integrated.", min=1, max=MAX_PERIODS)
+    ] = 600,
+    keep: Annotated[
+        int | None,
+        typer.Option(
+            help="Last periods kept as Poincaré points (<= --periods; default 100, at most "
+            "--periods).",
+            min=1,
+        ),
+    ] = None,
+    steps: Annotated[
+        int | None,
+        typer.Option(
+            help="RK4 steps per period (default: from the model).", min=MIN_STEPS, max=MAX_STEPS
+        ),
+    ] = None,
+    accuracy: AccuracyOption = 1e-6,
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Output folder (resumable).")
+    ] = Path("bifurcation-output"),
+    scheduler: SchedulerOption = None,
+    classify: Annotated[
+        bool, typer.Option(help="Lyapunov exponents and motion classes (slower).")
+    ] = False,
+    continuation: Annotated[
+        Direction | None,
+        typer.Option(
+            help="Sweep the values in order, each from the previous end state (up, down or "
+            "both: shows jumps and coexisting attractors; sequential, not resumable)."
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            help="Processes building the models (default: one per core).", min=1, max=MAX_WORKERS
+        ),
+    ] = None,
+    period: PeriodOption = None,
+    frequency: FrequencyOption = None,
+    seeds: Annotated[
+        int,
+        typer.Option(
+            help="Further runs per value from random starts (coexisting attractors).",
+            min=0,
+            max=1000,
+        ),
+    ] = 0,
+    sets: SetOption = None,
+) -> None:
+    """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter.
+
+    At most 100000 values; the output folder is resumable (bifurcation.json, chunks/)."""
+    from ..analysis.nonlinear import bifurcation as run_bifurcation
+    from ..drives import load_design
+
+    way = None if continuation is None else Continuation(continuation.value)
+    with user_errors():
+        keep = min(100, periods) if keep is None else keep
+        check_periods(periods, keep=keep)
+        T = forcing_period(period, frequency)
+        files = output_set(output)
+        d = load_design(design, sets or ())
+        values_axis = axis("--values", param, values, MAX_VALUES)
+        with scheduler_client(scheduler) as client, busy("bifurcation") as report:
+            res = run_bifurcation(
+                d, values_axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
+                accuracy=accuracy,
+                output=output, scheduler=client, exponents=classify, workers=workers,
+                continuation=None if way is None else way.value,
+                progress=report, seeds=seeds,
+            )  # fmt: skip
+        save_with_figure(res, files, "bifurcation")
+    summary = res.to_dict()
+    if classify:
+        summary["motion"] = res.labels()
+    if seeds or way is Continuation.BOTH:
+        summary["coexisting"] = res.coexisting().tolist()
+    typer.echo(json.dumps(summary))
+
+
+def frequency_response(
+    design: DesignArgument,
+    param: Annotated[str, typer.Option("--param", "-p", help="Parameter path, e.g. input_speed.")],
+    values: Annotated[
+        str,
+        typer.Option(
+            "--values", "-v", help="'lin:START:STOP:N', a list (units allowed: '1000 rpm,...')."
+        ),
+    ],
+    periods: Annotated[
+        int, typer.Option(help="Forcing periods integrated per value.", min=2, max=MAX_PERIODS)
+    ] = 300,
+    history: Annotated[int, typer.Option(help="Last periods measured (<= --periods).", min=1)] = 10,
+    continuation: Annotated[
+        Direction,
+        typer.Option(help="Sweep direction(s); each value starts from the previous end state."),
+    ] = Direction.BOTH,
+    accuracy: AccuracyOption = 1e-6,
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "frequency-response-output"
+    ),
+    sets: SetOption = None,
+) -> None:
+    """Frequency-response curves: RMS dynamic transmission error, dynamic load factor and
+    tooth separation against a parameter, swept up and down (jumps, hysteresis)."""
+    from ..analysis.frequency_response import frequency_response as run_fr
+    from ..drives import load_design
+
+    way = Continuation(continuation.value)
+    with user_errors():
+        check_periods(periods, history=history)
+        files = output_set(output)
+        d = load_design(design, sets or ())
+        values_axis = axis("--values", param, values, MAX_VALUES)
+        with busy("frequency-response") as report:
+            res = run_fr(d, values_axis, periods=periods, history=history,
+                         continuation=way.value, accuracy=accuracy,
+                         progress=report)  # fmt: skip
+        save_with_figure(res, files, "frequency-response")
+    typer.echo(json.dumps(res.to_dict()))
+
+
+def regime_map(
+    design: DesignArgument,
+    x: Annotated[
+        str,
+        typer.Option(
+            "-x", help="Swept parameter (continuation): 'input_speed=lin:300 rpm:2000 rpm:41'."
+        ),
+    ],
+    y: Annotated[
+        str, typer.Option("-y", help="Second parameter (rows): 'gears.x1=lin:0.42:0.83:21'.")
+    ],
+    periods: Annotated[
+        int, typer.Option(help="Forcing periods integrated per point.", min=1, max=MAX_PERIODS)
+    ] = 600,
+    keep: Annotated[
+        int, typer.Option(help="Poincaré points kept per point (<= --periods).", min=1)
+    ] = 64,
+    continuation: Annotated[
+        Continuation,
+        typer.Option(help="Sweep direction(s) along -x; 'none': every point from rest."),
+    ] = Continuation.UP,
+    accuracy: AccuracyOption = 1e-6,
+    rows_per_chunk: Annotated[
+        int, typer.Option(help="Rows (-y values) per chunk of the run folder.", min=1)
+    ] = 4,
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Output folder (resumable).")
+    ] = Path("regime-map-output"),
+    scheduler: SchedulerOption = None,
+    fmt: FormatOption = Format.table,
+    sets: SetOption = None,
+) -> None:
+    """Regime map: motion class (period-n, quasi-periodic, chaotic) and impact class of
+    the steady response over two parameters.
+
+    At most 250000 points; the output folder is resumable (regime_map_run.json, chunks/)."""
+    from ..analysis.regime_map import MAX_POINTS
+    from ..analysis.regime_map import regime_map as run_regime_map
+    from ..drives import load_design
+
+    with user_errors():
+        check_periods(periods, keep=keep)
+        files = output_set(output)
+        d = load_design(design, sets or ())
+        ax = path_values("-x", x, MAX_POINTS)
+        ay = path_values("-y", y, MAX_POINTS)
+        way = None if continuation is Continuation.NONE else continuation.value
+        with scheduler_client(scheduler) as client, busy("regime map") as report:
+            res = run_regime_map(
+                d, ax, ay, periods=periods, keep=keep, continuation=way, accuracy=accuracy,
+                rows_per_chunk=rows_per_chunk, output=output, scheduler=client,
+                progress=report,
+            )  # fmt: skip
+        with files:
+            add_with_figure(res, files, "regime_map")
+            write_json(res, files.path("regime_map.json"))
+            files.path("regime_map.txt").write_text(res.table() + "\n")
+    typer.echo(json.dumps(res.to_dict()) if fmt is Format.json else res.table())
+
+
+def response(
+    design: DesignArgument,
+    periods: Annotated[
+        int, typer.Option(help="Forcing periods integrated.", min=1, max=MAX_PERIODS)
+    ] = 600,
+    keep: Annotated[
+        int | None,
+        typer.Option(help="Poincaré points kept (<= --periods; default 100).", min=1),
+    ] = None,
+    history: Annotated[
+        int | None,
+        typer.Option(help="Periods of time history kept (<= --periods; default 20).", min=1),
+    ] = None,
+    steps: Annotated[
+        int | None, typer.Option(help="RK4 steps per period.", min=MIN_STEPS, max=MAX_STEPS)
+    ] = None,
+    accuracy: AccuracyOption = 1e-6,
+    period: PeriodOption = None,
+    frequency: FrequencyOption = None,
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "response-output"
+    ),
+    sets: SetOption = None,
+) -> None:
+    """Steady nonlinear response: phase trajectory, Poincaré map, spectrum, load factor."""
+    from ..analysis.nonlinear import response as run_response
+    from ..drives import load_design
+
+    with user_errors():
+        # defaults shrink to a short run; values the user gives are checked
+        keep = min(100, periods) if keep is None else keep
+        history = min(20, periods) if history is None else history
+        check_periods(periods, keep=keep, history=history)
+        T = forcing_period(period, frequency)
+        files = output_set(output)
+        d = load_design(design, sets or ())
+        with busy("response"):
+            res = run_response(
+                d, periods=periods, keep=keep, history=history, steps_per_period=steps,
+                period=T, accuracy=accuracy,
+            )  # fmt: skip
+        save_with_figure(res, files, "response")
+    attrs = res.data.attrs
+    dlf = attrs["dynamic_load_factor"]
+    typer.echo(
+        f"dynamic load factor {dlf:.4f}, mean mesh force {attrs['mean_mesh_force']:.5g} N"
+        if math.isfinite(dlf)
+        else "no mean mesh force (no load on the model): the dynamic load factor is undefined"
+    )
+    typer.echo(f"{attrs['steps_per_period']} RK4 steps per period")
+    typer.echo(
+        f"mesh mode {attrs['mesh_mode_hz']:.5g} Hz (forcing / mesh mode = "
+        f"{attrs['frequency_ratio']:.4g}); {attrs['impact_class']}: teeth apart "
+        f"{100 * attrs['separation_fraction']:.1f} % of the time, back-side contact "
+        f"{100 * attrs['back_contact_fraction']:.1f} %, "
+        f"{attrs['contact_losses_per_period']:.3g} contact losses and "
+        f"{attrs['back_impacts_per_period']:.3g} back-side impacts per period"
+    )
+    peaks = res.peaks(5)
+    typer.echo(
+        "spectral peaks at " + ", ".join(f"{m:.3g}x" for m, _ in peaks) + " the forcing frequency"
+        if peaks
+        else "no spectral peaks: the mesh deflection is constant (nothing excites the model)"
+    )
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``bifurcation``, ``frequency-response``, ``regime-map`` and ``response``."""
+    app.command()(bifurcation)
+    app.command("frequency-response")(frequency_response)
+    app.command("regime-map")(regime_map)
+    app.command()(response)

@@ -1,0 +1,115 @@
+"""What the commands write and print: the consoles, progress bars, errors as one line
+(exit code 2), and the files of an output set (results, JSON summaries, figures).
+
+User text (paths, values, messages) is printed verbatim: the consoles interpret no rich
+markup, emoji codes or highlighting. Every file written or replaced is reported on
+stderr (:mod:`reducerlab.io` stages an output set and moves it into place at once).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, NoReturn
+
+import typer
+from rich.console import Console
+from rich.text import Text
+
+from ..errors import ReducerlabError
+from ..io import OutputSet, atomic_path, png_metadata
+
+if TYPE_CHECKING:
+    from rich.progress import Progress
+
+# user text (paths, values, messages) is printed verbatim: no markup, emoji or highlighting
+out = Console(markup=False, emoji=False, highlight=False)
+"""The console on stdout."""
+err = Console(stderr=True, markup=False, emoji=False, highlight=False)
+"""The console on stderr (notes, errors, progress)."""
+
+
+def note(line: str) -> None:
+    """One line on stderr, verbatim (``wrote PATH``)."""
+    err.print(line, soft_wrap=True)
+
+
+def fail(exc: Exception) -> NoReturn:
+    """Print ``error: MESSAGE`` (the message verbatim) and exit with code 2."""
+    err.print(Text.assemble(("error:", "bold red"), " ", str(exc)), soft_wrap=True)
+    raise typer.Exit(code=2)
+
+
+@contextmanager
+def user_errors() -> Iterator[None]:
+    """Print an error caused by the user's input (or an unwritable output) as one line
+    and exit with code 2, without a traceback."""
+    try:
+        yield
+    except (ReducerlabError, OSError) as exc:
+        fail(exc)
+
+
+def progress_bar() -> Progress:
+    """A transient progress bar on stderr; task descriptions are shown verbatim."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    return Progress(
+        TextColumn("{task.description}", markup=False),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}", markup=False),
+        TimeElapsedColumn(),
+        console=err,
+        transient=True,
+        disable=not err.is_terminal,  # no bar (nor blank line) in logs and pipes
+    )
+
+
+@contextmanager
+def busy(description: str) -> Iterator[Callable[[int, int], None]]:
+    """A progress bar for work of unknown length; yields an update(done, total)."""
+    with progress_bar() as progress:
+        task = progress.add_task(description, total=None)
+        yield lambda done, total: progress.update(task, completed=done, total=total)
+
+
+def outputs(output: Path | None) -> OutputSet | None:
+    """The output set of ``-o DIR`` (checked now, before any work), or None."""
+    return None if output is None else output_set(output)
+
+
+def output_set(output: Path) -> OutputSet:
+    """The output set of ``-o DIR`` (checked now, before any work)."""
+    return OutputSet(output, "-o", report=note)
+
+
+def write_file(path: Path, write: Callable[[Path], Any]) -> None:
+    """Write one file atomically with ``write(temporary_path)`` and report it."""
+    replaced = path.exists()
+    with atomic_path(path) as tmp:
+        write(tmp)
+    note(f"{'replaced' if replaced else 'wrote'} {path}")
+
+
+def savefig(fig: Any, path: Path, attrs: dict[str, Any], dpi: int = 120) -> None:
+    """Save a figure as PNG stamped with its provenance (version, time, design, hash)."""
+    fig.savefig(path, dpi=dpi, format="png", metadata=png_metadata(attrs))
+
+
+def add_with_figure(result: Any, files: OutputSet, stem: str) -> None:
+    """Add ``STEM.nc`` and the result's figure ``STEM.png`` to an open output set."""
+    result.save(files.path(f"{stem}.nc"))
+    savefig(result.plot(), files.path(f"{stem}.png"), result.data.attrs)
+
+
+def save_with_figure(result: Any, files: OutputSet, stem: str) -> None:
+    """Write ``STEM.nc`` and ``STEM.png`` as one output set."""
+    with files:
+        add_with_figure(result, files, stem)
+
+
+def write_json(result: Any, path: Path) -> None:
+    """The result's JSON summary stamped with its provenance (version, time, design)."""
+    path.write_text(json.dumps({**result.to_dict(), **result.provenance}, indent=2) + "\n")

@@ -1,0 +1,99 @@
+"""``reducerlab report`` and ``demo``: the HTML report of a design, and of every
+bundled example."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.text import Text
+
+from ..errors import ReducerlabError
+from ..io import prepare_output_dir, prepare_output_file
+from .options import DesignArgument, SetOption
+from .output import fail, out, progress_bar, user_errors, write_file
+
+
+def report_cmd(
+    design: DesignArgument,
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="Report file (.html); default DESIGN-report.html."),
+    ] = None,
+    section: Annotated[
+        list[str] | None,
+        typer.Option("--section", "-s", help="Build only these sections (repeatable)."),
+    ] = None,
+    given: Annotated[
+        list[Path] | None,
+        typer.Option(
+            "--with",
+            help="A result computed before (body_modal.nc, contact.nc, bifurcation.nc, "
+            "regime_map.nc) to include (repeatable).",
+        ),
+    ] = None,
+    sets: SetOption = None,
+) -> None:
+    """One self-contained HTML report of everything reducerlab can say about a design
+    (exit 1 when a section failed: its error is shown in its place in the report)."""
+    from ..reporting import report as build_report
+
+    with user_errors():
+        path = output if output is not None else Path(f"{design.stem}-report.html")
+        prepare_output_file(path, "-o", (".html", ".htm"))
+        with progress_bar() as progress:
+            task = progress.add_task("report", total=None)
+
+            def step(title: str, done: int, total: int) -> None:
+                progress.update(task, description=title, completed=done, total=total)
+
+            rep = build_report(design, overrides=sets or (), results=given or (),
+                               only=section, progress=step)  # fmt: skip
+        write_file(path, rep.write)
+    for s in rep.sections:
+        status = f"FAILED: {s.error}" if s.error else "ok"
+        typer.echo(f"  {s.title:<45} {s.seconds:7.2f} s  {status}")
+    typer.echo(f"report: {path.resolve()} ({rep.seconds:.1f} s)")
+    if rep.failed:
+        raise typer.Exit(1)
+
+
+def demo(
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
+        "demo-output"
+    ),
+) -> None:
+    """Write the design report of every bundled example and an index.html linking them."""
+    from ..examples import example_files
+    from ..reporting import report as build_report
+    from ..reporting import write_index
+
+    with user_errors():
+        prepare_output_dir(output)
+    examples = example_files()
+    if not examples:
+        fail(ReducerlabError("no bundled examples found"))
+    done = []
+    with progress_bar() as progress:
+        task = progress.add_task("examples", total=len(examples))
+        for path in examples:
+            progress.update(task, description=path.name)
+            with user_errors():
+                rep = build_report(path)
+                file = rep.write(output / f"{path.stem}.html")
+            done.append((file, rep))
+            progress.advance(task)
+    with user_errors():
+        index = write_index(done, output / "index.html")
+    for file, rep in done:
+        failed = f", {len(rep.failed)} section(s) FAILED" if rep.failed else ""
+        out.print(Text.assemble((file.name, "bold"), f"  {len(rep.sections)} sections, "
+                                f"{rep.seconds:.1f} s{failed}"))  # fmt: skip
+    out.print(f"open {index.resolve()}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``report`` and ``demo`` to the command line."""
+    app.command("report")(report_cmd)
+    app.command()(demo)
