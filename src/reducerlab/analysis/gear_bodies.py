@@ -10,7 +10,7 @@ from typing import Any
 
 from ..fe.gear_mesh import MeshSizes
 from .body_modal import body_modal
-from .campbell import ComponentModes
+from .components import ComponentModes
 
 __all__ = ["body_mesh_sizes", "gear_body_modes"]
 

@@ -4,9 +4,8 @@ bodies' modes given as files or computed first."""
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -14,6 +13,9 @@ from ..errors import ReducerlabError
 from ..io import OutputSet
 from .options import DesignArgument, Format, FormatOption, SetOption, parse_speeds
 from .output import busy, outputs, progress_bar, savefig, user_errors
+
+if TYPE_CHECKING:
+    from ..analysis.resonance import ResonanceResult
 
 
 def check(
@@ -57,7 +59,8 @@ def check(
     """Resonance verdict: exits 1 when a natural frequency meets an excitation, or a gear
     body's mode meets an excitation or a system mode (paper 000 Table 5)."""
     from ..analysis.body_modal import BodyModalResult
-    from ..analysis.campbell import ComponentModes, format_check, resonance_check
+    from ..analysis.components import ComponentModes
+    from ..analysis.resonance import format_check, resonance_check
     from ..drives import load_design
 
     with user_errors():
@@ -78,7 +81,7 @@ def check(
         with busy("resonance check"):
             report = resonance_check(d, margin=margin, speed_range=rng, components=components)
         if files is not None:
-            _write_check(d, report, components, files)
+            _write_check(d, report, files)
     typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
     if not report["ok"]:
         raise typer.Exit(code=1)
@@ -100,32 +103,18 @@ def _all_body_modes(d: Any, design: Path, have: set[str]) -> list:
         return gear_body_modes(d, skip=have, stage=lambda s: progress.update(task, description=s))
 
 
-def _write_check(d: Any, report: dict, components: list, files: OutputSet) -> None:
-    """check.json, components.png (Table 5-style) and campbell.png with the body lines.
-
-    The Campbell diagram is computed here again, undamped: to be drawn from the verdict's
-    own data once the resonance check returns it (issue 25)."""
-    import numpy as np
-
-    from ..analysis.campbell import campbell as run_campbell
+def _write_check(d: Any, report: ResonanceResult, files: OutputSet) -> None:
+    """check.json, components.png (Table 5-style, with body modes) and campbell.png: the
+    Campbell diagram the verdict used (``report.campbell``), with the body lines."""
     from ..io import stamp
-    from ..plot.components import plot_component_comparison
-    from ..plot.sweep import plot_campbell
 
-    hi = report["speed_range_rpm"][1] * 2 * math.pi / 60  # rad/s
-    res_c = run_campbell(d, np.linspace(0.0, 1.5 * hi, 151))
-    fmax = None
-    if components:
-        fmax = 1.05 * max(max(c.frequencies) for c in components)
     with files:
         files.path("check.json").write_text(
-            json.dumps({**report, **stamp(d.provenance)}, indent=2) + "\n"
+            json.dumps({**report.to_dict(), **stamp(d.provenance)}, indent=2) + "\n"
         )
-        if components:
-            savefig(plot_component_comparison(report), files.path("components.png"),
-                    d.provenance)  # fmt: skip
-        savefig(plot_campbell(res_c, components, fmax=fmax), files.path("campbell.png"),
-                d.provenance)  # fmt: skip
+        if report.components:
+            savefig(report.plot_components(), files.path("components.png"), d.provenance)
+        savefig(report.plot(), files.path("campbell.png"), d.provenance)
 
 
 def register(app: typer.Typer) -> None:

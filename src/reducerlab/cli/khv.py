@@ -27,7 +27,7 @@ def khv_closed_graph(
     sets: SetOption = None,
 ) -> None:
     """Draw the closed graph (x1 vs x2, limit lines, feasible region) and mark the design."""
-    from ..design import apply_overrides, read_toml, validate_design
+    from ..design_files import apply_overrides, read_toml, validate_design
     from ..drives.khv import Gears
     from ..plot.khv import plot_closed_graph
 

@@ -93,7 +93,7 @@ def bifurcation(
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter.
 
     At most 100000 values; the output folder is resumable (bifurcation.json, chunks/)."""
-    from ..analysis.nonlinear import bifurcation as run_bifurcation
+    from ..analysis.bifurcation import bifurcation as run_bifurcation
     from ..drives import load_design
 
     way = None if continuation is None else Continuation(continuation.value)
@@ -248,7 +248,7 @@ def response(
     sets: SetOption = None,
 ) -> None:
     """Steady nonlinear response: phase trajectory, Poincaré map, spectrum, load factor."""
-    from ..analysis.nonlinear import response as run_response
+    from ..analysis.response import response as run_response
     from ..drives import load_design
 
     with user_errors():

@@ -137,7 +137,7 @@ def model_from(design_path: Path, sets: list[str] | None = None):
 def axis(option: str, path: str, spec: str, limit: int):
     """A value specification (:func:`~reducerlab.analysis.sweep.parse_values`) of at most
     ``limit`` values."""
-    from ..analysis.sweep import parse_values
+    from ..analysis.parameters import parse_values
 
     return parse_values(path, spec, limit=limit, option=option)
 
@@ -146,7 +146,7 @@ def path_values(
     option: str, text: str, limit: int, example: str = "input_speed=lin:300 rpm:2000 rpm:41"
 ):
     """``PATH=VALUES`` (``sweep --grid``, ``regime-map -x/-y``) as an axis."""
-    from ..analysis.sweep import parse_path_values
+    from ..analysis.parameters import parse_path_values
 
     return parse_path_values(text, limit=limit, option=option, example=example)
 
