@@ -49,6 +49,9 @@ class Train:
         contact type (``"internal"`` or ``"external"`` cones).
     factory : callable
         ``factory(teeth, nutation_angle, contact, output) -> DriveKinematics``.
+    papers : tuple of str
+        Headings (their starts) of the ``docs/assumptions.md`` sections whose choices
+        apply to the drive kind: the papers behind it; the report quotes them.
     """
 
     name: str
@@ -56,6 +59,7 @@ class Train:
     outputs: tuple[str, ...]
     nutating: bool
     factory: Factory
+    papers: tuple[str, ...] = ()
 
     def teeth_rule(self, teeth: Mapping[str, object]) -> str | None:
         """The rule ``teeth`` breaks (keys missing or unknown), or None when its keys are
@@ -127,11 +131,30 @@ def _gear_pair(z: Teeth, angle: float | None, contact: str, output: str) -> Driv
 TRAINS: dict[str, Train] = {
     t.name: t
     for t in (
-        Train("nutation", ("nutating", "central"), ("central", "nutating"), True, _nutation),
-        Train("double_nutation", ("z1", "z2", "z3", "z4"), ("gear4",), True, _double_nutation),
-        Train("khv", ("planet", "ring"), ("planet",), False, _khv),
         Train(
-            "cycloid_ball", ("centre", "planetary"), ("centre", "planetary"), False, _cycloid_ball
+            "nutation",
+            ("nutating", "central"),
+            ("central", "nutating"),
+            True,
+            _nutation,
+            papers=("Paper 000", "Paper 001", "Paper 002", "Papers 000", "Papers 001"),
+        ),
+        Train(
+            "double_nutation",
+            ("z1", "z2", "z3", "z4"),
+            ("gear4",),
+            True,
+            _double_nutation,
+            papers=("Paper 000", "Paper 001", "Paper 002", "Papers 000", "Papers 001"),
+        ),
+        Train("khv", ("planet", "ring"), ("planet",), False, _khv, papers=("Paper 004",)),
+        Train(
+            "cycloid_ball",
+            ("centre", "planetary"),
+            ("centre", "planetary"),
+            False,
+            _cycloid_ball,
+            papers=("Paper 003", "Papers 000, 002, 003"),
         ),
         Train("gear_pair", ("pinion", "gear"), ("gear",), False, _gear_pair),
     )

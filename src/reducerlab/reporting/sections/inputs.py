@@ -11,27 +11,21 @@ from typing import Any
 from ...analysis.parameters import lookup
 from ...design import Design, field_kind
 from ...design_files import apply_overrides
+from ...kinematics import TRAINS
 from ...units import QUANTITIES, RPM
 from ..blocks import Block, Section, details, figure, note, table
 from ..context import Context
 
-__all__ = ["PAPERS", "assumption_sections", "design_section", "drive_family",
+__all__ = ["assumption_sections", "design_section", "drive_papers",
            "kinematics_section"]  # fmt: skip
 
-#: Papers whose choices in docs/assumptions.md apply to each drive (the design type, or
-#: for a kinematics-only design its ``drive``); a section applies when its heading
-#: starts with one of these.
-PAPERS = {
-    "nutation": ("Paper 000", "Paper 001", "Paper 002", "Papers 000", "Papers 001"),
-    "cycloid": ("Paper 003", "Papers 000, 002, 003"),
-    "khv": ("Paper 004",),
-}
 
-
-def drive_family(design: Design) -> str:
-    """The key of :data:`PAPERS` whose papers apply to the design's drive
-    (:attr:`~reducerlab.design.Design.drive_name`), or ''."""
-    return next((k for k in PAPERS if k in design.drive_name), "")
+def drive_papers(design: Design) -> tuple[str, ...]:
+    """Headings (their starts) of the docs/assumptions.md sections that apply to the
+    design's drive: the ``papers`` of its kinematic train
+    (:data:`reducerlab.kinematics.TRAINS`), none for a drive without one."""
+    train = TRAINS.get(design.drive_name)
+    return train.papers if train is not None else ()
 
 
 def _flatten(data: Any, prefix: str = "") -> list[tuple[str, Any]]:
@@ -47,10 +41,9 @@ def _flatten(data: Any, prefix: str = "") -> list[tuple[str, Any]]:
     return out
 
 
-def assumption_sections(text: str, family: str) -> list[tuple[str, str]]:
-    """``(heading, body)`` of the docs/assumptions.md sections that apply to a drive
-    family (a key of :data:`PAPERS`)."""
-    keys = PAPERS.get(family, ())
+def assumption_sections(text: str, keys: tuple[str, ...]) -> list[tuple[str, str]]:
+    """``(heading, body)`` of the docs/assumptions.md sections whose headings start with
+    one of ``keys`` (see :func:`drive_papers`)."""
     parts = re.split(r"^## ", text, flags=re.M)[1:]
     out = []
     for part in parts:
@@ -86,7 +79,7 @@ def design_section(ctx: Context) -> Section:
     s.blocks.append(details(f"all {len(rows)} fields, as written and in SI", inputs.html, "table"))
     if ctx.text:
         s.blocks.append(details("the design file", f"<pre>{html.escape(ctx.text)}</pre>", "pre"))
-    sections = assumption_sections(ctx.assumptions, drive_family(d))
+    sections = assumption_sections(ctx.assumptions, drive_papers(d))
     if sections:
         items = "".join(details(h, f"<pre>{html.escape(b)}</pre>").html for h, b in sections)
         s.blocks.append(
