@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import typing
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Annotated, Any, Self
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Self
 
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr
 from pydantic_core import PydanticCustomError
@@ -44,7 +44,6 @@ __all__ = [
     "Torque",
     "angle_between",
     "field_kind",
-    "operating_range_of",
     "quantity",
 ]
 
@@ -272,15 +271,30 @@ class Design(Spec):
         its ``drive``), for titles and for choosing the papers' assumptions."""
         return self.type
 
+    #: Where the design keeps its operating speed: the dotted paths of the input speed
+    #: (rad/s) and of the optional ``speed_range`` ``[min, max]`` (rad/s); None where it
+    #: has none. Each drive declares its own (``("input_speed", "speed_range")``,
+    #: ``("operating.speed", "operating.speed_range")``, ...).
+    speed_fields: ClassVar[tuple[str | None, str | None]] = (None, None)
+
+    def _at(self, path: str | None) -> Any:
+        node: Any = self
+        for key in path.split(".") if path else ():
+            node = getattr(node, key)
+        return node if path else None
+
     @property
     def operating_speed(self) -> float:
         """The operating speed of the input member (rad/s); 0 for a design at rest."""
-        return 0.0
+        return float(self._at(self.speed_fields[0]) or 0.0)
 
     def operating_range(self) -> tuple[float, float]:
         """The operating speed range ``(min, max)`` of the input member (rad/s): the
         design's ``speed_range`` where it gives one, else the operating speed twice."""
-        s = float(self.operating_speed)
+        rng = self._at(self.speed_fields[1])
+        if rng:
+            return float(rng[0]), float(rng[1])
+        s = self.operating_speed
         return s, s
 
     def kinematics(self) -> DriveKinematics | None:
@@ -311,10 +325,3 @@ class Design(Spec):
         out = validate_design(type(self), data, label)
         out._source = label
         return out
-
-
-def operating_range_of(speed: float, speed_range: list[float] | None) -> tuple[float, float]:
-    """``speed_range`` as ``(min, max)`` when given, else ``(speed, speed)`` (rad/s)."""
-    if speed_range:
-        return float(speed_range[0]), float(speed_range[1])
-    return float(speed), float(speed)

@@ -24,7 +24,7 @@ circle radius is ``e / 2`` and ``Z_p - Z_c = 2``), which is paper 003's Table 1
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -42,7 +42,6 @@ from ..design import (
     SpeedRange,
     Stiffness,
     angle_between,
-    operating_range_of,
 )
 from ..design_files import field_rules
 from ..kinematics import TRAINS, DriveKinematics
@@ -173,6 +172,7 @@ class CycloidBallDesign(Design):
     """Design of a cycloid ball transmission (``type = "cycloid_ball"``)."""
 
     type: Literal["cycloid_ball"] = "cycloid_ball"
+    speed_fields: ClassVar = ("input_speed", "speed_range")
     input_speed: AngularVelocity
     eccentricity: Length
     output: Literal["centre", "planetary"] = "centre"
@@ -228,15 +228,6 @@ class CycloidBallDesign(Design):
     def pitch_radius(self, lobes: int) -> float:
         """Pitch radius ``Z e / 2`` of a groove with ``lobes`` lobes (m)."""
         return lobes * self.eccentricity / 2.0
-
-    @property
-    def operating_speed(self) -> float:
-        """The input speed (rad/s)."""
-        return float(self.input_speed)
-
-    def operating_range(self) -> tuple[float, float]:
-        """``speed_range`` (rad/s) where given, else the input speed twice."""
-        return operating_range_of(self.input_speed, self.speed_range)
 
     def kinematics(self) -> DriveKinematics:
         """Ratio and ball-passing frequency of the drive: the ``cycloid_ball`` train."""

@@ -14,7 +14,7 @@ mode is torsional with ``omega^2 = k (r_bp^2 / J_p + r_bg^2 / J_g)``.
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -32,7 +32,6 @@ from ..design import (
     Stiffness,
     Torque,
     angle_between,
-    operating_range_of,
     quantity,
 )
 from ..design_files import field_rules
@@ -110,6 +109,7 @@ class GearPairDesign(Design):
     """Design of a spur gear pair on bearings (``type = "gear_pair"``)."""
 
     type: Literal["gear_pair"] = "gear_pair"
+    speed_fields: ClassVar = ("operating.speed", "operating.speed_range")
     pinion: Gear
     gear: Gear
     mesh: GearMesh
@@ -133,15 +133,6 @@ class GearPairDesign(Design):
     def input_speed(self) -> float:
         """Input (pinion) speed (rad/s)."""
         return self.operating.speed
-
-    @property
-    def operating_speed(self) -> float:
-        """The input speed (rad/s)."""
-        return float(self.operating.speed)
-
-    def operating_range(self) -> tuple[float, float]:
-        """``speed_range`` (rad/s) where given, else the input speed twice."""
-        return operating_range_of(self.operating.speed, self.operating.speed_range)
 
     def kinematics(self) -> DriveKinematics:
         """Kinematics of the pair (pinion input): the ``gear_pair`` train."""

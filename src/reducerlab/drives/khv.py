@@ -18,7 +18,7 @@ ISO 6336-1 (Eq. 7-8) with the single/double-tooth parabolic law (Eq. 9).
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,7 +37,6 @@ from ..design import (
     SpeedRange,
     Torque,
     angle_between,
-    operating_range_of,
     quantity,
 )
 from ..design_files import field_rules
@@ -141,6 +140,7 @@ class KHVDesign(Design):
     """Design of a KHV drive (``type = "khv"``)."""
 
     type: Literal["khv"] = "khv"
+    speed_fields: ClassVar = ("input_speed", "speed_range")
     input_speed: AngularVelocity
     input_torque: Torque = 0.0
     load_torque: Torque = 0.0
@@ -166,15 +166,6 @@ class KHVDesign(Design):
                 "single/double-tooth law of paper 004 applies",
             ))  # fmt: skip
         return self
-
-    @property
-    def operating_speed(self) -> float:
-        """The input speed (rad/s)."""
-        return float(self.input_speed)
-
-    def operating_range(self) -> tuple[float, float]:
-        """``speed_range`` (rad/s) where given, else the input speed twice."""
-        return operating_range_of(self.input_speed, self.speed_range)
 
     def kinematics(self) -> DriveKinematics:
         """Carrier input, ring fixed, planet output: the ``khv`` train."""

@@ -13,7 +13,7 @@ and cone angles before a drive's full dynamic design exists.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import ClassVar, Literal
 
 from pydantic import model_validator
 
@@ -49,6 +49,7 @@ class KinematicsDesign(Design):
     """
 
     type: Literal["kinematics"] = "kinematics"
+    speed_fields: ClassVar = ("input_speed", None)
     drive: Literal[tuple(TRAINS)]  # type: ignore[valid-type]
     input_speed: AngularVelocity
     nutation_angle: angle_between(0, 180) | None = None  # type: ignore[valid-type]
@@ -89,11 +90,6 @@ class KinematicsDesign(Design):
     def drive_name(self) -> str:
         """The drive the kinematics describe (``drive``)."""
         return self.drive
-
-    @property
-    def operating_speed(self) -> float:
-        """The input speed (rad/s)."""
-        return float(self.input_speed)
 
     def kinematics(self) -> DriveKinematics:
         """The drive's :class:`~reducerlab.kinematics.DriveKinematics`, built by its train."""

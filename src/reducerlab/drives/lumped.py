@@ -50,7 +50,6 @@ from ..design import (
     TorsionalDamping,
     TorsionalStiffness,
     angle_between,
-    operating_range_of,
     quantity,
 )
 from ..design_files import field_rules
@@ -268,19 +267,11 @@ class LumpedDesign(Design):
     """A model written out element by element (``type = "lumped"``)."""
 
     type: Literal["lumped"] = "lumped"
+    speed_fields: ClassVar = ("speed", "speed_range")
     speed: AngularVelocity = 0.0
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     dofs: list[DofSpec] = Field(min_length=1)
     elements: list[ElementSpec] = Field(min_length=1)
-
-    @property
-    def operating_speed(self) -> float:
-        """The model speed (rad/s)."""
-        return float(self.speed)
-
-    def operating_range(self) -> tuple[float, float]:
-        """``speed_range`` (rad/s) where given, else the model speed twice."""
-        return operating_range_of(self.speed, self.speed_range)
 
     @model_validator(mode="after")
     def _consistent(self) -> LumpedDesign:

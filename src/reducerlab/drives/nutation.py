@@ -23,7 +23,7 @@ y (Eq. 4's ``a_11, a_13`` with ``cos d sin b cos a`` where the text prints
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import ClassVar, Literal
 
 from pydantic import Field, model_validator
 from scipy.optimize import brentq
@@ -44,7 +44,6 @@ from ..design import (
     TorsionalDamping,
     TorsionalStiffness,
     angle_between,
-    operating_range_of,
     quantity,
 )
 from ..design_files import field_rules
@@ -216,6 +215,7 @@ class NutationDesign(Design):
     """Design of a nutation drive (``type = "nutation"``)."""
 
     type: Literal["nutation"] = "nutation"
+    speed_fields: ClassVar = ("input_speed", "speed_range")
     sides: Literal["single", "double"] = "double"
     input_speed: AngularVelocity
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
@@ -426,15 +426,6 @@ class NutationDesign(Design):
                 "agree: give nutation_angle or check the mean radii"
             )
         return brentq(f, lo, hi, xtol=1e-14)
-
-    @property
-    def operating_speed(self) -> float:
-        """The input speed (rad/s)."""
-        return float(self.input_speed)
-
-    def operating_range(self) -> tuple[float, float]:
-        """``speed_range`` (rad/s) where given, else the input speed twice."""
-        return operating_range_of(self.input_speed, self.speed_range)
 
     def kinematics(self) -> DriveKinematics:
         """Ratio and mesh frequencies (gear 2 fixed; output gear 4, or the nutating gear's
