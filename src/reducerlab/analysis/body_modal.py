@@ -21,6 +21,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
+from ..design import Design
 from ..errors import ReducerlabError, names_source
 from ..results import Result, provenance
 
@@ -150,12 +151,13 @@ def _plain(v: Any) -> Any:
 def check_bodies(design: Any) -> None:
     """Refuse a design whose gear bodies cannot be generated: not a nutation design, or
     one without a ``[surface]`` table."""
-    if not hasattr(design, "tooth_generation"):
+    kind = design.type if isinstance(design, Design) else "?"
+    if kind != "nutation":
         raise ReducerlabError(
-            f"body modal: type = {getattr(design, 'type', '?')!r}: gear bodies need a nutation "
+            f"body modal: type = {kind!r}: gear bodies need a nutation "
             "design with a [surface] table"
         )
-    if design.surface is None:
+    if not design.has_tooth_surfaces:
         raise ReducerlabError(
             "body modal: the design has no [surface] table (profile, face_width): the gear "
             "solid cannot be generated; see examples/nutation_double_sided.toml"

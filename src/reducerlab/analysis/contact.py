@@ -25,6 +25,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
+from ..design import Design
 from ..errors import ReducerlabError, names_source
 from ..results import Result, provenance
 
@@ -193,7 +194,7 @@ def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
     its external gear (2 or 4) and its nutating internal gear (1 or 3)."""
     from ..contact.flanks import Misalignment, NutationPair
 
-    if getattr(design, "surface", None) is None:
+    if not (isinstance(design, Design) and design.has_tooth_surfaces):
         raise ReducerlabError(
             "surface: the design has no [surface] table (profile, face_width), which the "
             "contact analysis needs to generate the teeth; see examples/nutation_surface.toml"
@@ -217,7 +218,7 @@ def _load(design: Any, power: float | None, torque: float | None) -> float:
         return float(torque)
     if not (isinstance(power, (int, float)) and math.isfinite(power) and power > 0):
         raise ReducerlabError(f"power: must be a number > 0 (W); got {power!r}")
-    speed = getattr(design, "input_speed", None)
+    speed = design.operating_speed if isinstance(design, Design) else None
     if not speed:
         raise ReducerlabError("power: the design has no input_speed to turn power into torque")
     return float(power) / float(speed)
