@@ -33,6 +33,10 @@ def body_mesh_sizes(
         The gear, 1..``design.gear_count``.
     tooth, body : float, optional
         Element size in the teeth and in the blank (m).
+
+    Returns
+    -------
+    MeshSizes or None
     """
     if tooth is None and body is None:
         return None
@@ -59,6 +63,11 @@ def gear_body_modes(
         Labels of the gears whose modes are given already (``"gear 2"``): not computed.
     stage : callable, optional
         ``stage(description)`` at each stage of each gear (``"gear 1: meshing"``).
+
+    Returns
+    -------
+    list of ComponentModes
+        One per gear computed, in gear order.
     """
     out = []
     for g in range(1, design.gear_count + 1):

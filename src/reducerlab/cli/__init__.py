@@ -62,9 +62,10 @@ def _main(
     """reducerlab: from a design file to frequencies, modes, responses and reports."""
 
 
-# in this order in the help
+# the commands, in this order in the help
 for _group in (modal, kinematics, sweep, check, nonlinear, geometry, body, contact, report, khv):
     _group.register(app)
+del _group
 
 
 class _Terminated(SystemExit):
