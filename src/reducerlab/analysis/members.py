@@ -50,7 +50,7 @@ def continue_sweep(
     ``"both"`` (a :class:`~reducerlab.analysis.policies.Continuation` or its value)."""
     order = np.argsort(values, kind="stable")
     sweeps = {"up": order, "down": order[::-1]}
-    names = ["up", "down"] if direction == "both" else [direction]
+    names = Continuation(direction).directions
     out: dict[str, NDArray] = {}
     state: dict[str, NDArray | None] = dict.fromkeys(names)
     for step in range(values.size):

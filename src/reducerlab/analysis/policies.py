@@ -46,7 +46,8 @@ class Continuation(StrEnum):
         """
         allowed = allowed or tuple(cls)
         names = [c.value for c in allowed]
-        shown = ", ".join(repr(n) for n in names) + (" or None" if cls.NONE in allowed else "")
+        shown = [repr(n) for n in names] + (["None"] if cls.NONE in allowed else [])
+        shown = ", ".join(shown[:-1]) + " or " + shown[-1] if len(shown) > 1 else shown[0]
         try:
             c = cls.NONE if value is None else cls(value)
         except ValueError:

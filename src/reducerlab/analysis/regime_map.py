@@ -230,7 +230,7 @@ class _RegimeChunk:
     def branches(self) -> list[str]:
         if self.continuation is None:
             return ["static"]
-        return ["up", "down"] if self.continuation == "both" else [self.continuation]
+        return Continuation(self.continuation).directions
 
     def __call__(
         self, rows: list[int], progress: Callable[[int, int], None] | None = None

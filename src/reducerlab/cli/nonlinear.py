@@ -109,7 +109,7 @@ def bifurcation(
                 d, values_axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
                 accuracy=accuracy,
                 output=output, scheduler=client, exponents=classify, workers=workers,
-                continuation=None if way is None else way.value,
+                continuation=way,
                 progress=report, seeds=seeds,
             )  # fmt: skip
         save_with_figure(res, files, "bifurcation")
@@ -209,10 +209,9 @@ def regime_map(
         d = load_design(design, sets or ())
         ax = path_values("-x", x, MAX_POINTS)
         ay = path_values("-y", y, MAX_POINTS)
-        way = None if continuation is Continuation.NONE else continuation.value
         with scheduler_client(scheduler) as client, busy("regime map") as report:
             res = run_regime_map(
-                d, ax, ay, periods=periods, keep=keep, continuation=way, accuracy=accuracy,
+                d, ax, ay, periods=periods, keep=keep, continuation=continuation, accuracy=accuracy,
                 rows_per_chunk=rows_per_chunk, output=output, scheduler=client,
                 progress=report,
             )  # fmt: skip
