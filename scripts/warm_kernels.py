@@ -1,7 +1,11 @@
 """Compile reducerlab's numba kernels once, at install time (``make`` runs this after
 ``pip install``): numba caches them next to the sources, so the first report or
 nonlinear run on a fresh machine does not spend a minute compiling (the one-time cost
-is measured in benchmarks/RESULTS.md, "Design reports")."""
+is measured in benchmarks/RESULTS.md, "Design reports").
+
+numba checks a cached kernel against its own source file only, not against the modules
+it calls (``dynamics/kernel_laws.py``, ``model/layout.py``): the old caches are removed
+first, so a changed law layout is always compiled anew."""
 
 from __future__ import annotations
 
@@ -18,6 +22,8 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 def main() -> None:
     t0 = time.perf_counter()
+    for cache in (Path(rl.__file__).parent / "dynamics" / "__pycache__").glob("*.nb[ic]"):
+        cache.unlink()
     response(rl.load_design(EXAMPLES / "gear_pair.toml"), periods=40, keep=10, history=2)
     # long runs of many DOFs take the one-period maps (dynamics/maps.py)
     response(rl.load_design(EXAMPLES / "nutation_double_sided.toml"), history=2)

@@ -4,7 +4,9 @@
   file is one mathematical object);
 * no module imports an underscore name from another module;
 * imports form no circle, the deliberate lazy ones aside: a result's ``plot()`` method
-  importing its figure module from inside the function (python-control's pattern);
+  importing its figure module from inside the function (python-control's pattern), and
+  a module-level ``__getattr__`` (PEP 562) that keeps a moved public name importable
+  from its old module;
 * the engine (``dynamics/``) stands on ``model/``, ``errors`` and ``units`` only;
 * layers import downward: nothing below ``cli/`` imports it, and nothing below
   ``reporting/`` imports the report.
@@ -36,15 +38,18 @@ def _modules() -> dict[str, Path]:
 MODULES = _modules()
 
 
-def _imports(name: str, path: Path) -> list[tuple[str, str | None, bool, int]]:
-    """(module, imported name or None, imported inside a function, line) per import."""
+def _imports(name: str, path: Path) -> list[tuple[str, str | None, str | None, int]]:
+    """(module, imported name or None, the function importing it or None at module
+    level, line) per import."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     out = []
 
-    def visit(node: ast.AST, local: bool) -> None:
+    def visit(node: ast.AST, local: str | None) -> None:
         for child in ast.iter_child_nodes(node):
-            inner = local or isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef)
+            inner = local
+            if local is None and isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef):
+                inner = child.name
             if isinstance(child, ast.ImportFrom):
                 if child.level:
                     base = package.split(".")[: len(package.split(".")) - child.level + 1]
@@ -63,7 +68,7 @@ def _imports(name: str, path: Path) -> list[tuple[str, str | None, bool, int]]:
                         out.append((alias.name, None, inner, child.lineno))
             visit(child, inner)
 
-    visit(tree, False)
+    visit(tree, None)
     return out
 
 
@@ -98,8 +103,9 @@ def _graph(skip_lazy_plot: bool) -> dict[str, set[str]]:
     graph: dict[str, set[str]] = defaultdict(set)
     for name, items in IMPORTS.items():
         for target, _, local, _ in items:
-            lazy_figure = local and target.startswith("reducerlab.plot.")
-            if target != name and not (skip_lazy_plot and lazy_figure):
+            lazy_figure = local is not None and target.startswith("reducerlab.plot.")
+            forwarder = local == "__getattr__"
+            if target != name and not (skip_lazy_plot and (lazy_figure or forwarder)):
                 graph[name].add(target)
     return graph
 

@@ -32,13 +32,28 @@ if TYPE_CHECKING:
 
 __all__ = ["CampbellResult", "campbell", "frequencies_over"]
 
+#: Public names that lived here before the resonance verdict got its own module
+#: (issue 25) and stay importable from here, as the README's
+#: ``from reducerlab.analysis.campbell import campbell, resonance_check`` does.
+MOVED = {"resonance_check": "resonance", "format_check": "resonance"}
+
+
+def __getattr__(name: str) -> Any:
+    """A name in :data:`MOVED`, from its module (PEP 562: looked up on first use, so
+    this module does not import the verdict that imports it)."""
+    if name in MOVED:
+        from . import resonance
+
+        return getattr(resonance, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 def frequencies_over(model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL) -> NDArray:
     """Undamped natural frequencies of ``model`` at each input speed.
 
     Each speed is solved as :func:`~reducerlab.analysis.modal.modal` would: rigid-body
     modes (no element strained at rest, see
-    :func:`~reducerlab.analysis.modal.strain_ratio`) at exactly 0 Hz, the elastic modes
+    :func:`~reducerlab.model.rigid.strain_ratio`) at exactly 0 Hz, the elastic modes
     on their complement where speed terms act.
 
     Parameters

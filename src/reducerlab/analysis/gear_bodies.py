@@ -51,7 +51,7 @@ def gear_body_modes(
     design: Any, skip: Collection[str] = (), stage: Callable[[str], None] | None = None
 ) -> list[ComponentModes]:
     """The free-free modes of every gear body of ``design`` (default mesh, no
-    convergence study), as :class:`~reducerlab.analysis.campbell.ComponentModes`
+    convergence study), as :class:`~reducerlab.analysis.components.ComponentModes`
     labelled ``"gear N"``.
 
     Parameters

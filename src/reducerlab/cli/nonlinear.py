@@ -11,7 +11,7 @@ from typing import Annotated
 import typer
 
 from ..analysis.policies import Continuation
-from ..dynamics.steps import MAX_STEPS, MIN_STEPS
+from ..dynamics.limits import ACCURACY, MAX_STEPS, MIN_STEPS
 from .options import (
     MAX_PERIODS,
     MAX_VALUES,
@@ -57,7 +57,7 @@ def bifurcation(
             help="RK4 steps per period (default: from the model).", min=MIN_STEPS, max=MAX_STEPS
         ),
     ] = None,
-    accuracy: AccuracyOption = 1e-6,
+    accuracy: AccuracyOption = ACCURACY,
     output: Annotated[
         Path, typer.Option("--output", "-o", help="Output folder (resumable).")
     ] = Path("bifurcation-output"),
@@ -138,7 +138,7 @@ def frequency_response(
         Direction,
         typer.Option(help="Sweep direction(s); each value starts from the previous end state."),
     ] = Direction.BOTH,
-    accuracy: AccuracyOption = 1e-6,
+    accuracy: AccuracyOption = ACCURACY,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "frequency-response-output"
     ),
@@ -184,7 +184,7 @@ def regime_map(
         Continuation,
         typer.Option(help="Sweep direction(s) along -x; 'none': every point from rest."),
     ] = Continuation.UP,
-    accuracy: AccuracyOption = 1e-6,
+    accuracy: AccuracyOption = ACCURACY,
     rows_per_chunk: Annotated[
         int, typer.Option(help="Rows (-y values) per chunk of the run folder.", min=1)
     ] = 4,
@@ -238,7 +238,7 @@ def response(
     steps: Annotated[
         int | None, typer.Option(help="RK4 steps per period.", min=MIN_STEPS, max=MAX_STEPS)
     ] = None,
-    accuracy: AccuracyOption = 1e-6,
+    accuracy: AccuracyOption = ACCURACY,
     period: PeriodOption = None,
     frequency: FrequencyOption = None,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(

@@ -70,7 +70,7 @@ SetOption = Annotated[
     ),
 ]
 """``--set PATH=VALUE``: design fields overridden before validation (every command that
-reads a design file takes it; see :func:`reducerlab.design.apply_overrides`)."""
+reads a design file takes it; see :func:`reducerlab.design_files.apply_overrides`)."""
 
 FormatOption = Annotated[Format, typer.Option("--format", help="Output on stdout.")]
 """``--format table|json``: what is printed on stdout."""
@@ -135,7 +135,7 @@ def model_from(design_path: Path, sets: list[str] | None = None):
 
 
 def axis(option: str, path: str, spec: str, limit: int):
-    """A value specification (:func:`~reducerlab.analysis.sweep.parse_values`) of at most
+    """A value specification (:func:`~reducerlab.analysis.parameters.parse_values`) of at most
     ``limit`` values."""
     from ..analysis.parameters import parse_values
 

@@ -9,8 +9,9 @@ Modules, from the bottom up:
   shares, the law discontinuities;
 * :mod:`.coordinates`: rigid motion removed (:func:`~.coordinates.to_system`), static
   states, paper 004's dimensionless form;
-* :mod:`.steps`: step limits, the stability-based count, the :class:`~.steps.Steps`
-  policy;
+* :mod:`.limits`: the step limits and the default accuracy, plain numbers;
+* :mod:`.steps`: the stability-based count and the :class:`~.steps.Steps` policy that
+  checks a run's step arguments;
 * :mod:`.guards`: the linear stability check, state bounds, divergence messages, random
   starts;
 * :mod:`.prepare`: an ensemble stacked for the kernel (:class:`~.prepare.Prepared`);

@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from ..model import NonlinearSystem
 from .guards import BOUND_FACTOR
+from .limits import ACCURACY
 from .prepare import Prepared, with_steps
 from .steps import MAX_STEPS, Steps
 
@@ -23,9 +24,6 @@ __all__ = [
     "refine_steps",
 ]
 
-
-#: Default target error of Poincaré points, relative to the motion's scale.
-ACCURACY = 1e-6
 
 #: Periods integrated before the step count is checked (the state then lies on or near
 #: the attractor, where the error is measured).

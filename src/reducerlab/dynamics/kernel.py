@@ -15,6 +15,10 @@ the period (the usual case) the table is built once and reused for all periods, 
 inner loop does no trigonometry and no segment search. Otherwise it is rebuilt each
 period. :func:`reducerlab.model.laws.evaluate_flat` is the reference for the law
 evaluation here.
+
+numba's cache (``cache=True``) is checked against this file only: after a change to
+:mod:`.kernel_laws` or :mod:`reducerlab.model.layout`, run ``scripts/warm_kernels.py``
+(``make`` does), which removes the old caches before compiling.
 """
 
 from __future__ import annotations

@@ -51,7 +51,6 @@ __all__ = [
     "run_maps",
 ]
 
-__all__ = ["affine_maps", "contact_sides", "map_members", "run_maps"]
 
 #: Members whose maps are built at once (the per-step states of 2n + 1 runs of each are
 #: held in memory: 8 members of a 12-DOF drive at 3000 steps take ~100 MB).

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 from ..model import NonlinearSystem
 from ..model.system import describe_dofs
+from .limits import MAX_STEPS, MIN_STEPS
 
 __all__ = [
     "MAX_STEPS",
@@ -25,12 +26,6 @@ __all__ = [
     "steps_for",
     "too_many_steps",
 ]
-
-#: Fewest RK4 steps per forcing period a caller may ask for.
-MIN_STEPS = 4
-#: Most RK4 steps per forcing period: a model that needs more has a near-zero inertia or
-#: a near-rigid element (its highest natural frequency is out of scale).
-MAX_STEPS = 100_000
 
 
 def too_many_steps(systems: Sequence[NonlinearSystem], T: NDArray, N: int) -> str:
@@ -57,7 +52,7 @@ def stable_steps(
 ) -> int:
     """:func:`steps_for` of every member at once (batched eigenvalues), the largest;
     ``lam_max``: the members' largest eigenvalues when already known
-    (:func:`check_stability` returns them)."""
+    (:func:`~reducerlab.dynamics.guards.check_stability` returns them)."""
     lam = lam_max
     if lam is None:
         K = np.stack([s.mean_stiffness for s in systems])
@@ -83,9 +78,9 @@ class Steps:
     points relative to the motion's scale (:meth:`accuracy`, the rule of
     :func:`reducerlab.dynamics.accuracy.accurate_steps`).
 
-    The runs take the policy as their ``steps_per_period=`` / ``accuracy=`` keyword
-    arguments (:meth:`of` turns those into a policy); the checks and their messages are
-    the ones the runs give.
+    The runs keep their ``steps_per_period=`` / ``accuracy=`` keyword arguments and check
+    them through :meth:`fixed` and :meth:`accuracy` (:func:`~.prepare.prepare`,
+    :func:`~.accuracy.accurate_steps`), so every entry point gives the same messages.
 
     Examples
     --------
@@ -128,12 +123,3 @@ class Steps:
         if not (isinstance(tolerance, int | float) and 0 < tolerance < 1):
             raise ReducerlabError(f"accuracy must be a number in (0, 1), got {tolerance!r}")
         return cls(tolerance=float(tolerance))
-
-    @classmethod
-    def of(cls, steps_per_period: int | None, accuracy: float) -> Steps:
-        """The policy of a run's ``steps_per_period=`` and ``accuracy=`` arguments: the
-        fixed count when given (the accuracy is then ignored, unchecked), else the
-        accuracy rule."""
-        if steps_per_period is not None:
-            return cls.fixed(steps_per_period)
-        return cls.accuracy(accuracy)
