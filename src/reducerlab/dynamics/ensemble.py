@@ -69,7 +69,8 @@ def ensemble(
     history : int
         Periods at the end whose every step is returned (phase plots, spectra).
     steps_per_period : int, optional
-        Overrides :func:`~reducerlab.dynamics.steps.steps_for` (the largest over the members is used).
+        Overrides :func:`~reducerlab.dynamics.steps.steps_for` (the largest over the
+        members is used).
     y0 : array, optional
         Initial states (member, 2n) or (2n,); zeros by default.
     limit : float, optional
@@ -111,9 +112,9 @@ def ensemble(
     ------
     DivergenceError
         Before integrating, when a member's linear part has a divergent mode
-        (:func:`~reducerlab.dynamics.guards.check_stability`); during it, when a state component leaves its bound
-        or becomes non-finite: the message names the member (``labels``), the time and
-        the physical DOFs that dominate the motion.
+        (:func:`~reducerlab.dynamics.guards.check_stability`); during it, when a state
+        component leaves its bound or becomes non-finite: the message names the member
+        (``labels``), the time and the physical DOFs that dominate the motion.
     """
     from .kernel import block_width, rk4_ensemble
     from .kernel_laws import law_values
