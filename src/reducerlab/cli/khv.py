@@ -80,8 +80,7 @@ def khv_stiffness(
             raise ReducerlabError(f"{design}: type = {d.type!r}: not a KHV design")
         laws = {}
         for v in values:
-            # x2 = None: the planet's shift x2 follows from x1 on the design's shift line
-            dv = d.with_values({"gears.x1": v, "gears.x2": None}, f"{design} with x1 = {v:g}")
+            dv = d.with_shift(v, f"{design} with x1 = {v:g}")
             law = dv.stiffness_law()
             laws[f"x1 = {v:g}: eps = {dv.gears.pair().contact_ratio:.3f}, "
                  f"mean {law.mean / 1e8:.3f}e8 N/m"] = law  # fmt: skip

@@ -177,6 +177,18 @@ class KHVDesign(Design):
         """Mesh angular frequency ``z_K omega_H`` (rad/s)."""
         return 2 * math.pi * self.kinematics().mesh_frequencies(self.input_speed)["mesh K-V"]
 
+    def with_shift(self, x1: float, source: str | None = None) -> KHVDesign:
+        """This design with the ring's shift coefficient ``x1`` and the planet's ``x2``
+        on the design's shift line (paper 004 Fig. 3), validated (Fig. 5 compares
+        several).
+
+        Raises
+        ------
+        DesignError
+            When the shifted pair breaks a rule (interference, contact ratio, ...).
+        """
+        return self.with_values({"gears.x1": x1, "gears.x2": None}, source)
+
     def pitch_stiffness(self) -> float:
         """ISO 6336 single-pair stiffness at the pitch point k_C (N/m), Eq. 7-8."""
         g = self.gears
