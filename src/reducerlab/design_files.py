@@ -13,7 +13,7 @@ import copy
 import stat
 import tomllib
 import typing
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -27,9 +27,12 @@ __all__ = [
     "MAX_DESIGN_BYTES",
     "apply_overrides",
     "field_rules",
+    "lookup",
+    "path_keys",
     "read_toml",
     "set_path",
     "validate_design",
+    "walk",
 ]
 
 
@@ -255,6 +258,50 @@ def apply_overrides(
             raise DesignError(f"{option} {item!r}: no value after '='")
         set_path(out, path, _override_value(text), f"{option} {item!r}")
     return out
+
+
+def path_keys(data: Any, path: str) -> tuple[Any, ...] | None:
+    """The keys of a dotted path in nested tables and lists.
+
+    Parameters
+    ----------
+    data : dict or list
+        Raw design data (a design file's tables, a design's ``model_dump()``).
+    path : str
+        Dotted, list items by index: ``"elements.4.stiffness"``.
+
+    Returns
+    -------
+    tuple or None
+        The keys (str for tables, int for lists), for :func:`walk`; None where the path
+        is not in ``data``.
+    """
+    keys: list[Any] = []
+    node: Any = data
+    for part in path.split("."):
+        if isinstance(node, dict) and part in node:
+            keys.append(part)
+            node = node[part]
+        elif isinstance(node, list) and part.isdigit() and int(part) < len(node):
+            keys.append(int(part))
+            node = node[int(part)]
+        else:
+            return None
+    return tuple(keys)
+
+
+def walk(data: Any, keys: Sequence[Any]) -> Any:
+    """The value that ``keys`` (from :func:`path_keys`) lead to in ``data``."""
+    for k in keys:
+        data = data[k]
+    return data
+
+
+def lookup(data: Any, path: str) -> Any:
+    """The value at a dotted ``path`` of nested tables and lists (see :func:`path_keys`),
+    None where the path is not there."""
+    keys = path_keys(data, path)
+    return None if keys is None else walk(data, keys)
 
 
 def set_path(data: dict[str, Any], path: str, value: Any, what: str) -> None:

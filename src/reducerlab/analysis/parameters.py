@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..design import Design
+from ..design_files import path_keys, walk
 from ..errors import DesignError, ReducerlabError
 from ..model import Model
 
@@ -36,12 +37,9 @@ __all__ = [
     "Target",
     "axis_targets",
     "design_keys",
-    "lookup",
     "parse_path_values",
     "parse_values",
-    "path_keys",
     "resolve",
-    "walk",
 ]
 
 
@@ -266,50 +264,6 @@ def _parse_values(path: str, spec: str, limit: int | None, option: str | None) -
 
 
 # ----------------------------------------------------------------------------- paths
-def path_keys(data: Any, path: str) -> tuple[Any, ...] | None:
-    """The keys of a dotted path in nested tables and lists.
-
-    Parameters
-    ----------
-    data : dict or list
-        Raw design data (a design file's tables, a design's ``model_dump()``).
-    path : str
-        Dotted, list items by index: ``"elements.4.stiffness"``.
-
-    Returns
-    -------
-    tuple or None
-        The keys (str for tables, int for lists), for :func:`walk`; None where the path
-        is not in ``data``.
-    """
-    keys: list[Any] = []
-    node: Any = data
-    for part in path.split("."):
-        if isinstance(node, dict) and part in node:
-            keys.append(part)
-            node = node[part]
-        elif isinstance(node, list) and part.isdigit() and int(part) < len(node):
-            keys.append(int(part))
-            node = node[int(part)]
-        else:
-            return None
-    return tuple(keys)
-
-
-def walk(data: Any, keys: Sequence[Any]) -> Any:
-    """The value that ``keys`` (from :func:`path_keys`) lead to in ``data``."""
-    for k in keys:
-        data = data[k]
-    return data
-
-
-def lookup(data: Any, path: str) -> Any:
-    """The value at a dotted ``path`` of nested tables and lists (see :func:`path_keys`),
-    None where the path is not there."""
-    keys = path_keys(data, path)
-    return None if keys is None else walk(data, keys)
-
-
 def design_keys(data: dict[str, Any], path: str) -> tuple[Any, ...] | None:
     """The keys of a numeric field at dotted ``path`` of a design's ``model_dump()``, None
     where the path is not there or holds no number (a table, a string, a boolean)."""

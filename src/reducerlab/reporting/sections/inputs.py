@@ -8,9 +8,8 @@ import re
 import tomllib
 from typing import Any
 
-from ...analysis.parameters import lookup
 from ...design import Design, field_kind
-from ...design_files import apply_overrides
+from ...design_files import apply_overrides, lookup
 from ...kinematics import TRAINS
 from ...units import QUANTITIES, RPM
 from ..blocks import Block, Section, details, figure, note, table
