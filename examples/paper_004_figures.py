@@ -15,7 +15,7 @@ from pathlib import Path
 from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.response import response
 from reducerlab.analysis.sweep import Axis
-from reducerlab.drives import design_from_dict, load_design
+from reducerlab.drives import load_design
 from reducerlab.examples import example_dir
 
 X1_FIG8 = (0.5, 0.565, 0.585, 0.63, 0.761, 0.8)
@@ -23,9 +23,7 @@ X1_THREE = (0.5, 0.761, 0.83)
 
 
 def _with_x1(design, x1: float):
-    data = design.model_dump()
-    data["gears"]["x1"] = x1
-    return design_from_dict(data, f"x1 = {x1}")
+    return design.with_values({"gears.x1": x1}, f"x1 = {x1}")
 
 
 def run(output: Path, points: int = 200, periods: int = 600, keep: int = 100) -> dict:

@@ -1,1 +1,2 @@
-"""Analyses that take a :class:`~reducerlab.model.Model` and return results."""
+"""Analyses: each takes a Design (or the generic :class:`~reducerlab.model.Model` it
+builds) and returns a Result that knows how to show itself."""

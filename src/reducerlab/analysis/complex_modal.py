@@ -34,7 +34,7 @@ from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Coriolis, Gyroscopic, Model, Nutating
 from ..model.rigid import RIGID_TOL, rigid_and_elastic
 from ..results import Result, provenance
-from ..units import TWO_PI
+from ..units import RPM, TWO_PI
 from .excitation import campbell_axes, campbell_dataset, find_crossings
 from .modal import has_skew_terms
 
@@ -227,7 +227,7 @@ class ComplexModalResult(Result):
 
     def table(self) -> str:
         ds = self.data
-        rpm = ds.attrs["speed_rad_s"] * 60 / TWO_PI
+        rpm = ds.attrs["speed_rad_s"] * RPM
         lines = [f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm",
                  f"{'mode':>4}  {'frequency (Hz)':>15}  {'damping ratio':>13}  "
                  f"{'whirl':<9} stability"]  # fmt: skip
@@ -333,7 +333,7 @@ class ComplexCampbellResult(Result):
         ds = self.data
         return [
             {"mode": int(m), "excitation": str(e), "speed_rad_s": float(w),
-             "speed_rpm": float(w) * 60 / TWO_PI, "frequency_hz": float(f), "whirl": str(h)}
+             "speed_rpm": float(w) * RPM, "frequency_hz": float(f), "whirl": str(h)}
             for m, e, w, f, h in zip(ds["crossing_mode"].values, ds["crossing_excitation"].values,
                                      ds["crossing_speed"].values, ds["crossing_frequency"].values,
                                      ds["crossing_whirl"].values, strict=True)
@@ -343,7 +343,7 @@ class ComplexCampbellResult(Result):
         """Input speeds (rpm) at which some mode grows."""
         ds = self.data
         bad = ~np.all(ds["stable"].values, axis=1)
-        return (ds["speed"].values[bad] * 60 / TWO_PI).tolist()
+        return (ds["speed"].values[bad] * RPM).tolist()
 
     def to_dict(self) -> dict[str, Any]:
         return {"crossings": self.crossings(), "unstable_speeds_rpm": self.unstable_speeds()}

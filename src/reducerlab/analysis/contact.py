@@ -344,7 +344,7 @@ def contact_analysis(
     fit = fit_fourier(k, order)
     vm, depth = _stresses(runs, nu, h)
     kin = design.kinematics()
-    f_mesh = list(kin.mesh_frequencies(design.input_speed).values())[pair - 1]
+    f_mesh = list(kin.mesh_frequencies(design.operating_speed).values())[pair - 1]
     force = np.array([r.force_vector for r in runs])
     cells = _cells_dataset(runs)
     ds = xr.Dataset(

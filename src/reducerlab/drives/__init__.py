@@ -165,9 +165,10 @@ def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
         )
     speed = float(design.operating_speed)
     if speed == 0.0:
+        field = design.speed_fields[0] or "input_speed"
         raise DesignError(
-            f"{design.source}: input_speed = 0: member speeds and mesh frequencies need a "
-            "non-zero input speed (e.g. input_speed = '1500 rpm')"
+            f"{design.source}: {field} = 0: member speeds and mesh frequencies need a "
+            f"non-zero input speed (e.g. {field} = '1500 rpm')"
         )
     return drive, speed
 

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import ReducerlabError
-from ..units import TWO_PI
+from ..units import RPM
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -197,7 +197,7 @@ def plot_complex_modes(result: ComplexModalResult) -> Figure:
     a2.set_ylabel("damping ratio")
     a2.set_xlabel("mode")
     a1.legend(fontsize=7)
-    rpm = ds.attrs["speed_rad_s"] * 60 / TWO_PI
+    rpm = ds.attrs["speed_rad_s"] * RPM
     a1.set_title(f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm", fontsize=9)
     for ax in (a1, a2):
         ax.grid(alpha=0.3)
