@@ -122,7 +122,7 @@ def _scale_law(kind: int, p: NDArray, value: float, omega_n: float) -> NDArray:
     """Flat law ``v(t)`` -> ``value * v(tau / omega_n)`` in dimensionless time."""
     q = p.copy()
     if kind == layout.LAW_CONSTANT:
-        q[0] *= value
+        q[layout.CONSTANT_VALUE] *= value
     elif kind == LAW_FOURIER:
         q[layout.FOURIER_MEAN] *= value
         q[layout.FOURIER_OMEGA] /= omega_n

@@ -11,6 +11,7 @@ import numba as nb
 import numpy as np
 
 from ..model.layout import (
+    CONSTANT_VALUE,
     FOURIER_COUNT,
     FOURIER_HEAD,
     FOURIER_MEAN,
@@ -38,7 +39,7 @@ __all__ = [
 def eval_law(kind: int, p: np.ndarray, t: float) -> tuple[float, float]:
     """Value and derivative of a flat law at time ``t`` (mirrors ``evaluate_flat``)."""
     if kind == LAW_CONSTANT:
-        return p[0], 0.0
+        return p[CONSTANT_VALUE], 0.0
     if kind == LAW_FOURIER:
         mean, omega, n = p[FOURIER_MEAN], p[FOURIER_OMEGA], int(p[FOURIER_COUNT])
         val, der = mean, 0.0

@@ -362,7 +362,7 @@ def evaluate_flat(kind: int, params: NDArray[np.float64], t: float) -> tuple[flo
     This is the reference for the compiled kernels: it uses scalar arithmetic only.
     """
     if kind == LAW_CONSTANT:
-        return float(params[0]), 0.0
+        return float(params[layout.CONSTANT_VALUE]), 0.0
     if kind == LAW_FOURIER:
         mean, omega = params[layout.FOURIER_MEAN], params[layout.FOURIER_OMEGA]
         n = layout.fourier_count(params)
@@ -405,7 +405,9 @@ def flat_mean(kind: int, params: NDArray[np.float64]) -> float:
         c = layout.coefficients(params)
         q = np.arange(1, c.shape[1] + 1)
         return float(np.sum(c * (edges[1:, None] ** q - edges[:-1, None] ** q) / q))
-    return float(params[0])
+    if kind == LAW_FOURIER:
+        return float(params[layout.FOURIER_MEAN])
+    return float(params[layout.CONSTANT_VALUE])
 
 
 def flat_peak(kind: int, params: NDArray[np.float64]) -> float:
@@ -416,7 +418,7 @@ def flat_peak(kind: int, params: NDArray[np.float64]) -> float:
         return float(abs(params[layout.FOURIER_MEAN]) + np.abs(layout.amplitudes(params)).sum())
     if kind == LAW_PIECEWISE:
         return float(np.abs(layout.coefficients(params)).sum(axis=1).max())
-    return float(abs(params[0]))
+    return float(abs(params[layout.CONSTANT_VALUE]))
 
 
 def dead_zone(delta: ArrayLike, half_width: float) -> NDArray[np.float64]:

@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
+    "CONSTANT_VALUE",
     "FOURIER_COUNT",
     "FOURIER_HEAD",
     "FOURIER_MEAN",
@@ -58,6 +59,9 @@ __all__ = [
 
 #: Kind codes of the flat laws.
 LAW_CONSTANT, LAW_FOURIER, LAW_PIECEWISE = 0, 1, 2
+
+#: Constant row: index of the value.
+CONSTANT_VALUE = 0
 
 #: Fourier row: index of the mean, of the fundamental (rad/s), of the harmonic count
 #: ``n``, and where the ``n`` amplitudes start (the ``n`` phases follow them).
