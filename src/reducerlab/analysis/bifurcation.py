@@ -30,11 +30,9 @@ from .impacts import IMPACT_CLASSES, contact_states, mesh_mode
 from .members import (
     Members,
     axis_coord,
-    axis_label,
     axis_members,
     continue_sweep,
     fingerprint,
-    shown_values,
 )
 from .motion import attractor_scale, classify, different_attractors, period_of
 from .parameters import Axis
@@ -472,66 +470,6 @@ class BifurcationResult(Result):
     def plot(self) -> Figure:
         """Bifurcation diagram (paper 004 Fig. 7), with the motion classes as a coloured
         band underneath when the exponents were computed."""
-        from matplotlib.figure import Figure
+        from ..plot.bifurcation import plot_bifurcation
 
-        ds = self.data
-        fig = Figure(figsize=(7.5, 5.0), layout="constrained")
-        has_imp = "impact_class" in ds
-        rows = 1 + ("exponent" in ds) + has_imp
-        axes = fig.subplots(
-            rows, 1, sharex=True, gridspec_kw={"height_ratios": [12] + [1] * (rows - 1)}
-        )
-        axes = np.atleast_1d(axes)
-        ax = axes[0]
-        band = axes[1] if "exponent" in ds else None
-        imp_band = axes[-1] if has_imp else None
-        x = shown_values(ds["p0"])
-        p = np.repeat(x, ds.sizes["point"])
-        way = ds.attrs.get("continuation")
-        first = {"up": "ascending sweep", "both": "ascending sweep", "down": "descending sweep"}
-        ax.plot(p, ds["poincare"].values.ravel(), ".k", ms=1.0 if way is None else 2.5,
-                alpha=0.6, label=first.get(way))  # fmt: skip
-        if "poincare_seeds" in ds:  # runs from random starts: coexisting attractors
-            ps = np.repeat(x, ds.sizes["seed"] * ds.sizes["point"])
-            ax.plot(ps, ds["poincare_seeds"].values.ravel(), "o", color="C0", ms=1.6,
-                    alpha=0.35, mew=0, label="random starts")  # fmt: skip
-        if "poincare_down" in ds:  # the other sweep, drawn so that both stay visible
-            ax.plot(p, ds["poincare_down"].values.ravel(), "x", color="C3", ms=3.0,
-                    alpha=0.7, label="descending sweep")  # fmt: skip
-        if way is not None or "poincare_seeds" in ds:
-            ax.legend(fontsize=7, markerscale=2)
-        edges = (
-            np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
-            if x.size > 1
-            else np.array([x[0] - 0.5, x[0] + 0.5])
-        )
-        if band is not None:
-            _class_band(band, edges, self.labels(), "motion", "C")
-        if imp_band is not None:
-            _class_band(imp_band, edges, self.impacts(), "teeth", "tab:")
-        axes[-1].set_xlabel(axis_label(ds["p0"], ds.attrs["parameter"]))
-        ax.set_ylabel(f"Poincaré points of mesh deflection ({ds['poincare'].attrs['units']})")
-        ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
-        ax.grid(alpha=0.3)
-        return fig
-
-
-def _class_band(band, edges: NDArray, labels: list[str], title: str, palette: str) -> None:
-    """A strip coloured by class per parameter value, its legend beside it (no clipping)."""
-    from matplotlib.patches import Patch
-
-    colours_c = ["C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "C9"]
-    colours_t = ["tab:green", "tab:orange", "tab:red", "tab:gray"]
-    palette_list = colours_c if palette == "C" else colours_t
-    order = sorted(set(labels), key=lambda k: (k == "diverged", k))
-    if palette != "C":
-        order = [k for k in (*IMPACT_CLASSES, "diverged") if k in set(labels)]
-    colours = {k: palette_list[i % len(palette_list)] for i, k in enumerate(order)}
-    if "diverged" in colours:
-        colours["diverged"] = "black"
-    for i, lab in enumerate(labels):
-        band.axvspan(edges[i], edges[i + 1], color=colours[lab], lw=0)
-    handles = [Patch(color=colours[k], label=k) for k in order]
-    band.legend(handles=handles, fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5),
-                frameon=False, title=title, title_fontsize=6)  # fmt: skip
-    band.set_yticks([])
+        return plot_bifurcation(self)

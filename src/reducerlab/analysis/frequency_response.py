@@ -26,7 +26,7 @@ from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
 from .impacts import contact_states, mesh_mode
-from .members import axis_coord, axis_label, axis_members, continue_sweep, shown_values
+from .members import axis_coord, axis_members, continue_sweep
 from .parameters import Axis
 from .policies import Continuation
 
@@ -66,28 +66,9 @@ class FrequencyResponseResult(Result):
     def plot(self) -> Figure:
         """RMS DTE, dynamic load factor and separation share against the parameter, the
         ascending sweep solid, the descending one dashed."""
-        from matplotlib.figure import Figure
+        from ..plot.response import plot_frequency_response
 
-        ds = self.data
-        fig = Figure(figsize=(7.5, 6.6), layout="constrained")
-        axes = fig.subplots(3, 1, sharex=True)
-        x = shown_values(ds["p0"])
-        style = {"up": ("-o", "k", "ascending sweep"), "down": ("--x", "C3", "descending sweep")}
-        for b in ds["branch"].values.tolist():
-            fmt, colour, label = style[b]
-            sel = ds.sel(branch=b)
-            axes[0].plot(x, sel["rms_dte"].values * 1e6, fmt, color=colour, ms=3, label=label)
-            axes[1].plot(x, sel["dynamic_load_factor"].values, fmt, color=colour, ms=3)
-            axes[2].plot(x, 100 * sel["separation_fraction"].values, fmt, color=colour, ms=3)
-        axes[0].set_ylabel("RMS dynamic TE (um)")
-        axes[1].set_ylabel("dynamic load factor")
-        axes[2].set_ylabel("teeth apart (% of time)")
-        axes[2].set_xlabel(axis_label(ds["p0"], ds.attrs["parameter"]))
-        axes[0].legend(fontsize=7)
-        axes[0].set_title(f"frequency response: {ds.attrs.get('title', '')}", fontsize=9)
-        for ax in axes:
-            ax.grid(alpha=0.3)
-        return fig
+        return plot_frequency_response(self)
 
 
 def frequency_response(

@@ -45,7 +45,7 @@ from ..results import Result, provenance
 from ..units import length_unit
 from .bifurcation import IMPACT_COLUMNS, BifurcationChunk
 from .impacts import IMPACT_CLASSES
-from .members import Members, axis_coord, axis_label, fingerprint, shown_values
+from .members import Members, axis_coord, fingerprint, shown_values
 from .motion import attractor_scale, classify, different_attractors
 from .parameters import Axis, Evaluator, axis_targets
 from .policies import Continuation
@@ -469,70 +469,6 @@ class RegimeMapResult(Result):
     def plot(self) -> Figure:
         """Motion-class and impact-class maps per branch (columns), points where the two
         sweeps found different attractors marked with a dot."""
-        from matplotlib.colors import ListedColormap
-        from matplotlib.figure import Figure
-        from matplotlib.patches import Patch
+        from ..plot.bifurcation import plot_regime_map
 
-        ds = self.data
-        branches = ds["branch"].values.tolist()
-        nb = len(branches)
-        fig = Figure(figsize=(4.2 * nb + 2.4, 6.6), layout="constrained")
-        axes = np.atleast_2d(fig.subplots(2, nb, sharex=True, sharey=True, squeeze=False))
-        cx, cy = ds["p0"], ds["p1"]
-        X, Y = shown_values(cx), shown_values(cy)
-        lab_m, lab_i = self.labels(), self.impacts()
-        co = self.coexisting()
-        m_classes = motion_order(np.unique(lab_m).tolist())
-        i_classes = [k for k in (*IMPACT_CLASSES, "diverged") if k in set(lab_i.ravel())]
-        palette = {"quasi-periodic": "tab:purple", "chaotic": "tab:red",
-                   "unsettled": "lightgrey", "diverged": "black"}  # fmt: skip
-        # period-n classes: distinct colours (none of the special classes' colours)
-        period_colours = ["#1f77b4", "#2ca02c", "#ff7f0e", "#bcbd22", "#17becf", "#8c564b",
-                          "#e377c2", "#aec7e8", "#98df8a", "#ffbb78", "#dbdb8d", "#9edae5",
-                          "#c49c94", "#f7b6d2"]  # fmt: skip
-        m_col = [palette.get(k, period_colours[i % len(period_colours)])
-                 for i, k in enumerate(m_classes)]  # fmt: skip
-        i_palette = {"no impact": "tab:green", "single-sided impact": "tab:orange",
-                     "double-sided impact": "tab:red", "diverged": "black"}  # fmt: skip
-        i_col = [i_palette[k] for k in i_classes]
-
-        def edges(v: NDArray) -> NDArray:
-            if v.size == 1:
-                return np.array([v[0] - 0.5, v[0] + 0.5])
-            mid = 0.5 * (v[1:] + v[:-1])
-            return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
-
-        ex, ey = edges(X), edges(Y)
-        for b, branch in enumerate(branches):
-            for r, (lab, classes, colours) in enumerate(
-                ((lab_m, m_classes, m_col), (lab_i, i_classes, i_col))
-            ):
-                ax = axes[r, b]
-                idx = np.vectorize(classes.index, otypes=[float])(lab[b])
-                ax.pcolormesh(ex, ey, idx, cmap=ListedColormap(colours), vmin=-0.5,
-                              vmax=len(classes) - 0.5, shading="flat")  # fmt: skip
-                if co.any():
-                    iy, ix = np.nonzero(co)
-                    ax.plot(X[ix], Y[iy], "o", color="white", ms=4, mec="k", mew=0.6)
-                what = "motion" if r == 0 else "teeth"
-                way = f"{branch} sweep" if branch != "static" else "from rest"
-                ax.set_title(f"{what}: {way}", fontsize=8)
-            for r, (classes, colours, title) in enumerate(
-                ((m_classes, m_col, "motion"), (i_classes, i_col, "teeth"))
-            ):
-                if b == nb - 1:
-                    handles = [Patch(color=c, label=k) for k, c in zip(classes, colours,
-                                                                        strict=True)]  # fmt: skip
-                    if r == 0 and co.any():
-                        handles.append(Patch(facecolor="white", edgecolor="k",
-                                             label="up != down"))  # fmt: skip
-                    axes[r, b].legend(handles=handles, fontsize=6, title=title,
-                                      title_fontsize=7, loc="center left",
-                                      bbox_to_anchor=(1.02, 0.5), frameon=False)  # fmt: skip
-
-        for ax in axes[-1]:
-            ax.set_xlabel(axis_label(cx, ds.attrs["x"]))
-        for ax in axes[:, 0]:
-            ax.set_ylabel(axis_label(cy, ds.attrs["y"]))
-        fig.suptitle(f"regime map: {ds.attrs.get('title', '')}", fontsize=9)
-        return fig
+        return plot_regime_map(self)

@@ -43,8 +43,9 @@ class ResponseResult(Result):
 
     kind: ClassVar[str] = "response"
 
-    def _uniform(self) -> tuple[NDArray, float]:
-        """The deflection resampled on a uniform time grid (steps differ per segment)."""
+    def uniform_deflection(self) -> tuple[NDArray, float]:
+        """The mesh deflection resampled on a uniform time grid (steps differ per
+        segment), and that grid's time step (s)."""
         ds = self.data
         t = ds["time"].values
         tu = np.linspace(t[0], t[-1], t.size)
@@ -54,55 +55,16 @@ class ResponseResult(Result):
         """Largest spectral peaks of the mesh deflection, as multiples of the forcing
         frequency (paper 004 Fig. 8 labels); none when the deflection varies by less than
         :data:`NOISE_M` (1 pm: round-off of a model that nothing excites)."""
-        x, dt = self._uniform()
+        x, dt = self.uniform_deflection()
         if np.ptp(x) <= NOISE_M:
             return []
         return spectrum_peaks(x, dt, self.data.attrs["forcing_hz"], count)
 
     def plot(self) -> Figure:
         """Phase trajectory, Poincaré map and labelled spectrum (paper 004 Fig. 8)."""
-        from matplotlib.figure import Figure
+        from ..plot.response import plot_response
 
-        ds = self.data
-        fig = Figure(figsize=(11, 3.6), layout="constrained")
-        a1, a2, a3 = fig.subplots(1, 3)
-        d, v = ds["delta"].values * 1e6, ds["delta_velocity"].values * 1e3
-        b = float(ds.attrs.get("half_backlash_m", 0.0)) * 1e6
-        if b > 0:  # the backlash: no elastic force while the deflection is in it
-            a1.axvspan(-b, b, color="0.85", zorder=0, label="teeth apart")
-            a1.legend(fontsize=7, loc="upper right")
-        a1.plot(d, v, lw=0.6)
-        a1.set_xlabel("mesh deflection (um)")
-        a1.set_ylabel("velocity (mm/s)")
-        cls = ds.attrs.get("impact_class")
-        a1.set_title(
-            f"phase trajectory: {cls}, apart {100 * ds.attrs['separation_fraction']:.0f} %"
-            if cls
-            else "phase trajectory",
-            fontsize=9,
-        )
-        a2.plot(ds["poincare_delta"].values * 1e6, ds["poincare_velocity"].values * 1e3, ".k")
-        a2.set_xlabel("mesh deflection (um)")
-        a2.set_title("Poincaré map", fontsize=9)
-        x, dt = self._uniform()
-        x = x - x.mean()
-        amp = 2 * np.abs(np.fft.rfft(x * np.hanning(x.size))) / np.sum(np.hanning(x.size))
-        f = np.fft.rfftfreq(x.size, dt) / ds.attrs["forcing_hz"]
-        a3.plot(f, amp * 1e6)
-        for m, a in self.peaks(5):
-            a3.annotate(f"{m:.2f}x", (m, a * 1e6), fontsize=7)
-        a3.set_xlim(0, 4)
-        a3.set_xlabel("frequency / forcing frequency")
-        a3.set_ylabel("amplitude (um)")
-        dlf = ds.attrs["dynamic_load_factor"]
-        a3.set_title(
-            f"spectrum (DLF {dlf:.3f})" if np.isfinite(dlf) else "spectrum (no mean load)",
-            fontsize=9,
-        )
-        for ax in (a1, a2, a3):
-            ax.grid(alpha=0.3)
-        fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
-        return fig
+        return plot_response(self)
 
 
 @names_source

@@ -1,6 +1,6 @@
-"""Interactive figures (plotly) of bifurcation diagrams and regime maps, for the design
-report; plotly is imported only when a figure is built. (Their matplotlib figures are the
-results' own ``plot()``.)"""
+"""Figures of bifurcation diagrams and regime maps: the matplotlib figures the results'
+``plot()`` draw, and the interactive (plotly) ones of the design report; matplotlib and
+plotly are imported only when a figure is built."""
 
 from __future__ import annotations
 
@@ -9,10 +9,189 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from numpy.typing import NDArray
+
     from ..analysis.bifurcation import BifurcationResult
     from ..analysis.regime_map import RegimeMapResult
 
-__all__ = ["plotly_bifurcation", "plotly_regime_map"]
+__all__ = ["plot_bifurcation", "plot_regime_map", "plotly_bifurcation", "plotly_regime_map"]
+
+
+def plot_bifurcation(result: BifurcationResult) -> Figure:
+    """Bifurcation diagram (paper 004 Fig. 7), with the motion classes as a coloured
+    band underneath when the exponents were computed.
+
+    The Poincaré points of the first sweep are black dots; those of the descending sweep
+    (``continuation="both"``) red crosses and those of the random starts (``seeds``) blue
+    dots. A band of impact classes is added when the result holds them.
+
+    Parameters
+    ----------
+    result : BifurcationResult
+        The diagram to draw.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The diagram, the class bands below it sharing its parameter axis.
+    """
+    from matplotlib.figure import Figure
+
+    from ..analysis.members import axis_label, shown_values
+
+    ds = result.data
+    fig = Figure(figsize=(7.5, 5.0), layout="constrained")
+    has_imp = "impact_class" in ds
+    rows = 1 + ("exponent" in ds) + has_imp
+    axes = fig.subplots(
+        rows, 1, sharex=True, gridspec_kw={"height_ratios": [12] + [1] * (rows - 1)}
+    )
+    axes = np.atleast_1d(axes)
+    ax = axes[0]
+    band = axes[1] if "exponent" in ds else None
+    imp_band = axes[-1] if has_imp else None
+    x = shown_values(ds["p0"])
+    p = np.repeat(x, ds.sizes["point"])
+    way = ds.attrs.get("continuation")
+    first = {"up": "ascending sweep", "both": "ascending sweep", "down": "descending sweep"}
+    ax.plot(p, ds["poincare"].values.ravel(), ".k", ms=1.0 if way is None else 2.5,
+            alpha=0.6, label=first.get(way))  # fmt: skip
+    if "poincare_seeds" in ds:  # runs from random starts: coexisting attractors
+        ps = np.repeat(x, ds.sizes["seed"] * ds.sizes["point"])
+        ax.plot(ps, ds["poincare_seeds"].values.ravel(), "o", color="C0", ms=1.6,
+                alpha=0.35, mew=0, label="random starts")  # fmt: skip
+    if "poincare_down" in ds:  # the other sweep, drawn so that both stay visible
+        ax.plot(p, ds["poincare_down"].values.ravel(), "x", color="C3", ms=3.0,
+                alpha=0.7, label="descending sweep")  # fmt: skip
+    if way is not None or "poincare_seeds" in ds:
+        ax.legend(fontsize=7, markerscale=2)
+    edges = (
+        np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
+        if x.size > 1
+        else np.array([x[0] - 0.5, x[0] + 0.5])
+    )
+    if band is not None:
+        _class_band(band, edges, result.labels(), "motion", "C")
+    if imp_band is not None:
+        _class_band(imp_band, edges, result.impacts(), "teeth", "tab:")
+    axes[-1].set_xlabel(axis_label(ds["p0"], ds.attrs["parameter"]))
+    ax.set_ylabel(f"Poincaré points of mesh deflection ({ds['poincare'].attrs['units']})")
+    ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def _class_band(band: Axes, edges: NDArray, labels: list[str], title: str, palette: str) -> None:
+    """A strip coloured by class per parameter value, its legend beside it (no clipping)."""
+    from matplotlib.patches import Patch
+
+    from ..analysis.impacts import IMPACT_CLASSES
+
+    colours_c = ["C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "C9"]
+    colours_t = ["tab:green", "tab:orange", "tab:red", "tab:gray"]
+    palette_list = colours_c if palette == "C" else colours_t
+    order = sorted(set(labels), key=lambda k: (k == "diverged", k))
+    if palette != "C":
+        order = [k for k in (*IMPACT_CLASSES, "diverged") if k in set(labels)]
+    colours = {k: palette_list[i % len(palette_list)] for i, k in enumerate(order)}
+    if "diverged" in colours:
+        colours["diverged"] = "black"
+    for i, lab in enumerate(labels):
+        band.axvspan(edges[i], edges[i + 1], color=colours[lab], lw=0)
+    handles = [Patch(color=colours[k], label=k) for k in order]
+    band.legend(handles=handles, fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5),
+                frameon=False, title=title, title_fontsize=6)  # fmt: skip
+    band.set_yticks([])
+
+
+def plot_regime_map(result: RegimeMapResult) -> Figure:
+    """Motion-class and impact-class maps per branch (columns), points where the two
+    sweeps found different attractors marked with a dot.
+
+    Parameters
+    ----------
+    result : RegimeMapResult
+        The map to draw.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two rows (motion class, impact class) of one map per branch, each row's legend
+        beside its last map.
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+
+    from ..analysis.impacts import IMPACT_CLASSES
+    from ..analysis.members import axis_label, shown_values
+    from ..analysis.regime_map import motion_order
+
+    ds = result.data
+    branches = ds["branch"].values.tolist()
+    nb = len(branches)
+    fig = Figure(figsize=(4.2 * nb + 2.4, 6.6), layout="constrained")
+    axes = np.atleast_2d(fig.subplots(2, nb, sharex=True, sharey=True, squeeze=False))
+    cx, cy = ds["p0"], ds["p1"]
+    X, Y = shown_values(cx), shown_values(cy)
+    lab_m, lab_i = result.labels(), result.impacts()
+    co = result.coexisting()
+    m_classes = motion_order(np.unique(lab_m).tolist())
+    i_classes = [k for k in (*IMPACT_CLASSES, "diverged") if k in set(lab_i.ravel())]
+    palette = {"quasi-periodic": "tab:purple", "chaotic": "tab:red",
+               "unsettled": "lightgrey", "diverged": "black"}  # fmt: skip
+    # period-n classes: distinct colours (none of the special classes' colours)
+    period_colours = ["#1f77b4", "#2ca02c", "#ff7f0e", "#bcbd22", "#17becf", "#8c564b",
+                      "#e377c2", "#aec7e8", "#98df8a", "#ffbb78", "#dbdb8d", "#9edae5",
+                      "#c49c94", "#f7b6d2"]  # fmt: skip
+    m_col = [palette.get(k, period_colours[i % len(period_colours)])
+             for i, k in enumerate(m_classes)]  # fmt: skip
+    i_palette = {"no impact": "tab:green", "single-sided impact": "tab:orange",
+                 "double-sided impact": "tab:red", "diverged": "black"}  # fmt: skip
+    i_col = [i_palette[k] for k in i_classes]
+
+    def edges(v: NDArray) -> NDArray:
+        if v.size == 1:
+            return np.array([v[0] - 0.5, v[0] + 0.5])
+        mid = 0.5 * (v[1:] + v[:-1])
+        return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+    ex, ey = edges(X), edges(Y)
+    for b, branch in enumerate(branches):
+        for r, (lab, classes, colours) in enumerate(
+            ((lab_m, m_classes, m_col), (lab_i, i_classes, i_col))
+        ):
+            ax = axes[r, b]
+            idx = np.vectorize(classes.index, otypes=[float])(lab[b])
+            ax.pcolormesh(ex, ey, idx, cmap=ListedColormap(colours), vmin=-0.5,
+                          vmax=len(classes) - 0.5, shading="flat")  # fmt: skip
+            if co.any():
+                iy, ix = np.nonzero(co)
+                ax.plot(X[ix], Y[iy], "o", color="white", ms=4, mec="k", mew=0.6)
+            what = "motion" if r == 0 else "teeth"
+            way = f"{branch} sweep" if branch != "static" else "from rest"
+            ax.set_title(f"{what}: {way}", fontsize=8)
+        for r, (classes, colours, title) in enumerate(
+            ((m_classes, m_col, "motion"), (i_classes, i_col, "teeth"))
+        ):
+            if b == nb - 1:
+                handles = [Patch(color=c, label=k) for k, c in zip(classes, colours,
+                                                                    strict=True)]  # fmt: skip
+                if r == 0 and co.any():
+                    handles.append(Patch(facecolor="white", edgecolor="k",
+                                         label="up != down"))  # fmt: skip
+                axes[r, b].legend(handles=handles, fontsize=6, title=title,
+                                  title_fontsize=7, loc="center left",
+                                  bbox_to_anchor=(1.02, 0.5), frameon=False)  # fmt: skip
+
+    for ax in axes[-1]:
+        ax.set_xlabel(axis_label(cx, ds.attrs["x"]))
+    for ax in axes[:, 0]:
+        ax.set_ylabel(axis_label(cy, ds.attrs["y"]))
+    fig.suptitle(f"regime map: {ds.attrs.get('title', '')}", fontsize=9)
+    return fig
 
 
 def plotly_bifurcation(result: BifurcationResult) -> Any:

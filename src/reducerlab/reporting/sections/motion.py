@@ -11,6 +11,7 @@ import numpy as np
 
 from ...errors import ReducerlabError
 from ...plot.bifurcation import plotly_bifurcation, plotly_regime_map
+from ...plot.response import plot_transmission_error
 from ..blocks import Section, figure, interactive, note, table
 from ..context import Context
 
@@ -25,8 +26,6 @@ def response_section(ctx: Context) -> Section | None:
     model = ctx.model()
     if model.nonlinear().G.shape[0] == 0 or model.speed == 0:
         return None
-    from matplotlib.figure import Figure
-
     from ...analysis.response import NOISE_M, response
     from ...dynamics.coordinates import to_system
     from ...dynamics.systems import forcing_period
@@ -78,16 +77,9 @@ def response_section(ctx: Context) -> Section | None:
     s.blocks.append(
         figure(res.plot(), "phase trajectory, Poincaré map and spectrum of the mesh deflection")
     )
-    fig = Figure(figsize=(9, 3), layout="constrained")
-    ax = fig.subplots()
-    t = ds["time"].values
-    ax.plot((t - t[0]) * 1e3, ds["dte"].values * 1e6, lw=0.8, label="DTE")
-    ax.plot((t - t[0]) * 1e3, ds["delta"].values * 1e6, lw=0.8, label="mesh deflection")
-    ax.set_xlabel("time (ms)")
-    ax.set_ylabel("um")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    s.blocks.append(figure(fig, "dynamic transmission error over the last periods"))
+    s.blocks.append(
+        figure(plot_transmission_error(res), "dynamic transmission error over the last periods")
+    )
     return s
 
 
