@@ -40,12 +40,11 @@ def surface(
     sets: SetOption = None,
 ) -> None:
     """Generate a gear's tooth surfaces (paper 001), check them, export a closed solid."""
-    import numpy as np
 
     from ..drives import load_design
     from ..geometry import generate_tooth
     from ..geometry.export import MESH_FORMATS, export_mesh, export_point_cloud
-    from ..geometry.solid import build_gear_solid
+    from ..geometry.solid import build_gear_solid, section_counts
 
     with user_errors():
         if not 3 <= points <= 401:
@@ -77,10 +76,7 @@ def surface(
             solid = build_gear_solid(
                 crown,
                 bevel,
-                n_profile=points,
-                n_face=points,
-                n_land=max(1, points // 5),
-                n_space=max(3, points // 2) | 1,
+                **section_counts(points),
                 rim=d.surface.rim,
                 progress=lambda done, total: progress.update(task, completed=done, total=total),
             )
@@ -95,9 +91,7 @@ def surface(
                 progress.update(task, description=f"writing {export.name}", total=None)
                 write_file(export, lambda tmp: export_mesh(mesh, tmp))
             if cloud is not None:
-                fl = solid.flank_points()
-                pts = np.concatenate([fl["A"][0], fl["B"][0]])
-                nrm = np.concatenate([fl["A"][1], fl["B"][1]])
+                pts, nrm = solid.flank_cloud()
                 write_file(cloud, lambda tmp: export_point_cloud(pts, nrm, tmp))
             if png is not None:
                 from ..plot.surface import plot_tooth

@@ -75,6 +75,7 @@ __all__ = [
     "from_cone_coordinates",
     "independent_volume_estimate",
     "require_trimesh",
+    "section_counts",
 ]
 
 Array = NDArray[np.float64]
@@ -360,6 +361,15 @@ class GearSolid:
             out[key] = (P.reshape(-1, 3), n.reshape(-1, 3))
         return out
 
+    def flank_cloud(self) -> tuple[Array, Array]:
+        """Both flanks of tooth 0 as one point cloud: points (n, 3), m, and unit outward
+        normals (n, 3), flank A then flank B (:meth:`flank_points`)."""
+        fl = self.flank_points()
+        return (
+            np.concatenate([fl["A"][0], fl["B"][0]]),
+            np.concatenate([fl["A"][1], fl["B"][1]]),
+        )
+
 
 def _grid_normals(P: Array) -> Array:
     """Unit normals of a point grid (n0, n1, 3) by central differences."""
@@ -523,6 +533,19 @@ def _row_grid(
 def _unwrap_to(psi: Array, ref: Array) -> Array:
     """``psi`` shifted by multiples of 2 pi to lie within pi of ``ref``."""
     return ref + np.angle(np.exp(1j * (psi - ref)))
+
+
+def section_counts(points: int) -> dict[str, int]:
+    """The section grid of a solid drawn with ``points`` grid points across the profile
+    and along the face: ``n_profile``, ``n_face``, ``n_land`` (a fifth of them, at least
+    1) and ``n_space`` (half of them, odd, at least 3), as :func:`build_gear_solid`
+    takes them."""
+    return {
+        "n_profile": points,
+        "n_face": points,
+        "n_land": max(1, points // 5),
+        "n_space": max(3, points // 2) | 1,
+    }
 
 
 def build_gear_solid(
