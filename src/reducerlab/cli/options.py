@@ -224,35 +224,46 @@ def check_periods(periods: int, **counts: int) -> None:
 def quantity_option(text: str | None, option: str, kind: str) -> float | None:
     """A positive finite quantity of ``kind`` ("time", "frequency", "length", ...) from
     an option, in SI: a plain number in SI or a quantity string ("2 ms", "1.2 mm");
-    None without one."""
+    None without one.
+
+    A plain number and a number with a unit pass the same checks
+    (:func:`reducerlab.units.parse_quantity`): the kind's representable range, then
+    finite and > 0."""
     if text is None:
         return None
-    from ..units import parse_quantity
-
-    try:
-        value = float(text)
-    except ValueError:
-        try:
-            value = parse_quantity(text, kind)
-        except ValueError as exc:
-            raise ReducerlabError(f"{option}: {exc}") from None
+    value = _in_range(text, option, kind)
     if not (math.isfinite(value) and value > 0):
         raise ReducerlabError(f"{option}: must be a finite {kind} > 0; got {text!r}")
     return value
 
 
 def signed_quantity(text: str, option: str, kind: str) -> float:
-    """A finite quantity of ``kind`` that may be negative or zero (SI)."""
+    """A finite quantity of ``kind`` that may be negative or zero (SI), its magnitude
+    checked against the kind's range as :func:`quantity_option` checks it."""
     t = text.strip()
     sign = -1.0 if t.startswith("-") else 1.0
     body = t[1:] if t[:1] in "+-" else t
-    try:
-        value = float(body)
-    except ValueError:
-        value = quantity_option(body, option, kind) or 0.0
+    value = _in_range(body, option, kind)
     if not math.isfinite(value):
         raise ReducerlabError(f"{option}: must be finite; got {text!r}")
     return sign * value
+
+
+def _in_range(text: str, option: str, kind: str) -> float:
+    """``text`` (a plain number in SI, or a number with a unit) in SI, refused outside
+    the representable range of ``kind`` with the option named."""
+    from ..units import parse_quantity
+
+    try:
+        plain: float | str = float(text)
+    except ValueError:
+        plain = text
+    if isinstance(plain, float) and not math.isfinite(plain):
+        return plain  # the caller refuses it in its own words
+    try:
+        return parse_quantity(plain, kind)
+    except ValueError as exc:
+        raise ReducerlabError(f"{option}: {exc}") from None
 
 
 def forcing_period(period: str | None, frequency: str | None) -> float | None:
