@@ -27,6 +27,7 @@ from ..io import atomic_path, base_stamp
 
 __all__ = [
     "chunk_path",
+    "data_digest",
     "load_chunk",
     "open_run",
     "read_manifest",
@@ -34,7 +35,19 @@ __all__ = [
     "save_chunk",
 ]
 
-_STAMP = ("run_key", "chunk_index", "chunk_values")
+_STAMP = ("run_key", "chunk_index", "chunk_values", "chunk_digest")
+
+
+def data_digest(arrays: dict[str, NDArray]) -> str:
+    """SHA-256 (hex) of a chunk's result arrays: names, dtypes, shapes and bytes, in
+    name order. Stamped into each chunk so that data edited or damaged after writing
+    (a NaN put into a stamped file, a flipped byte) is refused on resume."""
+    h = hashlib.sha256()
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}|{a.dtype.str}|{a.shape}|".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
 
 
 def run_key(spec: dict[str, Any]) -> str:
@@ -153,6 +166,7 @@ def save_chunk(
             run_key=np.asarray(key),
             chunk_index=np.asarray(index, dtype=np.int64),
             chunk_values=np.asarray(values, dtype=float),
+            chunk_digest=np.asarray(data_digest(arrays)),
             **arrays,
         )
         f.flush()
@@ -160,7 +174,12 @@ def save_chunk(
 
 
 def load_chunk(
-    path: Path, key: str, index: int, values: NDArray, names: Iterable[str] = ()
+    path: Path,
+    key: str,
+    index: int,
+    values: NDArray,
+    names: Iterable[str] = (),
+    finite: bool = False,
 ) -> dict[str, NDArray]:
     """Read chunk ``index`` of run ``key`` and check its stamp.
 
@@ -174,6 +193,9 @@ def load_chunk(
     names : iterable of str
         The result arrays to read (their first axis must match ``values``); none to
         check the stamp only.
+    finite : bool
+        Whether every value of the arrays must be finite (a modal sweep's are; a
+        bifurcation marks a diverged point with NaN).
 
     Returns
     -------
@@ -183,9 +205,10 @@ def load_chunk(
     Raises
     ------
     ReducerlabError
-        When the file cannot be read (empty, truncated, not a chunk file) or belongs to
-        another run, chunk or set of values; the message names the file and tells to
-        delete it, after which the next run recomputes that chunk.
+        When the file cannot be read (empty, truncated, not a chunk file), belongs to
+        another run, chunk or set of values, or its data do not match their stamp or
+        break ``finite``; the message names the file and tells to delete it, after
+        which the next run recomputes that chunk.
     """
     fix = "delete it to recompute that chunk"
     values = np.asarray(values, dtype=float)
@@ -198,7 +221,9 @@ def load_chunk(
             got_key = str(z["run_key"])
             got_index = int(z["chunk_index"])
             got_values = z["chunk_values"]
-            arrays = {n: z[n] for n in names}
+            got_digest = str(z["chunk_digest"])
+            stored = {n: z[n] for n in z.files if n not in _STAMP}
+            arrays = {n: stored[n] for n in names}
     except Exception as exc:  # BadZipFile, EOFError, OSError, ValueError...
         raise ReducerlabError(
             f"{path}: unreadable chunk file ({type(exc).__name__}: {exc}); {fix}"
@@ -215,7 +240,14 @@ def load_chunk(
         raise ReducerlabError(
             f"{path}: computed for other parameter values than chunk {index} of this run; {fix}"
         )
+    if data_digest(stored) != got_digest:
+        raise ReducerlabError(
+            f"{path}: its data do not match its stamp (changed or damaged after it was "
+            f"written); {fix}"
+        )
     for n, a in arrays.items():
+        if finite and not np.all(np.isfinite(a)):
+            raise ReducerlabError(f"{path}: array {n!r} holds values that are not finite; {fix}")
         if a.ndim == 0 or a.shape[0] != values.shape[0]:
             raise ReducerlabError(
                 f"{path}: array {n!r} has shape {a.shape}, not one row per point of the "

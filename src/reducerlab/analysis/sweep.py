@@ -266,7 +266,7 @@ class _Run:
         return todo
 
     def load(self, i: int, pts: NDArray) -> dict[str, NDArray]:
-        return load_chunk(self.chunk_path(i), self.key, i, pts, _ARRAYS)
+        return load_chunk(self.chunk_path(i), self.key, i, pts, _ARRAYS, finite=True)
 
 
 def _submit_all(
