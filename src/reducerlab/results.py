@@ -121,8 +121,17 @@ class Result:
             subclass) a result of another kind.
         """
         p = Path(path)
-        if not p.is_file():
+        if p.is_dir():
+            raise ReducerlabError(
+                f"{p}: a folder, not a result file; give the .nc file in it "
+                "(e.g. body_modal.nc, contact.nc)"
+            )
+        if not p.exists():
             raise ReducerlabError(f"{p}: no such result file")
+        if not p.is_file():
+            raise ReducerlabError(
+                f"{p}: not a regular file (a device or a pipe), not a result file"
+            )
         try:
             with xr.open_dataset(p, engine="netcdf4") as ds:
                 data = ds.load()

@@ -182,7 +182,9 @@ def regime_map(
     ] = 64,
     continuation: Annotated[
         Continuation,
-        typer.Option(help="Sweep direction(s) along -x; 'none': every point from rest."),
+        typer.Option(
+            help="Sweep direction(s) along -x; 'none': every point from its static equilibrium."
+        ),
     ] = Continuation.UP,
     accuracy: AccuracyOption = ACCURACY,
     rows_per_chunk: Annotated[

@@ -171,7 +171,7 @@ def plot_regime_map(result: RegimeMapResult) -> Figure:
                 iy, ix = np.nonzero(co)
                 ax.plot(X[ix], Y[iy], "o", color="white", ms=4, mec="k", mew=0.6)
             what = "motion" if r == 0 else "teeth"
-            way = f"{branch} sweep" if branch != "static" else "from rest"
+            way = f"{branch} sweep" if branch != "static" else "from static equilibrium"
             ax.set_title(f"{what}: {way}", fontsize=8)
         for r, (classes, colours, title) in enumerate(
             ((m_classes, m_col, "motion"), (i_classes, i_col, "teeth"))
