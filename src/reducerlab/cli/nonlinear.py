@@ -96,7 +96,6 @@ def bifurcation(
     from ..analysis.bifurcation import bifurcation as run_bifurcation
     from ..drives import load_design
 
-    way = None if continuation is None else Continuation(continuation.value)
     with user_errors():
         keep = min(100, periods) if keep is None else keep
         check_periods(periods, keep=keep)
@@ -109,14 +108,14 @@ def bifurcation(
                 d, values_axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
                 accuracy=accuracy,
                 output=output, scheduler=client, exponents=classify, workers=workers,
-                continuation=way,
+                continuation=continuation,
                 progress=report, seeds=seeds,
             )  # fmt: skip
         save_with_figure(res, files, "bifurcation")
     summary = res.to_dict()
     if classify:
         summary["motion"] = res.labels()
-    if seeds or way is Continuation.BOTH:
+    if seeds or continuation == Continuation.BOTH:
         summary["coexisting"] = res.coexisting().tolist()
     typer.echo(json.dumps(summary))
 
@@ -149,7 +148,6 @@ def frequency_response(
     from ..analysis.frequency_response import frequency_response as run_fr
     from ..drives import load_design
 
-    way = Continuation(continuation.value)
     with user_errors():
         check_periods(periods, history=history)
         files = output_set(output)
@@ -157,7 +155,7 @@ def frequency_response(
         values_axis = axis("--values", param, values, MAX_VALUES)
         with busy("frequency-response") as report:
             res = run_fr(d, values_axis, periods=periods, history=history,
-                         continuation=way.value, accuracy=accuracy,
+                         continuation=continuation, accuracy=accuracy,
                          progress=report)  # fmt: skip
         save_with_figure(res, files, "frequency-response")
     typer.echo(json.dumps(res.to_dict()))

@@ -16,11 +16,7 @@ from ..model import NonlinearSystem
 from ..model.laws import evaluate_flat
 from .systems import forcing_period, law_breaks
 
-__all__ = ["law_value", "simulate_reference"]
-
-
-def law_value(kind: int, params: NDArray, t: float) -> float:
-    return evaluate_flat(int(kind), params, t)[0]
+__all__ = ["simulate_reference"]
 
 
 def simulate_reference(
@@ -60,7 +56,7 @@ def simulate_reference(
         for sgn in (1.0, -1.0):
 
             def ev(t: float, yy: NDArray, m: int = m, sgn: float = sgn, h: float = h) -> float:
-                e = law_value(system.e_kind[m], system.e_params[m], t)
+                e = evaluate_flat(int(system.e_kind[m]), system.e_params[m], t)[0]
                 return float(system.G[m] @ yy[:n] - e - sgn * h)
 
             ev.terminal = True  # type: ignore[attr-defined]
