@@ -20,7 +20,7 @@ from ..errors import ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..model.rigid import element_blocks
 from ..units import display_unit
-from .parameters import Axis, Evaluator, axis_targets
+from .parameters import Axis, Evaluator, Target, axis_targets
 from .policies import Continuation
 
 __all__ = [
@@ -32,6 +32,7 @@ __all__ = [
     "continue_sweep",
     "fingerprint",
     "shown_values",
+    "target_members",
 ]
 
 
@@ -99,13 +100,22 @@ def axis_members(
     """The SI values of ``axis``, the flat systems (rigid motion removed) of its values
     and the base flat system of the model."""
     group, values = axis_targets(design, model, axis, 0, what)
-    ev = Evaluator(design, model, tuple(group))
+    members, base = target_members(design, model, group)
+    return values, members, base
+
+
+def target_members(
+    design: Design | None, model: Model, targets: list[Target] | tuple[Target, ...]
+) -> tuple[Members, NonlinearSystem]:
+    """The flat systems (rigid motion removed, one transform for all) of the model at
+    values of ``targets``, and the model's base flat system."""
     base = model.nonlinear()
     rest = at_rest(model)
     members = Members(
-        ev, rigid_reduction(rest if rest is not None else base, element_blocks(model))
+        Evaluator(design, model, tuple(targets)),
+        rigid_reduction(rest if rest is not None else base, element_blocks(model)),
     )
-    return values, members, base
+    return members, base
 
 
 def fingerprint(s: NonlinearSystem) -> str:

@@ -35,19 +35,17 @@ from numpy.typing import NDArray
 from ..design import Design
 from ..drives import design_and_model
 from ..dynamics.accuracy import ACCURACY
-from ..dynamics.coordinates import rigid_reduction, static_states
+from ..dynamics.coordinates import static_states
 from ..dynamics.guards import check_stability
-from ..dynamics.systems import at_rest
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
-from ..model.rigid import element_blocks
 from ..results import Result, provenance
 from ..units import length_unit
 from .bifurcation import IMPACT_COLUMNS, BifurcationChunk
 from .impacts import IMPACT_CLASSES
-from .members import Members, axis_coord, fingerprint, shown_values
+from .members import Members, axis_coord, fingerprint, shown_values, target_members
 from .motion import attractor_scale, classify, different_attractors
-from .parameters import Axis, Evaluator, axis_targets
+from .parameters import Axis, axis_targets
 from .policies import Continuation
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .workers import dask_client
@@ -140,13 +138,9 @@ def regime_map(
         raise ReducerlabError(
             f"regime_map: {xv.size} x {yv.size} points; at most {MAX_POINTS} are allowed"
         )
-    ev = Evaluator(design, model, tuple([*gx, *gy]))
-    base = model.nonlinear()
+    members, base = target_members(design, model, [*gx, *gy])
     if not 0 <= line < base.G.shape[0]:
         raise ReducerlabError(f"regime_map: line must be in 0..{base.G.shape[0] - 1}, got {line}")
-    rest = at_rest(model)
-    members = Members(ev, rigid_reduction(rest if rest is not None else base,
-                                           element_blocks(model)))  # fmt: skip
     job = _RegimeChunk(members, xv, yv, x.path, periods, keep, steps_per_period, line, scale,
                        period, accuracy, continuation)  # fmt: skip
     chunks = [list(range(i, min(i + rows_per_chunk, yv.size)))
