@@ -157,8 +157,8 @@ def test_the_circle_check_sees_circles():
 @pytest.mark.parametrize(
     "package, allowed",
     [
-        ("dynamics", ("dynamics", "model", "errors", "units")),
-        ("model", ("model", "errors", "units")),
+        ("dynamics", ("dynamics", "model", "errors", "units", "budget")),
+        ("model", ("model", "errors", "units", "budget")),
         ("kinematics", ("kinematics", "errors", "units")),
     ],
 )

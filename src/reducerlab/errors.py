@@ -12,6 +12,7 @@ from collections.abc import Callable
 from typing import Any, TypeVar
 
 __all__ = [
+    "BudgetError",
     "DesignError",
     "DivergenceError",
     "ModelError",
@@ -47,6 +48,13 @@ class DivergenceError(ReducerlabError):
     """A time integration would give (or gave) unbounded motion: the linear part has a
     divergent (negative-stiffness) mode, or the state left its bound. The message names
     the physical DOF(s), the time and the member (parameter value)."""
+
+
+class BudgetError(ReducerlabError, ValueError):
+    """The work or memory a command would need, estimated before anything is allocated
+    or meshed, exceeds the machine's free memory or a documented bound. The message gives
+    the estimate, the limit and the setting that controls the size
+    (:mod:`reducerlab.budget`)."""
 
 
 def source_of(target: Any) -> str | None:
