@@ -111,6 +111,9 @@ class Estimate:
     control : str, optional
         The setting(s) a user changes to shrink the job (``"--cell"``), named in the
         refusal.
+    lower_bound : bool, optional
+        ``work`` and ``memory`` are lower bounds (some size is not known yet); the
+        refusal says "at least".
     """
 
     what: str
@@ -119,6 +122,7 @@ class Estimate:
     unit: str = ""
     work_limit: float = math.inf
     control: str = ""
+    lower_bound: bool = False
 
     def check(self) -> Estimate:
         """Refuse (:class:`~reducerlab.errors.BudgetError`) when the memory exceeds
@@ -135,7 +139,8 @@ def check(estimate: Estimate) -> Estimate:
         The message gives the job, the estimate, the limit and the setting to change.
     """
     hint = f"; change {estimate.control}" if estimate.control else ""
-    work = f"{estimate.work:.3g} {estimate.unit}".strip() if estimate.unit else ""
+    least = "at least " if estimate.lower_bound else ""
+    work = f"{least}{estimate.work:.3g} {estimate.unit}".strip() if estimate.unit else ""
     if not (estimate.work <= estimate.work_limit):
         raise BudgetError(
             f"{estimate.what}: {work} exceeds the limit of {estimate.work_limit:.3g}"
@@ -144,8 +149,9 @@ def check(estimate: Estimate) -> Estimate:
     limit = memory_limit()
     if not (estimate.memory <= limit):
         size = f" ({work})" if work else ""
+        need = f"{least or 'about '}{format_bytes(estimate.memory)}"
         raise BudgetError(
-            f"{estimate.what}{size} would need about {format_bytes(estimate.memory)} of "
+            f"{estimate.what}{size} would need {need} of "
             f"memory, more than the {format_bytes(limit)} this command may use "
             f"({MEMORY_SHARE:.0%} of the available memory, or {MEMORY_ENV}){hint}"
         )

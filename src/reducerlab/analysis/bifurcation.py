@@ -21,6 +21,7 @@ from ..dynamics.accuracy import ACCURACY
 from ..dynamics.coordinates import static_states
 from ..dynamics.ensemble import ensemble
 from ..dynamics.guards import check_stability, seed_states
+from ..dynamics.runsize import AUTO_STEPS_FLOOR, run_estimate
 from ..dynamics.systems import forcing_period
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
@@ -128,6 +129,10 @@ def bifurcation(
     for name, v in (("seeds", seeds), ("seed", seed)):
         if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v <= 2**31:
             raise ReducerlabError(f"bifurcation: {name} must be an integer >= 0, got {v!r}")
+    trajectories = values.size * (1 + seeds) * max(1, len(way.directions))
+    run_estimate("bifurcation", trajectories, periods, steps_per_period or AUTO_STEPS_FLOOR,
+                 base.n, n_lines, keep, 0, bool(exponents), at_least=steps_per_period is None,
+                 control="--periods, --steps, --seeds or the number of values").check()  # fmt: skip
     if continuation is not None:
         output = scheduler = None  # sequential, not resumable
         workers = 1

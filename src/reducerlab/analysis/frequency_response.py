@@ -22,6 +22,7 @@ from ..drives import design_and_model
 from ..dynamics.accuracy import ACCURACY
 from ..dynamics.ensemble import ensemble
 from ..dynamics.guards import check_stability
+from ..dynamics.runsize import AUTO_STEPS_FLOOR, run_estimate
 from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
@@ -109,6 +110,10 @@ def frequency_response(
         raise ReducerlabError(
             f"frequency_response: line must be in 0..{base.G.shape[0] - 1}, got {line}"
         )
+    directions = 2 if continuation == Continuation.BOTH.value else 1
+    run_estimate("frequency_response", values.size * directions, periods, AUTO_STEPS_FLOOR,
+                 base.n, base.G.shape[0], 1, 0, at_least=True,
+                 control="--periods or the number of values").check()  # fmt: skip
     ends = np.unique([values.min(), values.max()])
     check_stability(members(ends), [f"{axis.path} = {v:.6g}" for v in ends])
 

@@ -37,6 +37,7 @@ from ..drives import design_and_model
 from ..dynamics.accuracy import ACCURACY
 from ..dynamics.coordinates import static_states
 from ..dynamics.guards import check_stability
+from ..dynamics.runsize import AUTO_STEPS_FLOOR, run_estimate
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
 from ..results import Result, provenance
@@ -139,6 +140,11 @@ def regime_map(
             f"regime_map: {xv.size} x {yv.size} points; at most {MAX_POINTS} are allowed"
         )
     members, base = target_members(design, model, [*gx, *gy])
+    branches = 2 if continuation == Continuation.BOTH.value else 1
+    run_estimate("regime_map", xv.size * yv.size * branches, periods,
+                 steps_per_period or AUTO_STEPS_FLOOR, base.n, base.G.shape[0], keep, 0, True,
+                 at_least=steps_per_period is None,
+                 control="--periods, --steps or the number of points").check()  # fmt: skip
     if not 0 <= line < base.G.shape[0]:
         raise ReducerlabError(f"regime_map: line must be in 0..{base.G.shape[0] - 1}, got {line}")
     job = _RegimeChunk(members, xv, yv, x.path, periods, keep, steps_per_period, line, scale,

@@ -17,6 +17,7 @@ from .coordinates import static_states
 from .guards import raise_diverged, state_bounds
 from .lyapunov import LYAPUNOV_D0
 from .prepare import prepare, subset, with_steps
+from .runsize import run_estimate
 
 __all__ = ["Ensemble", "ensemble"]
 
@@ -140,8 +141,11 @@ def ensemble(
         raise ReducerlabError(f"limit must be a number > 0, got {limit!r}")
     if on_divergence not in ("raise", "mark"):
         raise ReducerlabError(f"on_divergence must be 'raise' or 'mark', got {on_divergence!r}")
+    L = s0.G.shape[0]
     prep = prepare(systems, steps_per_period, period, labels)
     T, N = prep.period, prep.steps
+    size = (E, periods, N, n, L, keep, history, exponents)
+    run_estimate("integration", *size, at_least=steps_per_period is None).check()
     Y0 = (
         np.zeros((E, 2 * n))
         if y0 is None
@@ -167,6 +171,7 @@ def ensemble(
             N = accurate_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS))
         prep = with_steps(prep, systems, N)
         N = prep.steps
+        run_estimate("integration", E, periods, N, n, L, keep, history, exponents).check()
 
     def rk4_run(idx: NDArray[np.intp], Ys: NDArray[np.float64]) -> tuple:
         """Poincaré states, history, status and exponents of members ``idx``."""
@@ -201,7 +206,6 @@ def ensemble(
     if on_divergence == "raise":
         raise_diverged(systems, status, bounds, labels, N)
     G = prep.arrays.G
-    L = G.shape[1]
     # mesh deflections G q - e(t) at the Poincare times and along the history
     tP = (periods - keep + np.arange(keep + 1))[None, :] * T[:, None]
     start = periods - history
