@@ -100,3 +100,19 @@ def test_the_command_line_names_the_estimate_and_exits_2():
     )  # fmt: skip
     assert res.exit_code == 2, res.output
     assert "RK4 steps" in res.output and "Traceback" not in res.output
+
+
+def test_a_sweep_beyond_the_free_memory_is_refused_before_any_eigen_solve(design, monkeypatch):
+    from reducerlab.analysis.parameters import parse_values
+    from reducerlab.analysis.sweep import sweep, sweep_estimate
+
+    # two shape matrices per point dominate: 2 n^2 doubles
+    assert sweep_estimate(1000, 10).memory >= 3 * 1000 * 8 * 2 * 100
+    monkeypatch.setenv(MEMORY_ENV, "1M")
+    _refused_fast(
+        lambda: sweep(design, parse_values("mesh.stiffness", "lin:1e8:2e9:100000"), workers=1),
+        "sweep",
+        "1e+05 points",
+        "1 MiB",
+        "--values",
+    )

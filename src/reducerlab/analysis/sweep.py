@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import shutil
 from collections.abc import Callable, Sequence
@@ -28,6 +29,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
+from ..budget import Estimate
 from ..design import Design
 from ..errors import ReducerlabError, names_source
 from ..model import Model
@@ -364,6 +366,8 @@ def sweep(
         columns.append(col)
     targets = tuple(t for group in groups for t in group)
     firsts = tuple(group[0] for group in groups)
+    n_points = math.prod(len(c) for c in columns)
+    sweep_estimate(n_points, model.n).check()
     grid = np.meshgrid(*columns, indexing="ij")
     points = np.stack([g.ravel() for g in grid], axis=-1)  # (n_points, n_axes)
     ev = _Points(Evaluator(design, model, targets))
@@ -410,6 +414,18 @@ def sweep(
     finally:
         if temporary:
             shutil.rmtree(folder, ignore_errors=True)
+
+
+def sweep_estimate(points: int, n: int) -> Estimate:
+    """Memory of a sweep of ``points`` parameter points of an ``n``-DOF model: per point
+    the eigenvalues and two ``n x n`` shape matrices (``shape``, ``weighted_shape``),
+    held three times at the end (the chunks, their concatenation and the result; the
+    tracking of a 1-D sweep works on a copy), in bytes."""
+    per_point = 8.0 * (2 * n * n + 2 * n + 2)
+    return Estimate(
+        "sweep", 3.0 * per_point * points, float(points), "points",
+        control="the number of values (--values, --grid)",
+    )  # fmt: skip
 
 
 def _tempdir() -> str:
