@@ -4,6 +4,7 @@ independent lever arm, periodicity, misalignment, the Eq. 8 fit, results and err
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -95,10 +96,19 @@ def test_shaft_angle_error_gives_transmission_error_and_shifts_contact(design):
 
 
 def test_no_contact_is_a_clear_error(design):
-    """Gear B moved 20 mm off its place: no point of A's flank finds B's flank."""
-    far = contact_pair(design, 1, misalignment=Misalignment(offset=0.02))
+    """Gear B moved 20 mm off its place: no point of A's flank finds B's flank (the pair
+    built directly: ``contact_pair`` refuses such a shift, see the next test)."""
+    far = dataclasses.replace(contact_pair(design, 1), misalignment=Misalignment(offset=0.02))
     with pytest.raises(ContactError, match="no contact"):
         loaded_contact(far, 1.0, [0.0], ContactGrid(2e-4), E_star=E_STAR)
+
+
+@pytest.mark.parametrize("field", ["axial_a", "axial_b", "offset"])
+def test_a_shift_beyond_one_module_is_not_an_assembly_error(design, field):
+    # issue 26: `contact --offset "1 km"` searched whole flanks for minutes
+    with pytest.raises(ReducerlabError, match=rf"misalignment\.{field} \(--.*\): must be within"):
+        contact_pair(design, 1, misalignment=Misalignment(**{field: -2.5e-3}))
+    contact_pair(design, 1, misalignment=Misalignment(**{field: 1.9e-3}))  # within 2 mm
 
 
 def test_misalignment_and_grid_errors_name_the_field():

@@ -32,7 +32,14 @@ from ..results import Result, provenance
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["ContactResult", "auto_cell", "contact_analysis", "contact_pair", "design_with_mesh"]
+__all__ = [
+    "ContactResult",
+    "auto_cell",
+    "check_misalignment",
+    "contact_analysis",
+    "contact_pair",
+    "design_with_mesh",
+]
 
 Stage = Callable[[str], None]
 #: cell of the pilot run that sizes the contact grid, in normal modules
@@ -204,9 +211,41 @@ def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
         raise ReducerlabError(
             f"pair: must be 1..{pairs} for a {design.sides}-sided drive; got {pair!r}"
         )
+    misalignment = misalignment or Misalignment()
+    check_misalignment(misalignment, design.surface_module(2 * pair))
     crown, ext = design.tooth_generation(2 * pair, profile)
     _, internal = design.tooth_generation(2 * pair - 1, profile)
-    return NutationPair(crown, ext, internal, flank, misalignment or Misalignment())
+    return NutationPair(crown, ext, internal, flank, misalignment)
+
+
+#: the command-line option of each length of a misalignment
+_MISALIGNMENT_OPTIONS = {"axial_a": "--axial-external", "axial_b": "--axial-internal",
+                         "offset": "--offset"}  # fmt: skip
+
+
+def check_misalignment(misalignment: Any, module: float) -> None:
+    """Refuse a misalignment whose shifts are not assembly errors.
+
+    Each shift (``axial_a``, ``axial_b``, ``offset``, m) must lie within one normal
+    module ``module`` (m) of the nominal place, as the shaft angle's error lies within
+    2 deg (:class:`~reducerlab.contact.flanks.Misalignment`): a shift of a whole module
+    moves the flanks by about the working depth of the teeth (2 modules) times the sine
+    of the pitch cone or pressure angle, so beyond it the teeth are out of mesh or
+    driven into one another, and the contact grid would search whole flanks for minutes.
+
+    Raises
+    ------
+    ReducerlabError
+        Naming the field, its option, the shift and the bound.
+    """
+    for name, option in _MISALIGNMENT_OPTIONS.items():
+        v = getattr(misalignment, name)
+        if abs(v) > module:
+            raise ReducerlabError(
+                f"misalignment.{name} ({option}): must be within +-{module * 1e3:.4g} mm (one "
+                "normal module: an assembly error; a larger shift takes the teeth out of mesh "
+                f"or into one another); got {v * 1e3:.4g} mm"
+            )
 
 
 def _load(design: Any, power: float | None, torque: float | None) -> float:
