@@ -110,3 +110,40 @@ def test_fine_steps_read_the_stiffness_jumps_on_the_right_side():
     res = ensemble(systems, periods=1, keep=1, y0=y0, steps_per_period=32)
     scale = state_bounds(systems, y0, res.period, factor=1.0)
     assert np.max(np.abs(ends[0] - ends[1]) / scale) < 1e-11
+
+
+# A period-2 rattle orbit that loses contact in every other period only (issue 26):
+# the superharmonic (3 W ~ 1) grazing region of the same oscillator, found by a
+# parameter scan (W 0.26-0.5, F_a 0.95-1.3 times the grazing amplitude).
+ALTERNATING = (0.345, 0.098745)
+
+
+def test_period_two_orbit_with_alternating_contact_loss_is_what_it_says():
+    s = rattle(*ALTERNATING)
+    T = 2 * math.pi / ALTERNATING[0]
+    P = ensemble([s], periods=400, keep=4, y0=np.array([1.1, 0.0])).poincare[0]
+    d = state_bounds([s], P[:1], np.array([T]))[0] / 1e6
+    assert np.max(np.abs(P[2:] - P[:-2]) / d) < 1e-6  # period 2 ...
+    assert np.min(np.abs(P[1] - P[0]) / d) > 1e-3  # ... not period 1
+    t = np.linspace(T / 400, 2 * T, 800)
+    x = simulate_reference(s, t, P[0], rtol=1e-12, atol=1e-14)[:, 0].reshape(2, 400)
+    lows = np.sort(np.append(x.min(axis=1), P[0, 0]))
+    # one period dips into the backlash (|x| < 1: the teeth apart), the other stays in
+    # contact (measured minima 0.9817 and 1.0013)
+    assert lows[0] < 0.99 and lows[1] > 1.0005
+
+
+@pytest.mark.parametrize("pilot", [39, 40, 41, 42])
+def test_the_accuracy_check_covers_the_orbit_whatever_the_pilot_parity(pilot):
+    # checking one period after the pilot saw the impact period or not depending on the
+    # pilot's parity (182 or 187 steps here); the check now covers the orbit's period
+    s = rattle(*ALTERNATING)
+    T = 2 * math.pi / ALTERNATING[0]
+    y0 = np.array([[1.1, 0.0]])
+    prep = _prepare([s], None, None)
+    b = state_bounds([s], y0, np.array([T]))
+    assert accurate_steps(prep, [s], y0, b, 1e-6, pilot) == accurate_steps(prep, [s], y0, b)
+
+
+def test_period_two_orbit_with_alternating_contact_loss_meets_the_accuracy():
+    assert poincare_error(rattle(*ALTERNATING), ALTERNATING[0]) <= 1e-6

@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from ..model import NonlinearSystem
 from ..model.layout import constant_terms
-from .accuracy import pilot_run, refine_steps
+from .accuracy import pilot_keep, pilot_run, refine_steps
 from .kernel import block_width, rk4_ensemble
 from .kernel_laws import eval_law, law_values
 from .lyapunov import LYAPUNOV_D0
@@ -358,17 +358,17 @@ def map_steps(
     """:func:`.accuracy.accurate_steps` with the pilot periods run through the one-period maps
     (members whose teeth separate in the pilot run them with the RK4 kernel); the maps
     stay in ``cache`` for the main run."""
-    P, failed, _ = map_members(prep, sides, Y0, bounds, pilot, 1, -1, 0.0, cache)
-    Y = P[:, -1].copy()
+    keep = pilot_keep(pilot)
+    P, failed, _ = map_members(prep, sides, Y0, bounds, pilot, keep, -1, 0.0, cache)
     ok = np.ones(len(systems), bool)
     bad = np.flatnonzero(failed >= 0)
     if bad.size:  # teeth that separate: their pilot by the RK4 kernel
-        end, ran = pilot_run(subset(prep, bad), Y0[bad], bounds[bad], pilot)
-        Y[bad] = np.where(np.isfinite(end), end, Y0[bad])
+        pts, ran = pilot_run(subset(prep, bad), Y0[bad], bounds[bad], pilot)
+        P[bad] = np.where(np.isfinite(pts), pts, Y0[bad, None, :])
         ok[bad] = ran
     if not np.any(ok):
         return prep.steps
-    return refine_steps(prep, systems, Y, pilot * prep.period, ok, bounds, accuracy)
+    return refine_steps(prep, systems, P, pilot * prep.period, ok, bounds, accuracy)
 
 
 def map_run(
