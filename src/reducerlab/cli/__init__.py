@@ -43,6 +43,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # help texts are plain text: with rich markup, "[surface] table" or "[meshN]" lost
+    # their brackets (rich took them for style tags)
+    rich_markup_mode=None,
 )
 """The ``reducerlab`` command line."""
 
