@@ -104,7 +104,7 @@ def frequency_response(
             raise ReducerlabError(f"frequency_response: {name} must be an integer >= {lo}")
     if history > periods:
         raise ReducerlabError("frequency_response: history must be <= periods")
-    values, members, base = axis_members(design, model, axis, "frequency_response")
+    values, members, base = axis_members(design, model, axis, "frequency-response")
     if not 0 <= line < base.G.shape[0]:
         raise ReducerlabError(
             f"frequency_response: line must be in 0..{base.G.shape[0] - 1}, got {line}"

@@ -102,7 +102,7 @@ def bifurcation(
         T = forcing_period(period, frequency)
         files = output_set(output)
         d = load_design(design, sets or ())
-        values_axis = axis("--values", param, values, MAX_VALUES)
+        values_axis = axis("bifurcation --values", param, values, MAX_VALUES)
         with scheduler_client(scheduler) as client, busy("bifurcation") as report:
             res = run_bifurcation(
                 d, values_axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
@@ -152,7 +152,7 @@ def frequency_response(
         check_periods(periods, history=history)
         files = output_set(output)
         d = load_design(design, sets or ())
-        values_axis = axis("--values", param, values, MAX_VALUES)
+        values_axis = axis("frequency-response --values", param, values, MAX_VALUES)
         with busy("frequency-response") as report:
             res = run_fr(d, values_axis, periods=periods, history=history,
                          continuation=continuation, accuracy=accuracy,
@@ -207,8 +207,8 @@ def regime_map(
         check_periods(periods, keep=keep)
         files = output_set(output)
         d = load_design(design, sets or ())
-        ax = path_values("-x", x, MAX_POINTS)
-        ay = path_values("-y", y, MAX_POINTS)
+        ax = path_values("regime-map -x", x, MAX_POINTS)
+        ay = path_values("regime-map -y", y, MAX_POINTS)
         with scheduler_client(scheduler) as client, busy("regime map") as report:
             res = run_regime_map(
                 d, ax, ay, periods=periods, keep=keep, continuation=continuation, accuracy=accuracy,

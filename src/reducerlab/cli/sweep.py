@@ -67,9 +67,10 @@ def sweep(
     with user_errors():
         files = output_set(output)
         d = load_design(design, sets or ())
-        axes = [axis("--values", param, values, MAX_SWEEP_POINTS)]
+        axes = [axis("sweep --values", param, values, MAX_SWEEP_POINTS)]
         if grid is not None:
-            axes.append(path_values("--grid", grid, MAX_SWEEP_POINTS, "mesh.damping=lin:0:1e3:11"))
+            example = "mesh.damping=lin:0:1e3:11"
+            axes.append(path_values("sweep --grid", grid, MAX_SWEEP_POINTS, example))
         n_points = math.prod(len(a.values) for a in axes)
         if n_points > MAX_SWEEP_POINTS:
             raise ReducerlabError(
