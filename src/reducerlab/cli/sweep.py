@@ -25,7 +25,16 @@ from .options import (
     path_values,
     scheduler_client,
 )
-from .output import busy, note, output_set, outputs, save_with_figure, savefig, user_errors
+from .output import (
+    busy,
+    keeps_run,
+    note,
+    output_set,
+    outputs,
+    save_with_figure,
+    savefig,
+    user_errors,
+)
 
 
 def sweep(
@@ -77,6 +86,7 @@ def sweep(
                 f"--values x --grid: {n_points} points; at most {MAX_SWEEP_POINTS} are allowed"
             )
         nc_existed = (output / "sweep.nc").exists()
+        keeps_run(output)
         with scheduler_client(scheduler) as client, busy("sweep chunks") as report:
             result = run_sweep(
                 d,
