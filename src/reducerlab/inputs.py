@@ -140,6 +140,8 @@ _MISSING = object()
 def _shown(value: Any) -> str:
     if value is _MISSING:
         return "(not set)"
+    if isinstance(value, float):
+        return f"{value:.12g}"  # SI values converted from units: no round-off digits
     text = json.dumps(value) if not isinstance(value, str) else repr(value)
     return text if len(text) <= 40 else text[:37] + "..."
 
