@@ -18,7 +18,7 @@ from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
 from reducerlab.fe.gear_mesh import MeshSizes
-from reducerlab.results import Result
+from reducerlab.results import Result, provenance
 
 EXAMPLE = example_dir() / "nutation_double_sided.toml"
 DESIGN = load_design(EXAMPLE)
@@ -161,8 +161,8 @@ def synthetic_body(path, gear: int, freqs) -> None:
             "change": ("mode", np.full(n, np.nan)),
         },
         coords={"mode": np.arange(1, n + 1)},
-        attrs={"gear": gear, "boundary": "free"},
-    )
+        attrs={**provenance(DESIGN.provenance), "gear": gear, "boundary": "free"},
+    )  # stamped as body_modal stamps it: the check refuses a result of another design
     BodyModalResult(ds).save(path)
 
 

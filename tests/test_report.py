@@ -269,10 +269,11 @@ def test_demo_writes_a_report_per_example(reports, tmp_path, monkeypatch):
     assert all(f'href="{p.stem}.html"' in index for p in example_files())
 
 
-def test_cli_report_refuses_a_folder_as_output(tmp_path):
+def test_cli_report_into_a_folder_writes_report_html(tmp_path):
+    """-o DIR, the convention of every command (issue 26): report.html inside."""
     res = CliRunner().invoke(app, ["report", str(example_dir() / "gear_pair.toml"), "-o",
-                                   str(tmp_path)])  # fmt: skip
-    assert res.exit_code == 2 and "Traceback" not in res.output
+                                   str(tmp_path), "-s", "modal"])  # fmt: skip
+    assert res.exit_code == 0 and (tmp_path / "report.html").is_file(), res.output
 
 
 def test_write_index_links_reports(reports, tmp_path):

@@ -10,6 +10,7 @@ from typing import Any, ClassVar, TypeVar
 import xarray as xr
 
 from .errors import ReducerlabError
+from .inputs import input_record
 from .io import atomic_path, base_stamp, stamp
 
 __all__ = ["Result", "provenance"]
@@ -96,11 +97,15 @@ class Result:
         """Write the dataset to a netCDF file and return its path.
 
         The file is written under a temporary name in the same folder and renamed when
-        complete: an interrupted save never leaves a truncated file at ``path``.
+        complete: an interrupted save never leaves a truncated file at ``path``. The
+        file records the design inputs the result depends on (``inputs``, see
+        :mod:`reducerlab.inputs`), so that a command reading it back can check it
+        against its design.
         """
         p = Path(path)
         ds = self.data.copy()
         ds.attrs["result_kind"] = self.kind
+        ds.attrs.update(input_record(self.kind, ds.attrs))
         with atomic_path(p) as tmp:
             ds.to_netcdf(tmp, engine="netcdf4")
         return p

@@ -34,6 +34,7 @@ from .members import (
     axis_members,
     continue_sweep,
     fingerprint,
+    shown_values,
 )
 from .motion import attractor_scale, classify, different_attractors, period_of
 from .parameters import Axis
@@ -400,13 +401,38 @@ class BifurcationResult(Result):
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary."""
+        """JSON-ready summary: the values in SI (``values``) and in the unit a user reads
+        them in (``display_values`` in ``display_unit``: rpm for a speed...)."""
         ds = self.data
         return {
             "parameter": ds.attrs["parameter"],
             "values": ds["p0"].values.tolist(),
+            "display_unit": ds["p0"].attrs.get("display_unit", ""),
+            "display_values": [float(f"{x:.12g}") for x in shown_values(ds["p0"])],
             "period": self.periodicity().tolist(),
         }
+
+    def table(self, motion: bool = False, coexisting: bool = False) -> str:
+        """One line per value (in its display unit): Poincaré period (0: not periodic
+        within 12), impact class, and with ``motion`` the motion class (needs
+        exponents), with ``coexisting`` whether another attractor was found."""
+        ds = self.data
+        c = ds["p0"]
+        unit = c.attrs.get("display_unit", "") or "SI"
+        cols = {"period": [str(p) for p in self.periodicity()]}
+        if "impact_class" in ds:
+            cols["impacts"] = self.impacts()
+        if motion:
+            cols["motion"] = self.labels()
+        if coexisting:
+            cols["coexisting"] = ["yes" if x else "-" for x in self.coexisting()]
+        width = {k: max(len(k), *(len(str(x)) for x in col)) for k, col in cols.items()}
+        head = f"{'value (' + unit + ')':>16}  " + "  ".join(f"{k:<{width[k]}}" for k in cols)
+        lines = [f"bifurcation over {ds.attrs['parameter']}: {c.size} values", head.rstrip()]
+        for i, v in enumerate(shown_values(c)):
+            row = "  ".join(f"{col[i]!s:<{width[k]}}" for k, col in cols.items())
+            lines.append(f"{v:>16.6g}  {row}".rstrip())
+        return "\n".join(lines)
 
     def labels(self) -> list[str]:
         """Motion class of every parameter value (needs ``exponent``, see

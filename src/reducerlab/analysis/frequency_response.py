@@ -27,7 +27,7 @@ from ..errors import ReducerlabError
 from ..model import Model
 from ..results import Result, provenance
 from .impacts import contact_states, mesh_mode
-from .members import axis_coord, axis_members, continue_sweep
+from .members import axis_coord, axis_members, continue_sweep, shown_values
 from .parameters import Axis
 from .policies import Continuation
 
@@ -59,10 +59,34 @@ class FrequencyResponseResult(Result):
         out: dict[str, Any] = {
             "parameter": ds.attrs["parameter"],
             "values": ds["p0"].values.tolist(),
+            "display_unit": ds["p0"].attrs.get("display_unit", ""),
+            "display_values": [float(f"{x:.12g}") for x in shown_values(ds["p0"])],
         }
         for b in ds["branch"].values.tolist():
             out[b] = {name: ds[name].sel(branch=b).values.tolist() for name, _, _ in QUANTITIES}
         return out
+
+    def table(self) -> str:
+        """One line per value (in its display unit) and sweep direction: RMS dynamic
+        transmission error (um), dynamic load factor, share of the time with the teeth
+        apart (%)."""
+        ds = self.data
+        c = ds["p0"]
+        unit = c.attrs.get("display_unit", "") or "SI"
+        lines = [
+            f"frequency response over {ds.attrs['parameter']}: {c.size} values",
+            f"{'value (' + unit + ')':>16}  {'sweep':<5}  {'RMS DTE (um)':>12}  "
+            f"{'load factor':>11}  {'teeth apart':>11}",
+        ]
+        for i, v in enumerate(shown_values(c)):
+            for b in ds["branch"].values.tolist():
+                at = ds.sel(branch=b).isel(p0=i)
+                lines.append(
+                    f"{v:>16.6g}  {b:<5}  {1e6 * float(at['rms_dte']):>12.4g}  "
+                    f"{float(at['dynamic_load_factor']):>11.4g}  "
+                    f"{100 * float(at['separation_fraction']):>10.1f}%"
+                )
+        return "\n".join(lines)
 
     def plot(self) -> Figure:
         """RMS DTE, dynamic load factor and separation share against the parameter, the
@@ -105,13 +129,13 @@ def frequency_response(
             raise ReducerlabError(f"frequency_response: {name} must be an integer >= {lo}")
     if history > periods:
         raise ReducerlabError("frequency_response: history must be <= periods")
-    values, members, base = axis_members(design, model, axis, "frequency_response")
+    values, members, base = axis_members(design, model, axis, "frequency-response")
     if not 0 <= line < base.G.shape[0]:
         raise ReducerlabError(
             f"frequency_response: line must be in 0..{base.G.shape[0] - 1}, got {line}"
         )
     directions = 2 if continuation == Continuation.BOTH.value else 1
-    run_estimate("frequency_response", values.size * directions, periods, AUTO_STEPS_FLOOR,
+    run_estimate("frequency-response", values.size * directions, periods, AUTO_STEPS_FLOOR,
                  base.n, base.G.shape[0], 1, 0, at_least=True,
                  control="--periods or the number of values").check()  # fmt: skip
     ends = np.unique([values.min(), values.max()])

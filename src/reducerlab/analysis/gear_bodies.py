@@ -5,14 +5,47 @@ the system modes (paper 000 Table 5)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Collection
+from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
 from ..fe.gear_mesh import MeshSizes
 from .body_modal import body_modal
 from .components import ComponentModes
 
-__all__ = ["body_mesh_sizes", "gear_body_modes"]
+__all__ = ["body_inputs", "body_mesh_sizes", "gear_body_modes"]
+
+
+def body_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str] | None:
+    """The design fields that one gear body's modes depend on (the rule of ``body-modal``
+    results in :data:`reducerlab.inputs.RULES`): the drive type and sides, the tooth
+    generation of the gear's pair (teeth and mean radii of both gears, helix and
+    pressure angles, the nutation angle, or every gear's teeth and mean radius where the
+    angle follows from them), the ``[surface]`` table, the ``[material]`` and the gear's
+    own ``[gearN.blank]``. None (the whole design) for a result of another drive type or
+    without a gear number.
+
+    Parameters
+    ----------
+    design : mapping
+        The design's SI dump.
+    attrs : mapping
+        The result's attributes (``gear``).
+    """
+    gear = attrs.get("gear")
+    try:
+        gear = int(gear)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return None
+    if design.get("type") != "nutation" or gear not in range(1, 5):
+        return None
+    pair = (gear - 1) // 2
+    free = design.get("nutation_angle") is None and design.get("sides") == "double"
+    gears = range(1, 5) if free else (2 * pair + 1, 2 * pair + 2)
+    return [
+        "type", "sides", "helix_angle", "normal_pressure_angle", "nutation_angle",
+        "surface", "material", f"gear{gear}.blank",
+        *(f"gear{k}.{f}" for k in gears for f in ("teeth", "mean_radius")),
+    ]  # fmt: skip
 
 
 def body_mesh_sizes(

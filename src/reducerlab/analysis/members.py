@@ -100,19 +100,22 @@ def axis_members(
     """The SI values of ``axis``, the flat systems (rigid motion removed) of its values
     and the base flat system of the model."""
     group, values = axis_targets(design, model, axis, 0, what)
-    members, base = target_members(design, model, group)
+    members, base = target_members(design, model, group, what)
     return values, members, base
 
 
 def target_members(
-    design: Design | None, model: Model, targets: list[Target] | tuple[Target, ...]
+    design: Design | None,
+    model: Model,
+    targets: list[Target] | tuple[Target, ...],
+    what: str = "sweep",
 ) -> tuple[Members, NonlinearSystem]:
     """The flat systems (rigid motion removed, one transform for all) of the model at
     values of ``targets``, and the model's base flat system."""
     base = model.nonlinear()
     rest = at_rest(model)
     members = Members(
-        Evaluator(design, model, tuple(targets)),
+        Evaluator(design, model, tuple(targets), what),
         rigid_reduction(rest if rest is not None else base, element_blocks(model)),
     )
     return members, base

@@ -72,19 +72,19 @@ class Axis:
 
     def __post_init__(self) -> None:
         if not isinstance(self.path, str) or not self.path.strip():
-            raise ReducerlabError("sweep: the parameter path must be a non-empty string")
+            raise ReducerlabError("axis: the parameter path must be a non-empty string")
         vals = tuple(self.values)
         if not vals:
-            raise ReducerlabError(f"sweep {self.path!r}: no values (empty range)")
+            raise ReducerlabError(f"axis {self.path!r}: no values (empty range)")
         for v in vals:
             if isinstance(v, bool) or not isinstance(v, int | float | str | np.number):
                 raise ReducerlabError(
-                    f"sweep {self.path!r}: value {v!r} is not a number or a quantity string"
+                    f"axis {self.path!r}: value {v!r} is not a number or a quantity string"
                 )
             if isinstance(v, int | float | np.number) and not math.isfinite(float(v)):
-                raise ReducerlabError(f"sweep {self.path!r}: value {v!r} is not finite")
+                raise ReducerlabError(f"axis {self.path!r}: value {v!r} is not finite")
         if self.relative and any(isinstance(v, str) for v in vals):
-            raise ReducerlabError(f"sweep {self.path!r}: relative values must be plain factors")
+            raise ReducerlabError(f"axis {self.path!r}: relative values must be plain factors")
         object.__setattr__(self, "values", vals)
 
     @classmethod
@@ -98,7 +98,7 @@ class Axis:
         """``num`` log-spaced values from ``start`` to ``stop`` (both > 0, SI)."""
         _check_range(path, start, stop, num)
         if not (start > 0 and stop > 0):
-            raise ReducerlabError(f"sweep {path!r}: a log range needs start, stop > 0")
+            raise ReducerlabError(f"axis {path!r}: a log range needs start, stop > 0")
         return cls(path, tuple(np.geomspace(start, stop, num).tolist()), scale="log")
 
     @classmethod
@@ -110,22 +110,22 @@ class Axis:
 def _check_range(path: str, start: Any, stop: Any, num: Any) -> None:
     for name, v in (("start", start), ("stop", stop)):
         if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-            raise ReducerlabError(f"sweep {path!r}: {name} must be a finite number, got {v!r}")
+            raise ReducerlabError(f"axis {path!r}: {name} must be a finite number, got {v!r}")
     if isinstance(num, bool) or not isinstance(num, int) or num < 1:
-        raise ReducerlabError(f"sweep {path!r}: the number of points must be >= 1, got {num!r}")
+        raise ReducerlabError(f"axis {path!r}: the number of points must be >= 1, got {num!r}")
 
 
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 
 
-def _range_quantities(path: str, spec: str, kind: str, a: str, b: str) -> tuple:
+def _range_quantities(label: str, spec: str, kind: str, a: str, b: str) -> tuple:
     """START and STOP of a range written with units (``lin:1300 rpm:1700 rpm:41``): their
     magnitudes in START's unit, and that unit."""
     from ..units import registry
 
     ureg = registry()
     rule = (
-        f"sweep {path!r}: {spec!r}: write {kind}:START:STOP:N with SI numbers, or both ends "
+        f"{label}: {spec!r}: write {kind}:START:STOP:N with SI numbers, or both ends "
         "as quantities with units such as 1300 rpm"
     )
     number = re.compile(r"\s*[-+]?(\d|\.\d)")
@@ -139,7 +139,7 @@ def _range_quantities(path: str, spec: str, kind: str, a: str, b: str) -> tuple:
         raise ReducerlabError(rule)
     if qa.dimensionality != qb.dimensionality:
         raise ReducerlabError(
-            f"sweep {path!r}: {spec!r}: START and STOP have different dimensions "
+            f"{label}: {spec!r}: START and STOP have different dimensions "
             f"({qa.units} and {qb.units})"
         )
     return float(qa.magnitude), float(qb.to(qa.units).magnitude), str(qa.units)
@@ -162,7 +162,8 @@ def parse_values(
     limit : int, optional
         More than ``limit`` values are refused, a range before any is made.
     option : str, optional
-        The command-line option, named in the message of a refusal.
+        The command and option (``"regime-map -x"``) or the design field that gave
+        ``spec``, named in the message of a refusal (default ``"values"``).
 
     Returns
     -------
@@ -176,7 +177,8 @@ def parse_values(
     axis = _parse_values(path, spec, limit, option)
     if limit is not None and len(axis.values) > limit:
         raise ReducerlabError(
-            f"{option or f'sweep {path!r}'}: {len(axis.values)} values; at most {limit} are allowed"
+            f"{option or _label(path, option)}: {len(axis.values)} values; at most {limit} are "
+            "allowed"
         )
     return axis
 
@@ -211,9 +213,15 @@ def parse_path_values(
     return parse_values(path.strip(), values.strip(), limit=limit, option=option)
 
 
+def _label(path: str, option: str | None) -> str:
+    """How a value specification's messages start: ``regime-map -x 'mesh.stiffness'``."""
+    return f"{option or 'values'} {path!r}"
+
+
 def _parse_values(path: str, spec: str, limit: int | None, option: str | None) -> Axis:
+    label = _label(path, option)
     if not isinstance(spec, str) or not spec.strip():
-        raise ReducerlabError(f"sweep {path!r}: empty value specification")
+        raise ReducerlabError(f"{label}: empty value specification")
     s = spec.strip()
     m = re.fullmatch(r"(lin|log):([^:]+):([^:]+):([^:]+)", s)
     if m:
@@ -222,18 +230,16 @@ def _parse_values(path: str, spec: str, limit: int | None, option: str | None) -
         try:
             a_, b_ = float(a), float(b)
         except ValueError:
-            a_, b_, unit = _range_quantities(path, spec, kind, a, b)
+            a_, b_, unit = _range_quantities(label, spec, kind, a, b)
         try:
             n_ = int(n)
         except ValueError:
             raise ReducerlabError(
-                f"sweep {path!r}: {spec!r}: N = {n.strip()!r} must be a whole number of "
-                "points, e.g. 101"
+                f"{label}: {spec!r}: N = {n.strip()!r} must be a whole number of points, e.g. 101"
             ) from None
         if limit is not None and n_ > limit:
             raise ReducerlabError(
-                f"{option or f'sweep {path!r}'}: {spec!r} asks for {n_} values; at most "
-                f"{limit} are allowed"
+                f"{option or label}: {spec!r} asks for {n_} values; at most {limit} are allowed"
             )
         ax = Axis.linspace(path, a_, b_, n_) if kind == "lin" else Axis.logspace(path, a_, b_, n_)
         if unit is None:
@@ -241,11 +247,11 @@ def _parse_values(path: str, spec: str, limit: int | None, option: str | None) -
         # the design field converts each value from its unit (as for a list with units)
         return Axis(path, [f"{float(v)!r} {unit}" for v in ax.values])
     if s.startswith(("lin:", "log:")):
-        raise ReducerlabError(f"sweep {path!r}: {spec!r}: write lin:START:STOP:N or log:...")
+        raise ReducerlabError(f"{label}: {spec!r}: write lin:START:STOP:N or log:...")
     relative = s.startswith("rel:")
     items = [x.strip() for x in (s[4:] if relative else s).split(",") if x.strip()]
     if not items:
-        raise ReducerlabError(f"sweep {path!r}: no values in {spec!r}")
+        raise ReducerlabError(f"{label}: no values in {spec!r}")
     percent = all(x.endswith("%") for x in items)
     if percent:
         relative = True
@@ -255,11 +261,11 @@ def _parse_values(path: str, spec: str, limit: int | None, option: str | None) -
         if re.fullmatch(_NUM, x):
             values.append(float(x) / 100.0 if percent else float(x))
         elif relative:
-            raise ReducerlabError(f"sweep {path!r}: relative value {x!r} is not a number")
+            raise ReducerlabError(f"{label}: relative value {x!r} is not a number")
         elif re.match(_NUM, x):
             values.append(x)  # a quantity with units, parsed by the design
         else:
-            raise ReducerlabError(f"sweep {path!r}: value {x!r} is not a number")
+            raise ReducerlabError(f"{label}: value {x!r} is not a number")
     return Axis(path, tuple(values), relative=relative)
 
 
@@ -310,7 +316,7 @@ class Target:
     scale: float = 1.0
 
 
-def resolve(design: Design | None, model: Model, path: str) -> Target:
+def resolve(design: Design | None, model: Model, path: str, what: str = "sweep") -> Target:
     """The design field or model parameter that ``path`` names.
 
     Parameters
@@ -321,6 +327,8 @@ def resolve(design: Design | None, model: Model, path: str) -> Target:
         The design's model, or the model given.
     path : str
         One parameter path (see :class:`Axis`; not a tied ``a+b``).
+    what : str
+        The analysis, named in messages (``"regime-map: unknown parameter path ..."``).
 
     Returns
     -------
@@ -343,14 +351,14 @@ def resolve(design: Design | None, model: Model, path: str) -> Target:
             value = walk(data, keys)
             return Target("design", path, keys, float(value), isinstance(value, int))
         if where == "design":
-            raise ReducerlabError(f"sweep: {raw!r} is not a numeric field of the design")
+            raise ReducerlabError(f"{what}: {raw!r} is not a numeric field of the design")
     if where == "design":
-        raise ReducerlabError(f"sweep: {raw!r}: no design to sweep (a model was given)")
+        raise ReducerlabError(f"{what}: {raw!r}: no design field to vary (a model was given)")
     try:
         value = model.parameter(path)
     except ReducerlabError as exc:
         hint = " or a numeric design field" if design is not None else ""
-        raise ReducerlabError(f"sweep: unknown parameter path {raw!r}{hint} ({exc})") from None
+        raise ReducerlabError(f"{what}: unknown parameter path {raw!r}{hint} ({exc})") from None
     return Target("model", path, (), float(value))
 
 
@@ -382,7 +390,7 @@ def axis_targets(
     values : ndarray
         The axis values in SI units (n_values,).
     """
-    members = [resolve(design, model, p.strip()) for p in a.path.split("+")]
+    members = [resolve(design, model, p.strip(), what) for p in a.path.split("+")]
     if len({(t.where, t.path) for t in members}) != len(members):
         raise ReducerlabError(f"{what} {a.path!r}: a tied path lists a parameter twice")
     first = members[0].base
@@ -430,11 +438,15 @@ class Evaluator:
         The model at the design values.
     targets : tuple of Target
         What the points set (:func:`axis_targets` of every axis).
+    what : str
+        The analysis (``"sweep"``, ``"regime-map"``...), named in messages.
     """
 
     design: Design | None
     model: Model
     targets: tuple[Target, ...]
+    #: The analysis, named in messages.
+    what: str = "sweep"
 
     def model_at(self, values: Sequence[Any]) -> Model:
         """The model at one point.
@@ -466,16 +478,16 @@ class Evaluator:
         }
         if changes:
             if self.design is None:
-                raise ReducerlabError("sweep: design fields are swept but no design is given")
+                raise ReducerlabError(f"{self.what}: design fields vary but no design is given")
             try:
-                model = build_model(self.design.with_values(changes, source="sweep point"))
+                model = build_model(self.design.with_values(changes, source=f"{self.what} point"))
             except DesignError as exc:
+                point = dict(zip([t.path for t in self.targets], per, strict=True))
                 raise ReducerlabError(
-                    f"sweep point {dict(zip([t.path for t in self.targets], per, strict=True))}"
-                    f" is not a valid design:\n{exc}"
+                    f"{self.what} point {point} is not a valid design:\n{exc}"
                 ) from None
             if model.dof_names != self.model.dof_names:
-                raise ReducerlabError("sweep: the swept field changes the model's DOFs")
+                raise ReducerlabError(f"{self.what}: the varied field changes the model's DOFs")
         for t, v in zip(self.targets, per, strict=True):
             if t.where == "model":
                 model = model.with_parameter(t.path, v)

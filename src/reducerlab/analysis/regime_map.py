@@ -131,17 +131,17 @@ def regime_map(
             raise ReducerlabError(f"regime_map: {name} must be an integer >= {lo}, got {v!r}")
     if keep > periods:
         raise ReducerlabError(f"regime_map: keep = {keep} must be <= periods = {periods}")
-    gx, xv = axis_targets(design, model, x, 0, "regime_map")
-    gy, yv = axis_targets(design, model, y, 1, "regime_map")
+    gx, xv = axis_targets(design, model, x, 0, "regime-map")
+    gy, yv = axis_targets(design, model, y, 1, "regime-map")
     if {(t.where, t.path) for t in gx} & {(t.where, t.path) for t in gy}:
         raise ReducerlabError(f"regime_map: x {x.path!r} and y {y.path!r} share a parameter")
     if xv.size * yv.size > MAX_POINTS:
         raise ReducerlabError(
             f"regime_map: {xv.size} x {yv.size} points; at most {MAX_POINTS} are allowed"
         )
-    members, base = target_members(design, model, [*gx, *gy])
+    members, base = target_members(design, model, [*gx, *gy], "regime-map")
     branches = 2 if continuation == Continuation.BOTH.value else 1
-    run_estimate("regime_map", xv.size * yv.size * branches, periods,
+    run_estimate("regime-map", xv.size * yv.size * branches, periods,
                  steps_per_period or AUTO_STEPS_FLOOR, base.n, base.G.shape[0], keep, 0, True,
                  at_least=steps_per_period is None,
                  control="--periods, --steps or the number of points").check()  # fmt: skip

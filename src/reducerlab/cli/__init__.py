@@ -33,7 +33,7 @@ import typer
 
 from .. import __version__
 from . import body, check, contact, geometry, khv, kinematics, modal, nonlinear, report, sweep
-from .output import err
+from .output import err, kept, reset_kept
 
 __all__ = ["app", "main"]
 
@@ -43,6 +43,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # help texts are plain text: with rich markup, "[surface] table" or "[meshN]" lost
+    # their brackets (rich took them for style tags)
+    rich_markup_mode=None,
 )
 """The ``reducerlab`` command line."""
 
@@ -60,6 +63,7 @@ def _main(
     ] = False,
 ) -> None:
     """reducerlab: from a design file to frequencies, modes, responses and reports."""
+    reset_kept()
 
 
 # the commands, in this order in the help
@@ -93,27 +97,39 @@ def _termination(exc: BaseException) -> _Terminated | None:
     return None
 
 
+def _interrupted(exc: BaseException) -> bool:
+    """Whether ``exc`` is Ctrl-C: a ``KeyboardInterrupt``, or the exit typer makes of
+    one."""
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return False
+
+
 def main() -> None:
     """Console-script entry point.
 
-    SIGTERM ends the command like Ctrl-C does (exit code 143): worker processes are
-    stopped, no partial output set is left, and a sweep or bifurcation resumes from its
-    finished chunks when run again.
+    SIGTERM ends the command like Ctrl-C does (exit codes 143 and 130): worker processes
+    are stopped, no partial output set is left, and a sweep, bifurcation or regime map
+    resumes from its finished chunks when run again. Either prints one line saying what
+    was kept (:func:`.output.kept`).
     """
     import signal
 
     signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         app()
-    except KeyboardInterrupt:  # pragma: no cover - interactive
-        err.print("interrupted")
-        sys.exit(130)
     except BaseException as exc:
+        # typer turns Ctrl-C into exit code 130 (a SystemExit caused by the interrupt)
+        if _interrupted(exc):
+            err.print(f"interrupted: {kept()}", soft_wrap=True)
+            sys.exit(130)
         term = _termination(exc)
         if term is None:
             raise
-        err.print(
-            "terminated (SIGTERM); a sweep or bifurcation resumes from its finished chunks "
-            "when run again"
-        )
+        err.print(f"terminated (SIGTERM): {kept()}", soft_wrap=True)
         sys.exit(term.code)

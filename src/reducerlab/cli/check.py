@@ -34,7 +34,8 @@ def check(
         list[Path] | None,
         typer.Option(
             "--body-modes",
-            help="A gear body's modes (body_modal.nc from 'reducerlab body-modal'); repeat "
+            help="A gear body's modes (body_modal.nc from 'reducerlab body-modal' of this "
+            "design: refused when computed for other values of the gear's fields); repeat "
             "for each gear.",
         ),
     ] = None,
@@ -62,13 +63,11 @@ def check(
     from ..analysis.components import ComponentModes
     from ..analysis.resonance import format_check, resonance_check
     from ..drives import load_design
+    from ..inputs import check_inputs
 
     with user_errors():
         files = outputs(output)
-        components = []
-        for path in body_modes or []:
-            res_b = BodyModalResult.load(path)
-            components.append(ComponentModes.from_body_modal(res_b, source=str(path)))
+        given = [(path, BodyModalResult.load(path)) for path in body_modes or []]
         rng = None
         if speed_range is not None:
             parts = parse_speeds(speed_range, "--speed-range")
@@ -76,6 +75,10 @@ def check(
                 raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
             rng = (parts[0], parts[1])
         d = load_design(design, sets or ())
+        components = []
+        for path, res_b in given:
+            check_inputs(res_b, d, f"--body-modes {path}")  # never another design's modes
+            components.append(ComponentModes.from_body_modal(res_b, source=str(path)))
         if bodies:
             components += _all_body_modes(d, design, {c.label for c in components})
         with busy("resonance check"):

@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ReducerlabError
+from ..io import prepare_output_file
 from .options import ProfileChoice, SetOption, quantity_option, signed_quantity
 from .output import output_set, progress_bar, savefig, user_errors, write_file, write_json
 
@@ -103,6 +104,8 @@ def contact(
                 mis[name] = signed_quantity(text, option, kind)
         if write_design is not None and write_design.resolve() == design.resolve():
             raise ReducerlabError("--write-design: must not overwrite the design file itself")
+        if write_design is not None:  # before the analysis, not after it
+            prepare_output_file(write_design, "--write-design", (".toml",))
         with progress_bar() as progress:
             task = progress.add_task("contact analysis", total=None)
             res = contact_analysis(

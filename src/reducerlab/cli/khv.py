@@ -14,7 +14,9 @@ from ..errors import ReducerlabError
 from .options import SetOption
 from .output import output_set, savefig, user_errors
 
-khv_app = typer.Typer(help="KHV planetary drive tools (paper 004).", no_args_is_help=True)
+khv_app = typer.Typer(
+    help="KHV planetary drive tools (paper 004).", no_args_is_help=True, rich_markup_mode=None
+)
 """The ``khv`` command group."""
 
 

@@ -31,7 +31,15 @@ from .options import (
     path_values,
     scheduler_client,
 )
-from .output import add_with_figure, busy, output_set, save_with_figure, user_errors, write_json
+from .output import (
+    add_with_figure,
+    busy,
+    keeps_run,
+    output_set,
+    save_with_figure,
+    user_errors,
+    write_json,
+)
 
 
 def bifurcation(
@@ -88,6 +96,7 @@ def bifurcation(
             max=1000,
         ),
     ] = 0,
+    fmt: FormatOption = Format.table,
     sets: SetOption = None,
 ) -> None:
     """Bifurcation diagram: Poincaré points of the mesh deflection against a parameter.
@@ -102,7 +111,8 @@ def bifurcation(
         T = forcing_period(period, frequency)
         files = output_set(output)
         d = load_design(design, sets or ())
-        values_axis = axis("--values", param, values, MAX_VALUES)
+        values_axis = axis("bifurcation --values", param, values, MAX_VALUES)
+        keeps_run(output)
         with scheduler_client(scheduler) as client, busy("bifurcation") as report:
             res = run_bifurcation(
                 d, values_axis, periods=periods, keep=keep, steps_per_period=steps, period=T,
@@ -112,10 +122,14 @@ def bifurcation(
                 progress=report, seeds=seeds,
             )  # fmt: skip
         save_with_figure(res, files, "bifurcation")
+    both = bool(seeds) or continuation == Continuation.BOTH
+    if fmt is Format.table:
+        typer.echo(res.table(motion=classify, coexisting=both))
+        return
     summary = res.to_dict()
     if classify:
         summary["motion"] = res.labels()
-    if seeds or continuation == Continuation.BOTH:
+    if both:
         summary["coexisting"] = res.coexisting().tolist()
     typer.echo(json.dumps(summary))
 
@@ -141,6 +155,7 @@ def frequency_response(
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "frequency-response-output"
     ),
+    fmt: FormatOption = Format.table,
     sets: SetOption = None,
 ) -> None:
     """Frequency-response curves: RMS dynamic transmission error, dynamic load factor and
@@ -152,13 +167,13 @@ def frequency_response(
         check_periods(periods, history=history)
         files = output_set(output)
         d = load_design(design, sets or ())
-        values_axis = axis("--values", param, values, MAX_VALUES)
+        values_axis = axis("frequency-response --values", param, values, MAX_VALUES)
         with busy("frequency-response") as report:
             res = run_fr(d, values_axis, periods=periods, history=history,
                          continuation=continuation, accuracy=accuracy,
                          progress=report)  # fmt: skip
         save_with_figure(res, files, "frequency-response")
-    typer.echo(json.dumps(res.to_dict()))
+    typer.echo(json.dumps(res.to_dict()) if fmt is Format.json else res.table())
 
 
 def regime_map(
@@ -207,8 +222,9 @@ def regime_map(
         check_periods(periods, keep=keep)
         files = output_set(output)
         d = load_design(design, sets or ())
-        ax = path_values("-x", x, MAX_POINTS)
-        ay = path_values("-y", y, MAX_POINTS)
+        ax = path_values("regime-map -x", x, MAX_POINTS)
+        ay = path_values("regime-map -y", y, MAX_POINTS)
+        keeps_run(output)
         with scheduler_client(scheduler) as client, busy("regime map") as report:
             res = run_regime_map(
                 d, ax, ay, periods=periods, keep=keep, continuation=continuation, accuracy=accuracy,

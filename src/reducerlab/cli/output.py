@@ -31,9 +31,51 @@ err = Console(stderr=True, markup=False, emoji=False, highlight=False)
 """The console on stderr (notes, errors, progress)."""
 
 
+#: What the running command has kept so far (files moved into place, the resumable run
+#: folder it writes chunks into), for the line an interruption prints (:func:`kept`).
+_KEPT: dict[str, list[str]] = {"files": [], "runs": []}
+
+
 def note(line: str) -> None:
-    """One line on stderr, verbatim (``wrote PATH``)."""
+    """One line on stderr, verbatim (``wrote PATH``); a file written is remembered for
+    :func:`kept`."""
+    for verb in ("wrote ", "replaced "):
+        if line.startswith(verb):
+            _KEPT["files"].append(line[len(verb) :])
     err.print(line, soft_wrap=True)
+
+
+def reset_kept() -> None:
+    """Forget what an earlier command kept (each command starts with nothing kept)."""
+    for v in _KEPT.values():
+        v.clear()
+
+
+def keeps_run(folder: Path) -> None:
+    """Record that the command writes its finished chunks into the run folder ``folder``
+    (kept when it is interrupted, resumed when it is run again)."""
+    _KEPT["runs"].append(str(folder))
+
+
+def kept() -> str:
+    """What an interrupted command leaves behind, in one line: the finished chunks of
+    its run folder, the files it wrote before, or nothing (an output set is moved into
+    place only when all of its files were written)."""
+    parts = []
+    for folder in _KEPT["runs"]:
+        n = len(list((Path(folder) / "chunks").glob("chunk_*.npz")))
+        parts.append(
+            f"{n} finished chunk(s) kept in {folder}; run the same command again to resume"
+            if n
+            else f"no chunk had finished in {folder}"
+        )
+    files = _KEPT["files"]
+    if files:
+        shown = ", ".join(files[:3]) + (f" and {len(files) - 3} more" if len(files) > 3 else "")
+        parts.append(f"kept the files written before: {shown}")
+    if not parts:
+        return "nothing written (a command's files are moved into place only when complete)"
+    return "; ".join(parts)
 
 
 def fail(exc: Exception) -> NoReturn:

@@ -3,6 +3,7 @@ bundled example."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Annotated
 
@@ -18,8 +19,14 @@ from .output import fail, out, progress_bar, user_errors, write_file
 def report_cmd(
     design: DesignArgument,
     output: Annotated[
-        Path | None,
-        typer.Option("--output", "-o", help="Report file (.html); default DESIGN-report.html."),
+        str | None,
+        typer.Option(
+            "--output",
+            "-o",
+            metavar="PATH",
+            help="Report file (.html), or a folder (an existing one, a path ending in '/' "
+            "or without a suffix) to write report.html in; default DESIGN-report.html.",
+        ),
     ] = None,
     section: Annotated[
         list[str] | None,
@@ -40,7 +47,7 @@ def report_cmd(
     from ..reporting import report as build_report
 
     with user_errors():
-        path = output if output is not None else Path(f"{design.stem}-report.html")
+        path = _report_path(output, design)
         prepare_output_file(path, "-o", (".html", ".htm"))
         with progress_bar() as progress:
             task = progress.add_task("report", total=None)
@@ -57,6 +64,17 @@ def report_cmd(
     typer.echo(f"report: {path.resolve()} ({rep.seconds:.1f} s)")
     if rep.failed:
         raise typer.Exit(1)
+
+
+def _report_path(output: str | None, design: Path) -> Path:
+    """The report file: ``-o FILE.html``, or ``report.html`` in ``-o DIR`` (an existing
+    folder, a path ending in a separator, or one without a suffix: the ``-o DIR``
+    convention of the other commands)."""
+    if output is None:
+        return Path(f"{design.stem}-report.html")
+    p = Path(output)
+    folder = p.is_dir() or output.endswith(("/", os.sep)) or (not p.suffix and not p.exists())
+    return p / "report.html" if folder else p
 
 
 def demo(

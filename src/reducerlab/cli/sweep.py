@@ -25,7 +25,16 @@ from .options import (
     path_values,
     scheduler_client,
 )
-from .output import busy, note, output_set, outputs, save_with_figure, savefig, user_errors
+from .output import (
+    busy,
+    keeps_run,
+    note,
+    output_set,
+    outputs,
+    save_with_figure,
+    savefig,
+    user_errors,
+)
 
 
 def sweep(
@@ -67,15 +76,17 @@ def sweep(
     with user_errors():
         files = output_set(output)
         d = load_design(design, sets or ())
-        axes = [axis("--values", param, values, MAX_SWEEP_POINTS)]
+        axes = [axis("sweep --values", param, values, MAX_SWEEP_POINTS)]
         if grid is not None:
-            axes.append(path_values("--grid", grid, MAX_SWEEP_POINTS, "mesh.damping=lin:0:1e3:11"))
+            example = "mesh.damping=lin:0:1e3:11"
+            axes.append(path_values("sweep --grid", grid, MAX_SWEEP_POINTS, example))
         n_points = math.prod(len(a.values) for a in axes)
         if n_points > MAX_SWEEP_POINTS:
             raise ReducerlabError(
                 f"--values x --grid: {n_points} points; at most {MAX_SWEEP_POINTS} are allowed"
             )
         nc_existed = (output / "sweep.nc").exists()
+        keeps_run(output)
         with scheduler_client(scheduler) as client, busy("sweep chunks") as report:
             result = run_sweep(
                 d,

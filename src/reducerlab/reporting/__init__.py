@@ -114,8 +114,9 @@ def report(
     results : sequence of Result or path
         Results computed beforehand (``Result`` objects or their netCDF files): gear-body
         modes (``body-modal``, also checked in the resonance verdict), loaded contact
-        (``contact``), bifurcation diagrams, regime maps. A result computed from another
-        design is shown with a warning.
+        (``contact``), bifurcation diagrams, regime maps. Each is checked against the design
+        (:func:`reducerlab.inputs.check_inputs`): a result computed for other values of
+        the inputs it depends on is refused, naming the fields that differ.
     only : sequence of str, optional
         Section ids to build (default: all that apply); provenance is always added.
     progress : callable, optional
@@ -134,7 +135,8 @@ def report(
         unknown = [s for s in only if s not in ids]
         if unknown:
             raise ReducerlabError(f"report: unknown section(s) {unknown}; sections are {ids}")
-    ctx = Context(design, text, repo_assumptions(), _results(results), overrides=tuple(overrides))
+    given = _results(results, design)
+    ctx = Context(design, text, repo_assumptions(), given, overrides=tuple(overrides))
     todo = [(sid, title, build) for sid, title, build in SECTIONS if only is None or sid in only]
     sections: list[Section] = []
     for k, (sid, title, build) in enumerate(todo):
@@ -188,7 +190,10 @@ def report(
 GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map")
 
 
-def _results(items: Sequence[Any]) -> dict[str, list[Any]]:
+def _results(items: Sequence[Any], design: Design) -> dict[str, list[Any]]:
+    """The given results by kind, each checked against ``design`` (the inputs it depends
+    on, :func:`reducerlab.inputs.check_inputs`): another design's result is refused."""
+    from ..inputs import check_inputs
     from ..results import Result
 
     out: dict[str, list[Any]] = {}
@@ -199,6 +204,7 @@ def _results(items: Sequence[Any]) -> dict[str, list[Any]]:
                 f"report: {item}: a {r.kind!r} result; the report takes {', '.join(GIVEN_KINDS)} "
                 "results (it computes the others itself)"
             )
+        check_inputs(r, design, f"report: {item}" if not isinstance(item, Result) else None)
         if not isinstance(item, Result):
             r.data.attrs.setdefault("source", str(item))
         out.setdefault(r.kind, []).append(r)

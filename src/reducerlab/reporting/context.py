@@ -10,7 +10,6 @@ from typing import Any
 
 from ..design import Design
 from ..model import Model
-from .blocks import Block, note
 
 __all__ = ["Context", "repo_assumptions"]
 
@@ -61,17 +60,6 @@ class Context:
         from ..drives import has_model
 
         return has_model(self.design)
-
-    def foreign(self, result: Any) -> Block | None:
-        """A warning block when a given result was computed from another design."""
-        theirs = result.attrs.get("design_hash")
-        if theirs and theirs != self.design.hash:
-            return note(
-                f"computed from another design (hash {theirs}, this one {self.design.hash}): "
-                "shown as given",
-                "warning",
-            )
-        return None
 
 
 def repo_assumptions() -> str:

@@ -85,9 +85,6 @@ def contact_section(ctx: Context) -> Section | None:
 
     s = Section("contact", "Loaded tooth contact")
     for r in given:
-        w = ctx.foreign(r)
-        if w is not None:
-            s.blocks.append(w)
         summ = r.summary()
         s.values.setdefault("summaries", []).append(summ)
         rows = [

@@ -207,9 +207,6 @@ def bodies_section(ctx: Context) -> Section | None:
     for r in given:
         ds = r.data
         label = str(ds.attrs.get("title", "gear body"))
-        w = ctx.foreign(r)
-        if w is not None:
-            s.blocks.append(w)
         rows = [
             (int(m), float(f), str(t))
             for m, f, t in zip(

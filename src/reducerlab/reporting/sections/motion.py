@@ -115,9 +115,6 @@ def bifurcation_section(ctx: Context) -> Section | None:
             bifurcation(ctx.design, axis, periods=req.periods, keep=req.keep, progress=ctx.step)
         )
     for r in results:
-        w = ctx.foreign(r)
-        if w is not None:
-            s.blocks.append(w)
         period = r.periodicity()
         s.values.setdefault("periods", []).append(period.tolist())
         s.blocks.append(
@@ -154,9 +151,6 @@ def regime_map_section(ctx: Context) -> Section | None:
                        progress=ctx.step)
         )  # fmt: skip
     for k, r in enumerate(results):
-        w = ctx.foreign(r)
-        if w is not None:
-            s.blocks.append(w)
         lab = np.asarray(r.labels())
         s.values.setdefault("classes", []).append(sorted(set(lab.ravel().tolist())))
         s.blocks.append(
