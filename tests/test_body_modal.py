@@ -30,11 +30,39 @@ def coarse(gear: int) -> MeshSizes:
     return MeshSizes(0.8 * m_n, 2.5 * m_n)
 
 
+#: what body_modal handed to the mode classifier in the free_ring fixture
+CLASSIFIED: dict = {}
+
+
 @pytest.fixture(scope="module")
 def free_ring():
     """Gear 3 (the 32-tooth nutating ring), free-free, four modes, with the convergence
-    run (a coarser mesh still)."""
-    return body_modal(DESIGN, 3, count=4, sizes=coarse(3), convergence=True)
+    run (a coarser mesh still); the arguments of the mode classification are kept in
+    CLASSIFIED."""
+    from reducerlab.fe import modetypes
+
+    classify = modetypes.classify_modes
+
+    def spy(points, shapes, frequencies, weights=None, *args, **kwargs):
+        CLASSIFIED.update(points=points, weights=weights)
+        return classify(points, shapes, frequencies, weights, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(modetypes, "classify_modes", spy)
+        return body_modal(DESIGN, 3, count=4, sizes=coarse(3), convergence=True)
+
+
+def test_modes_are_named_from_mass_weighted_shares(free_ring):
+    """Issue 26 (8a): the mode names weigh each mesh point by its (HRZ lumped) mass,
+    not the fine teeth's many nodes equally: positive weights summing to the body's
+    mass, far from uniform on the graded mesh."""
+    w = CLASSIFIED["weights"]
+    assert w is not None and w.shape == (len(CLASSIFIED["points"]),)
+    assert np.all(w > 0)
+    assert w.sum() == pytest.approx(free_ring.data.attrs["mass_kg"], rel=1e-9)
+    assert np.max(w) > 10 * np.median(w)  # the rim's nodes carry more mass than the teeth's
+    shares = free_ring.data[["axial", "radial", "tangential"]].to_array().sum("variable")
+    np.testing.assert_allclose(shares.values, 1.0)
 
 
 def test_free_ring_modes(free_ring):

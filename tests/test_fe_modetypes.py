@@ -19,6 +19,7 @@ from reducerlab.fe.modetypes import (
     classify_mode,
     classify_modes,
     mode_families,
+    node_shapes,
     vertex_shapes,
 )
 
@@ -295,3 +296,75 @@ def test_free_short_ring():
     R, t = (a + b) / 2, b - a
     omega = 6 / math.sqrt(5) * math.sqrt(206e9 / 7850.0 * t**2 / 12) / R**2
     assert f[0] == pytest.approx(omega / (2 * math.pi), rel=0.05)
+
+
+def graded_ring(a: float, b: float, h: float, sectors: int, layers: int):
+    """A polygonal ring (``sectors`` sides, ``a <= r <= b``, ``0 <= z <= h``) of P2 tets
+    whose layers crowd towards ``z = 0`` (``z_k = h (k / layers)^3``): 3/4 of its nodes
+    lie in the lower half. Returns the skfem mesh."""
+    skfem = pytest.importorskip("skfem")
+    s = np.linspace(0.0, 1.0, layers + 1)
+    m = skfem.MeshTet.init_tensor(
+        np.array([a, b]), np.arange(sectors + 1) * (2 * math.pi / sectors), h * s**3
+    )
+    r, t, z = m.p
+    # close the ring: the nodes at t = 2 pi are those at t = 0
+    seam = np.isclose(t, 2 * math.pi)
+    start = np.flatnonzero(np.isclose(t, 0.0))
+    key = {(round(r[i] / h, 9), round(z[i] / h, 9)): i for i in start}
+    target = np.arange(m.p.shape[1])
+    target[seam] = [key[(round(r[i] / h, 9), round(z[i] / h, 9))] for i in np.flatnonzero(seam)]
+    tets = target[m.t]
+    keep = np.unique(tets)
+    new = np.full(m.p.shape[1], -1)
+    new[keep] = np.arange(len(keep))
+    p = np.array([r * np.cos(t), r * np.sin(t), z])[:, keep]
+    return skfem.MeshTet(np.ascontiguousarray(p), np.ascontiguousarray(new[tets]))
+
+
+def test_shares_are_mass_weighted_on_a_graded_mesh():
+    """Issue 26 (8a): the shares are shares of the body's kinetic energy, not of its
+    nodes. On a prism ``0 <= z <= h`` any field ``f(x, y) g(z)`` integrates as
+    ``int f dA int g dz``, so ``u_r = cos 2t``, ``u_z = B (z / h) cos 2t`` has the axial
+    share ``(B^2 / 3) / (1 + B^2 / 3)`` exactly, whatever the cross-section: 0.6 for
+    ``B^2 = 4.5`` ("bending", the paper's n = 2 pair mostly axial). The mesh crowds its
+    nodes where ``u_z`` is small, so counting nodes gives ~0.43 ("radial"); the HRZ
+    masses of :func:`node_shapes` give the integral."""
+    from reducerlab.fe import assemble
+
+    h = 0.02
+    mesh = graded_ring(0.03, 0.05, h, 24, 8)
+    _, M, basis = assemble(mesh)
+    p, _, w = node_shapes(basis, np.zeros(basis.N), M)
+    assert np.mean(p[:, 2] < h / 2) > 0.7  # the nodes crowd at the bottom
+    # the weights: positive, summing to the prism's mass (rho area h)
+    area = 0.5 * 24 * math.sin(2 * math.pi / 24) * (0.05**2 - 0.03**2)
+    assert np.all(w > 0) and w.sum() == pytest.approx(7850.0 * area * h, rel=1e-12)
+    t, z = np.arctan2(p[:, 1], p[:, 0]), p[:, 2]
+    ur, uz = np.cos(2 * t), math.sqrt(4.5) * z / h * np.cos(2 * t)
+    u = np.c_[ur * np.cos(t), ur * np.sin(t), uz]
+    weighted = classify_mode(p, u, w)
+    assert (weighted.name, weighted.nodal_diameters) == ("bending", 2)
+    assert weighted.shares["axial"] == pytest.approx(0.6, abs=0.005)
+    by_nodes = classify_mode(p, u)  # the old equal weights: a share of the nodes
+    assert (by_nodes.name, by_nodes.nodal_diameters) == ("radial", 2)
+    assert by_nodes.shares["axial"] < 0.45
+    # node_shapes hands back the shapes at the same nodes, vertices then mid-edge nodes
+    phi = np.zeros(basis.N)
+    phi[basis.nodal_dofs[2]] = 1.0
+    phi[basis.edge_dofs[2]] = 1.0
+    _, d, _ = node_shapes(basis, phi, M)
+    assert d.shape == (len(p), 3, 1) and np.all(d[:, 2, 0] == 1.0) and not np.any(d[:, :2])
+
+
+def test_node_shapes_bad_input():
+    from reducerlab.fe import assemble
+
+    mesh = graded_ring(0.03, 0.05, 0.02, 8, 1)
+    _, M, basis = assemble(mesh, order=1)
+    with pytest.raises(ReducerlabError, match="shapes must have"):
+        node_shapes(basis, np.zeros(basis.N + 1), M)
+    with pytest.raises(ReducerlabError, match="mass must be"):
+        node_shapes(basis, np.zeros(basis.N), M[:-1])
+    with pytest.raises(ReducerlabError, match="diagonal entry"):
+        node_shapes(basis, np.zeros(basis.N), -M)

@@ -4,7 +4,10 @@
 table (:func:`reducerlab.fe.gear_mesh.mesh_gear`, blank from ``[gearN.blank]``),
 assembles quadratic tetrahedra of the design's ``[material]`` and solves for the first
 elastic modes, free-free (rigid modes removed) or with the bore or the mounting face
-fixed. Each mode is named by :mod:`reducerlab.fe.modetypes`. With ``convergence`` the
+fixed. Each mode is named by :mod:`reducerlab.fe.modetypes`, its shares weighted by the
+nodes' masses (the HRZ lumped mass: the diagonal of the consistent mass matrix the
+eigen-solution used, so a graded mesh does not count its fine teeth many times over).
+With ``convergence`` the
 same gear is also solved on a mesh 1.5 times coarser and every mode states its
 frequency change from that mesh to the result's: an upper estimate of the result's own
 discretisation error (the error falls with the element size).
@@ -217,8 +220,9 @@ def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[n
 
 def _solve(
     mesh: GearBodyMesh, material: Any, count: int, boundary: Boundary, stage: Stage
-) -> tuple[NDArray[np.float64], NDArray[np.float64], int, float]:
-    """Frequencies (Hz), shapes at the mesh points (n, 3, count), DOFs, mass (kg)."""
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, float]:
+    """Frequencies (Hz), shapes at the mesh points (n, 3, count), the points' HRZ masses
+    (n,) (kg), DOFs, mass (kg)."""
     from ..errors import ModelError
     from ..fe import assemble, body_modes
 
@@ -247,7 +251,9 @@ def _solve(
         )
     # displacement at the corner nodes and at the mid-edge nodes of the mesh points
     shapes = _at_points(basis, skm, mesh, modes.shapes)
-    return modes.frequencies, shapes, int(K.shape[0]), _translation_mass(basis, M)
+    mass = _translation_mass(basis, M)
+    weights = _point_masses(basis, skm, mesh, M, mass)
+    return modes.frequencies, shapes, weights, int(K.shape[0]), mass
 
 
 def _translation_mass(basis: Any, M: Any) -> float:
@@ -256,6 +262,16 @@ def _translation_mass(basis: Any, M: Any) -> float:
     e[basis.nodal_dofs[0]] = 1.0
     e[basis.edge_dofs[0]] = 1.0
     return float(e @ (M @ e))
+
+
+def _point_masses(
+    basis: Any, skm: Any, mesh: GearBodyMesh, M: Any, mass: float
+) -> NDArray[np.float64]:
+    """HRZ lumped masses (kg) of ``mesh.points``: the diagonal of ``M`` at each node's x
+    DOF, scaled to the body's ``mass`` (``fe.modetypes``, "Mass weights"). A point that
+    no tetrahedron uses gets 0."""
+    diag = _at_points(basis, skm, mesh, np.asarray(M.diagonal(), dtype=float)[:, None])[:, 0, 0]
+    return diag * (mass / diag.sum())
 
 
 def _at_points(basis: Any, skm: Any, mesh: GearBodyMesh, shapes: Any) -> NDArray[np.float64]:
@@ -360,9 +376,9 @@ def body_modal(
                            sizes=_coarser(sizes, crown, bevel, rim), stage=say)  # fmt: skip
         coarse_f = _solve(coarse, material, count, boundary, say)[0]
     mesh = mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say)
-    freq, shapes, dofs, mass = _solve(mesh, material, count, boundary, say)
+    freq, shapes, weights, dofs, mass = _solve(mesh, material, count, boundary, say)
     say("classifying the modes")
-    types = classify_modes(mesh.points, shapes, freq)
+    types = classify_modes(mesh.points, shapes, freq, weights)
     change = freq / coarse_f - 1.0 if convergence else coarse_f
     shares = {k: np.array([t.shares[k] for t in types]) for k in ("axial", "radial", "tangential")}
     ds = xr.Dataset(

@@ -42,8 +42,11 @@ from ..fe.elasticity import STEEL, Material
 from ..kinematics.rotations import rot_z
 
 __all__ = [
+    "FacetQuadrature",
+    "FacetQuadratureError",
     "ToothCompliance",
     "bump_interaction",
+    "facet_quadrature",
     "fe_tooth_compliance",
     "flank_influence",
     "load_nodes",
@@ -187,7 +190,7 @@ def fe_tooth_compliance(
     angles = [-2 * math.pi * k / gear.teeth for k in TEETH]
     Kb, dofs = flank_influence(
         skm, lambda basis: _held_dofs(basis, mesh, cone_coordinates), P0, N0, angles,
-        a, material, stage=say,
+        a, material, stage=say, name=f"{gear.kind} gear (z = {gear.teeth})",
     )  # fmt: skip
     return ToothCompliance(u_nodes, v_nodes, TEETH, Kb, dofs, a)
 
@@ -201,6 +204,8 @@ def flank_influence(
     radius: float,
     material: Material,
     stage: Stage | None = None,
+    *,
+    name: str = "gear",
 ) -> tuple[Array, int]:
     """Bending influence coefficients of load points on several teeth of one FE model.
 
@@ -217,6 +222,10 @@ def flank_influence(
     radius : float
         Bump radius ``a`` (m).
     material : Material
+    stage : callable, optional
+        ``stage(text)`` at each step (progress display).
+    name : str
+        The gear in messages, e.g. ``"internal gear (z = 32)"``.
 
     Returns
     -------
@@ -225,6 +234,12 @@ def flank_influence(
         removed between load points of the same tooth (module docstring).
     dofs : int
         Size of the finite-element model.
+
+    Raises
+    ------
+    FacetQuadratureError
+        When the load integration finds the mesh's facets off its elements (named by
+        ``name``; :func:`facet_quadrature`).
     """
     from ..fe.elasticity import assemble
 
@@ -235,7 +250,13 @@ def flank_influence(
     centres = np.concatenate([points @ rot_z(t).T for t in angles])
     nrm = np.concatenate([normals @ rot_z(t).T for t in angles])
     say(f"{len(centres)} flank loads")
-    F = _bump_loads(basis, skm, centres, nrm, radius)
+    try:
+        F = _bump_loads(basis, skm, centres, nrm, radius)
+    except FacetQuadratureError as exc:
+        raise FacetQuadratureError(
+            f"compliance: the finite-element tooth model of the {name}: {exc}; mesh it "
+            "again with another tooth element size (tooth_size; reducerlab contact --tooth-size)"
+        ) from None
     say(f"solving {K.shape[0]} DOFs for {F.shape[1]} loads")
     U = _solve_many(K, F, fixed)
     Kfe = F.T @ U
@@ -303,7 +324,6 @@ def _bump_loads(basis, skm, centres: Array, normals: Array, a: float) -> Array:
     deg), integrated with the facets' quadrature (all loads at once)."""
     import scipy.sparse as sp
     from scipy.spatial import cKDTree
-    from skfem import FacetBasis
 
     bf = skm.boundary_facets()
     mid = skm.p[:, skm.facets[:, bf]].mean(axis=1).T  # facet corner centroids
@@ -311,20 +331,20 @@ def _bump_loads(basis, skm, centres: Array, normals: Array, a: float) -> Array:
     used = np.unique(np.concatenate([np.asarray(n, dtype=np.int64) for n in near]))
     if used.size == 0:
         raise ReducerlabError("compliance: the load points lie off the meshed flank")
-    fb = FacetBasis(skm, basis.elem, facets=bf[used], intorder=4)
-    x = np.asarray(fb.global_coordinates())  # (3, nf, nq)
-    nf, nq = x.shape[1], x.shape[2]
-    dx = fb.dx  # (nf, nq)
-    rows = np.repeat(fb.element_dofs[:, :, None], nq, axis=2)  # (nb, nf, nq)
-    cols = np.broadcast_to(np.arange(nf * nq).reshape(nf, nq), rows.shape)
-    S = []
-    for c in range(3):
-        vals = np.stack([np.asarray(fb.basis[i][0])[c] for i in range(len(fb.basis))]) * dx
-        S.append(
-            sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(basis.N, nf * nq))
+    q = facet_quadrature(basis, bf[used], intorder=4)
+    nf, nq = q.dx.shape
+    cols = np.broadcast_to(np.arange(nf * nq).reshape(nf, nq), q.values.shape)
+    vals = (q.values * q.dx).ravel()
+    dim = basis.mesh.dim()
+    S = [
+        sp.csr_matrix(
+            (vals, (np.repeat(q.dofs[c::dim, :, None], nq, axis=2).ravel(), cols.ravel())),
+            shape=(basis.N, nf * nq),
         )
-    xq = x.reshape(3, -1).T  # (nf nq, 3)
-    nrm = fb.normals.reshape(3, -1).T
+        for c in range(dim)
+    ]
+    xq = q.points.reshape(3, -1).T  # (nf nq, 3)
+    nrm = q.normals.reshape(3, -1).T
     r2 = np.sum((xq[:, None, :] - centres[None, :, :]) ** 2, axis=2) / (a * a)
     facing = nrm @ normals.T > 0.5
     B = np.where((r2 < 1.0) & facing, (1.0 - r2) ** 2, 0.0)  # (nf nq, n)
@@ -333,6 +353,102 @@ def _bump_loads(basis, skm, centres: Array, normals: Array, a: float) -> Array:
     if not np.all(total > 0):
         raise ReducerlabError("compliance: a load bump found no flank area under it")
     return F / total
+
+
+class FacetQuadratureError(ReducerlabError):
+    """The facet quadrature of a finite-element model does not lie on its elements (a
+    mesh whose facets and elements disagree)."""
+
+
+@dataclass(frozen=True)
+class FacetQuadrature:
+    """Quadrature on boundary facets of a vector Lagrange basis (:func:`facet_quadrature`).
+
+    Attributes
+    ----------
+    points : ndarray (3, facets, nq)
+        Global quadrature points (m).
+    dx : ndarray (facets, nq)
+        Quadrature weights times the facets' area element (m^2).
+    normals : ndarray (3, facets, nq)
+        Outward unit normals.
+    values : ndarray (scalar functions, facets, nq)
+        Values of the element's scalar shape functions there.
+    dofs : ndarray (element dofs, facets)
+        DOFs of the facets' elements (vector DOF ``k`` is component ``k % 3`` of
+        scalar function ``k // 3``, scikit-fem's ``ElementVector`` order).
+    """
+
+    points: Array
+    dx: Array
+    normals: Array
+    values: Array
+    dofs: NDArray[np.int64]
+
+
+def facet_quadrature(basis, facets: NDArray[np.int64], intorder: int = 4) -> FacetQuadrature:
+    """Quadrature on the boundary ``facets`` of ``basis`` without an inverse mapping.
+
+    scikit-fem's ``FacetBasis`` maps the reference-facet quadrature points to the global
+    facet and back into each element's reference tetrahedron by Newton's method
+    (``MappingIsoparametric.invF``, started at ``(0.5, 0.5, 0.5)``, clipped to the unit
+    cube, tolerance 1e-12): on valid but strongly curved quadratic tetrahedra, which
+    gmsh's parallel mesher produces now and then, it fails with "Newton iteration didn't
+    converge". The inverse is not needed: a point of barycentric coordinates
+    ``(1 - s - t, s, t)`` on a facet with corners ``f_0, f_1, f_2`` is, in the reference
+    tetrahedron of the element it bounds, ``sum_a lambda_a V_{j(a)}``, with ``j(a)`` the
+    element's local number of corner ``f_a`` and ``V_j`` the reference corners: exact,
+    since the element's (isoparametric) map restricted to a face is the face's own
+    quadratic map. The global points and the area element come from the facet's map
+    (as ``FacetBasis`` has them) and are checked against the element's map at the
+    reference points.
+
+    Parameters
+    ----------
+    basis : skfem.Basis
+        A cell basis of ``ElementVector`` of a Lagrange element on a tetrahedral mesh
+        (``MeshTet`` or ``MeshTet2``).
+    facets : array of int
+        Boundary facet indices of ``basis.mesh``.
+    intorder : int
+        Degree of the facet quadrature.
+
+    Raises
+    ------
+    FacetQuadratureError
+        When a facet is not a face of the element that bounds it, or the element's map
+        puts the quadrature points off the facet's (a corrupt mesh).
+    """
+    from skfem.quadrature import get_quadrature
+
+    mesh = basis.mesh
+    mapping = basis.mapping
+    find = np.asarray(facets, dtype=np.int64)
+    tind = mesh.f2t[0, find]
+    X, W = get_quadrature(mesh.brefdom, intorder)  # (2, nq) on the reference triangle
+    corners = mesh.facets[:, find]  # (3, nf)
+    local = mesh.t[:, tind][:, None, :] == corners[None, :, :]  # (4, 3, nf)
+    if not np.all(local.sum(axis=0) == 1):
+        raise FacetQuadratureError(
+            "facet quadrature: a facet is not a face of the element it bounds (corrupt mesh)"
+        )
+    j = np.argmax(local, axis=0)  # (3, nf): the element's local corner of each facet corner
+    ref = np.vstack([np.zeros(mesh.dim()), np.eye(mesh.dim())])  # reference corners
+    lam = np.vstack([1.0 - X[0] - X[1], X[0], X[1]])  # (3, nq)
+    Y = np.einsum("anc,aq->cnq", ref[j], lam)  # (3, nf, nq) in the reference tetrahedron
+    x = np.asarray(mapping.G(X, find=find))  # (3, nf, nq) on the facets' own map
+    off = float(np.max(np.abs(np.asarray(mapping.F(Y, tind=tind)) - x))) if find.size else 0.0
+    size = float(np.ptp(mesh.p, axis=1).max())
+    if not off <= 1e-9 * size:
+        raise FacetQuadratureError(
+            f"facet quadrature: the elements put the facet points {off:.3g} m off their "
+            "facets (a corrupt mesh)"
+        )
+    dx = np.abs(np.asarray(mapping.detDG(X, find=find))) * W[None, :]
+    normals = np.asarray(mapping.normals(Y, tind, find, mesh.t2f))
+    scalar = basis.elem.elem  # the scalar element of the ElementVector
+    values = np.stack([scalar.lbasis(Y, i)[0] for i in range(scalar.doflocs.shape[0])])
+    return FacetQuadrature(x, dx, normals, values, np.asarray(basis.element_dofs)[:, tind])
 
 
 def _force_of(b: Array, basis, n: Array) -> float:

@@ -313,5 +313,6 @@ def spur_tooth_compliance(
     P0, N0 = sflank.evaluate(uu.ravel(), vv.ravel())
     angles = [direction * gear.pitch * k for k in TEETH]
     K, dofs = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
-                              angles, a, material, stage=say)  # fmt: skip
+                              angles, a, material, stage=say,
+                              name=f"spur gear (z = {gear.teeth})")  # fmt: skip
     return ToothCompliance(u_nodes, v_nodes, TEETH, K, dofs, a)

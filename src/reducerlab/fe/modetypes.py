@@ -17,6 +17,20 @@ of the points. A mode shape is given by its nodes ``p`` (m) and their displaceme
 ``u`` (any scale), optionally with nodal mass weights ``w`` (kg, or any positive
 measure; uniform when omitted).
 
+Mass weights
+------------
+A mesh is graded (fine in the teeth, coarse in the blank), so uniform weights count the
+finely meshed parts many times over: the shares become shares of *nodes*, not of the
+body. The FE callers therefore weight each node by its mass, the **HRZ lumped mass**
+(Hinton, Rock & Zienkiewicz 1976): the diagonal of the consistent mass matrix that the
+eigen-solution used (``fe.elasticity.assemble``, ``rho u . v`` on 10-node tetrahedra),
+scaled to the body's mass. It is positive at every node (unlike the row sums of the
+quadratic tetrahedron's consistent mass, which are negative at the corners), takes the
+curved geometry and the element sizes from the assembly itself, and
+``sum_i w_i |u_i|^2`` is a quadrature of the kinetic energy ``int rho |u|^2 dV`` exact
+for a rigid translation (``docs/assumptions.md``). :func:`node_shapes` returns the nodes,
+shapes and these weights of a scikit-fem basis.
+
 Features
 --------
 * **Components.** ``u`` is split into cylindrical components about ``z``: radial
@@ -92,6 +106,7 @@ __all__ = [
     "classify_mode",
     "classify_modes",
     "mode_families",
+    "node_shapes",
     "vertex_shapes",
 ]
 
@@ -342,6 +357,63 @@ def vertex_shapes(basis: Any, shapes: ArrayLike) -> tuple[Array, Array]:
         )
     points = np.asarray(basis.doflocs)[:, dofs[0]].T
     return points, np.transpose(s[dofs], (1, 0, 2))
+
+
+def node_shapes(basis: Any, shapes: ArrayLike, mass: Any) -> tuple[Array, Array, Array]:
+    """All nodes of a vector scikit-fem basis, the shapes there and their HRZ masses.
+
+    The nodes are the vertices followed by the mid-edge nodes (10-node tetrahedra); the
+    weight of a node is the diagonal entry of ``mass`` of its ``x`` DOF, scaled so that
+    the weights sum to the body's mass (the HRZ lumped mass: module docstring).
+
+    Parameters
+    ----------
+    basis : skfem.Basis
+        A basis of ``ElementVector`` of a Lagrange element with DOFs at the vertices and
+        at most one per edge (``ElementTetP1``, ``ElementTetP2``).
+    shapes : array_like (dofs,) or (dofs, modes)
+        Shapes in the basis' DOFs.
+    mass : sparse matrix (dofs, dofs)
+        The consistent mass matrix of ``basis`` (kg), e.g. from
+        :func:`~reducerlab.fe.assemble`.
+
+    Returns
+    -------
+    points : ndarray (nodes, 3)
+        The node positions (m).
+    displacements : ndarray (nodes, 3, modes)
+        Their displacements (the shapes' units).
+    weights : ndarray (nodes,)
+        Node masses (kg), > 0, summing to ``e^T M e`` for a unit translation ``e``.
+    """
+    dofs = np.asarray(basis.nodal_dofs)
+    if dofs.ndim != 2 or dofs.shape[0] != 3:
+        raise ReducerlabError("node_shapes: basis must be a 3-D vector basis (ElementVector)")
+    edges = np.asarray(basis.edge_dofs)
+    if edges.size:
+        if edges.ndim != 2 or edges.shape[0] != 3:
+            raise ReducerlabError("node_shapes: at most one node per edge is supported")
+        dofs = np.concatenate([dofs, edges], axis=1)
+    other = (np.asarray(getattr(basis, name, [])).size for name in ("facet_dofs", "interior_dofs"))
+    if any(other) or dofs.size != basis.N:
+        raise ReducerlabError("node_shapes: the basis has DOFs off its vertices and edges")
+    s = np.asarray(shapes, dtype=float)
+    if s.ndim == 1:
+        s = s[:, None]
+    if s.ndim != 2 or s.shape[0] != basis.N:
+        raise ReducerlabError(
+            f"node_shapes: shapes must have {basis.N} rows (the basis' DOFs), got {s.shape}"
+        )
+    if getattr(mass, "shape", None) != (basis.N, basis.N):
+        raise ReducerlabError(f"node_shapes: mass must be a ({basis.N}, {basis.N}) matrix")
+    diag = np.asarray(mass.diagonal(), dtype=float)[dofs[0]]
+    if not np.all(diag > 0):
+        raise ReducerlabError("node_shapes: the mass matrix has a diagonal entry <= 0")
+    one = np.zeros(basis.N)
+    one[dofs[0]] = 1.0
+    total = float(one @ (mass @ one))
+    points = np.asarray(basis.doflocs)[:, dofs[0]].T
+    return points, np.transpose(s[dofs], (1, 0, 2)), diag * (total / diag.sum())
 
 
 # -- the analysis ------------------------------------------------------------------------
