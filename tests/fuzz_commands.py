@@ -63,6 +63,9 @@ def cases(tmp: str) -> list[Case]:
     out += _option(body, "--boundary", ["clamped", ""])
     out += _option(body, "--set", ["surface.rim=nan", "surface.rim=-1 mm", "surface.rim=5 kg",
                                    "surface.face_width=1e300"], ["surface."])  # fmt: skip
+    # a blank that reaches past the axis of the external gear 2 (gmsh "Could not revolve")
+    body2 = [*body[:3], "2", *body[4:]]
+    out += _option(body2, "--set", ["surface.rim=40 mm", "surface.rim=1 m"], ["rim"])
     power = ["contact", SURFACE, "-o", f"{tmp}/ct"]
     out += _option(power, "--power", QUANTITY)
     out += _option(power, "--torque", QUANTITY)
