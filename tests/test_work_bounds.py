@@ -202,3 +202,19 @@ def test_the_load_bound_leaves_ordinary_loads_alone(pair):
 def test_a_progress_bar_without_total_shows_no_counter():
     assert count_text(0, None) == ""
     assert count_text(3, 24) == "3/24"
+
+
+def test_whole_gear_surface_mesh_is_estimated_before_patterning(monkeypatch):
+    from reducerlab.geometry.solid import build_gear_solid, section_counts
+
+    crown, bevel = DESIGN.tooth_generation(2)
+    solid = build_gear_solid(crown, bevel, **section_counts(5), rim=DESIGN.surface.rim)
+    est = solid.gear_mesh_estimate()
+    monkeypatch.setenv(MEMORY_ENV, "10K")
+    with pytest.raises(BudgetError) as info:
+        solid.gear_mesh()
+    msg = str(info.value)
+    assert "whole gear's triangle mesh (26 teeth)" in msg and "--points or --tooth" in msg
+    assert f"{est.work:.3g} vertices" in msg and "10 KiB" in msg
+    monkeypatch.delenv(MEMORY_ENV)
+    assert len(solid.gear_mesh().vertices) == est.work  # the estimate is exact
