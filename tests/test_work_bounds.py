@@ -218,3 +218,12 @@ def test_whole_gear_surface_mesh_is_estimated_before_patterning(monkeypatch):
     assert f"{est.work:.3g} vertices" in msg and "10 KiB" in msg
     monkeypatch.delenv(MEMORY_ENV)
     assert len(solid.gear_mesh().vertices) == est.work  # the estimate is exact
+
+
+def test_check_bodies_refuses_before_meshing_any_gear(no_work, monkeypatch, tmp_path):
+    monkeypatch.setenv(MEMORY_ENV, "100M")
+    r = runner.invoke(app, ["check", str(EXAMPLE), "--bodies"])
+    assert r.exit_code == 2, r.output
+    msg = " ".join(r.output.split())
+    assert "gear 1 body" in msg and "100 MiB" in msg and "--tooth-size" in msg
+    assert "Traceback" not in msg
