@@ -25,7 +25,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..design import Design
-from ..errors import ReducerlabError, names_source
+from ..errors import DesignError, ReducerlabError, names_source
 from ..results import Result, provenance
 
 if TYPE_CHECKING:
@@ -33,7 +33,14 @@ if TYPE_CHECKING:
 
     from ..fe.gear_mesh import GearBodyMesh
 
-__all__ = ["BOUNDARIES", "BodyModalResult", "body_modal", "check_bodies", "gear_blank"]
+__all__ = [
+    "BOUNDARIES",
+    "BodyModalResult",
+    "body_estimate",
+    "body_modal",
+    "check_bodies",
+    "gear_blank",
+]
 
 #: Boundary conditions of the gear body.
 BOUNDARIES = ("free", "bore", "face")
@@ -169,25 +176,76 @@ def check_bodies(design: Any) -> None:
 
 def gear_blank(design: Any, gear: int) -> tuple[float, Any]:
     """Rim thickness (m) and :class:`~reducerlab.fe.gear_mesh.BlankFeatures` of ``gear``
-    from the design (``[gearN.blank]``, defaults in ``docs/assumptions.md``)."""
-    from ..fe.gear_mesh import BlankFeatures
+    from the design (``[gearN.blank]``, defaults in ``docs/assumptions.md``), checked
+    against the gear's radii before any CAD work.
+
+    Raises
+    ------
+    DesignError
+        Naming the design field that does not fit (``gear1.blank.rim = '100 mm':
+        reaches past the axis ...``), or the default it came from.
+    """
+    from ..fe.gear_mesh import BlankFeatures, MeshError, check_blank
 
     spec = getattr(design, f"gear{gear}").blank
-    crown, _ = design.tooth_generation(gear)
+    crown, bevel = design.tooth_generation(gear)
     m_n = crown.profile.module
     rim = design.surface.rim if design.surface.rim is not None else 2.0 * m_n
-    if spec is None:
-        return rim, BlankFeatures()
-    rim = spec.rim if spec.rim is not None else rim
-    if spec.bore is None:
-        return rim, BlankFeatures()
-    dflt = BlankFeatures.default(spec.bore, rim, design.surface.face_width)
-    return rim, BlankFeatures(
-        spec.bore,
-        spec.web if spec.web is not None else dflt.web,
-        spec.hub if spec.hub is not None else dflt.hub,
-        spec.hub_length if spec.hub_length is not None else dflt.hub_length,
-    )
+    features = BlankFeatures()
+    if spec is not None:
+        rim = spec.rim if spec.rim is not None else rim
+    if spec is not None and spec.bore is not None:
+        dflt = BlankFeatures.default(spec.bore, rim, design.surface.face_width)
+        features = BlankFeatures(
+            spec.bore,
+            spec.web if spec.web is not None else dflt.web,
+            spec.hub if spec.hub is not None else dflt.hub,
+            spec.hub_length if spec.hub_length is not None else dflt.hub_length,
+        )
+    try:
+        check_blank(crown, bevel, rim, features)
+    except MeshError as exc:
+        raise DesignError(_blank_field(design, gear, rim, features, str(exc))) from None
+    return rim, features
+
+
+def _blank_field(design: Any, gear: int, rim: float, features: Any, message: str) -> str:
+    """``path = 'value': rule`` for a blank error ``message`` (``rim: ...``,
+    ``blank.web: ...``): the design field it came from, or the default it used."""
+    name, _, rule = message.partition(": ")
+    field = name.removeprefix("blank.")
+    spec = getattr(design, f"gear{gear}").blank
+    given = spec is not None and getattr(spec, field, None) is not None
+    if field == "rim":
+        value = rim
+        if given:
+            path = f"gear{gear}.blank.rim"
+        elif design.surface.rim is not None:
+            path = "surface.rim"
+        else:
+            path = f"gear{gear}.blank.rim (default 2 m_n)"
+    else:
+        value = getattr(features, field, None)
+        path = f"gear{gear}.blank.{field}" + ("" if given else " (default)")
+    shown = f"{value * 1e3:.6g} mm" if isinstance(value, int | float) else repr(value)
+    return f"{path} = {shown!r}: {rule}"
+
+
+def body_estimate(design: Any, gear: int, sizes: Any = None) -> Any:
+    """The :class:`~reducerlab.budget.Estimate` of gear ``gear``'s body-modal mesh and
+    eigen-solution (tetrahedra, DOFs, memory) from the blank and the element sizes,
+    before any meshing; :meth:`~reducerlab.budget.Estimate.check` refuses it naming the
+    sizes and the blank fields."""
+    from ..fe.gear_mesh import MeshSizes, mesh_estimate
+
+    crown, bevel = design.tooth_generation(gear)
+    rim, features = gear_blank(design, gear)
+    sizes = MeshSizes.default(crown.profile.module) if sizes is None else sizes
+    return mesh_estimate(
+        crown, bevel, rim, features, sizes, what=f"gear {gear} body",
+        control=f"the element sizes (--tooth-size, --body-size; sizes=) or the blank "
+        f"(gear{gear}.blank.rim, surface.rim, gear{gear}.blank.web/hub)",
+    )  # fmt: skip
 
 
 def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[np.int64] | None:
@@ -306,6 +364,27 @@ def _at_points(basis: Any, skm: Any, mesh: GearBodyMesh, shapes: Any) -> NDArray
     return out
 
 
+def _mesh(design: Any, gear: int, crown: Any, bevel: Any, rim: float, features: Any,
+          sizes: Any, say: Stage) -> GearBodyMesh:  # fmt: skip
+    """:func:`~reducerlab.fe.gear_mesh.mesh_gear`, its failures naming the gear and its
+    body fields."""
+    from ..fe.gear_mesh import MeshError, mesh_gear
+
+    try:
+        return mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say)
+    except MeshError as exc:
+        body = f"rim = {rim * 1e3:.4g} mm"
+        if features.bore is not None:
+            body += (
+                f", bore = {features.bore * 1e3:.4g} mm, web = {features.web * 1e3:.4g} mm, "
+                f"hub = {features.hub * 1e3:.4g} mm, hub_length = "
+                f"{features.hub_length * 1e3:.4g} mm"
+            )
+        raise MeshError(
+            f"gear {gear} body ({body}; fields gear{gear}.blank.*, surface.rim): {exc}"
+        ) from None
+
+
 def _coarser(sizes: Any, crown: Any, bevel: Any, rim: float) -> Any:
     """The convergence run's sizes: ``COARSER`` times the result's, the tooth size kept
     within the half tooth depth that :func:`~reducerlab.fe.gear_mesh.mesh_gear` allows."""
@@ -348,7 +427,7 @@ def body_modal(
         ``stage(description)`` at each stage (progress display).
     """
     from ..fe import Material
-    from ..fe.gear_mesh import MeshSizes, check_sizes, mesh_gear
+    from ..fe.gear_mesh import MeshSizes, check_sizes
     from ..fe.modetypes import classify_modes
 
     check_bodies(design)
@@ -369,13 +448,14 @@ def body_modal(
     material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
     sizes = MeshSizes.default(crown.profile.module) if sizes is None else sizes
     check_sizes(crown, bevel, rim, sizes)  # before the convergence run
+    body_estimate(design, gear, sizes).check()  # the finer mesh, before any meshing
     coarse_f = np.full(count, math.nan)
     if convergence:
         say("coarser mesh (convergence check)")
-        coarse = mesh_gear(crown, bevel, rim=rim, features=features,
-                           sizes=_coarser(sizes, crown, bevel, rim), stage=say)  # fmt: skip
+        coarse = _mesh(design, gear, crown, bevel, rim, features,
+                       _coarser(sizes, crown, bevel, rim), say)  # fmt: skip
         coarse_f = _solve(coarse, material, count, boundary, say)[0]
-    mesh = mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say)
+    mesh = _mesh(design, gear, crown, bevel, rim, features, sizes, say)
     freq, shapes, weights, dofs, mass = _solve(mesh, material, count, boundary, say)
     say("classifying the modes")
     types = classify_modes(mesh.points, shapes, freq, weights)

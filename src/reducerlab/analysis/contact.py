@@ -35,6 +35,7 @@ if TYPE_CHECKING:
 __all__ = [
     "ContactResult",
     "auto_cell",
+    "check_load",
     "check_misalignment",
     "contact_analysis",
     "contact_pair",
@@ -53,6 +54,11 @@ EDGE_BAND = 0.1
 MAX_CELLS = 1200
 #: bounds of the automatic cell, in normal modules
 CELL_RANGE = (0.01, 0.1)
+#: largest load, as the mean strain ``p / E*`` it would cause spread evenly over the
+#: whole flank of every tooth pair examined: 1 %, above the yield strain of any gear
+#: steel (about 0.7 % at 1.5 GPa), while the real contact band, a fraction of the
+#: flank, carries many times that mean (``check_load``)
+LOAD_STRAIN = 0.01
 
 
 def auto_cell(run: Any, module: float) -> float:
@@ -263,6 +269,49 @@ def _load(design: Any, power: float | None, torque: float | None) -> float:
     return float(power) / float(speed)
 
 
+def check_load(pair: Any, torque: float, radius: float, E_star: float, speed: float | None,
+               power: bool = False) -> None:  # fmt: skip
+    """Refuse a torque on the external gear that no elastic tooth contact carries.
+
+    The normal force of the mesh is at least the tangential force ``torque / radius``
+    (``radius``: the external gear's mean radius). Spread evenly over the whole flank of
+    every tooth pair the contact grid examines, it must not strain the flanks by more
+    than :data:`LOAD_STRAIN` (mean pressure ``LOAD_STRAIN E*``). Beyond it the solution
+    is meaningless (the linear elastic contact model, the elastic approach as large as
+    the contact) and the solver would widen its grid to whole flanks, for minutes,
+    before failing; it is refused before any work.
+
+    Raises
+    ------
+    ReducerlabError
+        Naming the load (``power`` or ``torque``), the pressure, the bound and the largest
+        load allowed.
+    """
+    from ..contact.ltca import ContactGrid, flank_size
+
+    height, width = flank_size(pair.flank_a)
+    area = len(ContactGrid.teeth) * height * width
+    force = torque / radius
+    limit = LOAD_STRAIN * E_star * area
+    if force <= limit:
+        return
+    t_max = limit * radius
+    what = (
+        f"power: {torque * speed:.4g} W at {speed * 30 / math.pi:.5g} rpm ({torque:.4g} N m "
+        "on the external gear)"
+        if power and speed
+        else f"torque: {torque:.4g} N m on the external gear"
+    )
+    most = f"{t_max * speed:.4g} W" if power and speed else f"{t_max:.4g} N m"
+    raise ReducerlabError(
+        f"{what} presses the teeth with at least {force:.4g} N: "
+        f"{force / area * 1e-9:.4g} GPa spread over the whole flanks of the "
+        f"{len(ContactGrid.teeth)} tooth pairs examined ({area * 1e6:.4g} mm^2), more than "
+        f"{LOAD_STRAIN:.0%} of E* = {E_star * 1e-9:.4g} GPa: the flanks would yield "
+        f"everywhere and no elastic contact exists; at most {most}"
+    )
+
+
 @names_source
 def contact_analysis(
     design: Any,
@@ -316,9 +365,9 @@ def contact_analysis(
     stage, progress : callable, optional
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
     """
-    from ..contact.compliance import fe_tooth_compliance
+    from ..contact.compliance import compliance_estimate, fe_tooth_compliance
     from ..contact.halfspace import combined_modulus
-    from ..contact.ltca import ContactGrid, loaded_contact
+    from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
     from ..fe import Material
 
@@ -344,6 +393,13 @@ def contact_analysis(
     mat = design.material
     material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
     E, nu = material.E, material.nu
+    E_star = combined_modulus(E, nu, E, nu)
+    external = getattr(design, f"gear{2 * pair}")
+    check_load(mp, T_a, external.mean_radius, E_star, design.operating_speed, power is not None)
+    if cell is not None:
+        grid_estimate(mp, ContactGrid(float(cell))).check()
+    if compliance is None and not rigid:
+        compliance_estimate(mp, tooth_size).check()
     comp_a = comp_b = None
     if compliance is not None and not rigid:
         comp_a, comp_b = compliance
@@ -356,7 +412,6 @@ def contact_analysis(
                                      stage=say)  # fmt: skip
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
-    E_star = combined_modulus(E, nu, E, nu)
     s0 = ContactGrid.s_max
     if cell is None and rigid:
         h = PILOT * m_n  # the quick pattern: the pilot's grid

@@ -9,7 +9,7 @@ from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
 from ..fe.gear_mesh import MeshSizes
-from .body_modal import body_modal
+from .body_modal import body_estimate, body_modal
 from .components import ComponentModes
 
 __all__ = ["body_inputs", "body_mesh_sizes", "gear_body_modes"]
@@ -102,10 +102,11 @@ def gear_body_modes(
     list of ComponentModes
         One per gear computed, in gear order.
     """
+    gears = [g for g in range(1, design.gear_count + 1) if f"gear {g}" not in skip]
+    for g in gears:  # every body's budget before the first is meshed
+        body_estimate(design, g).check()
     out = []
-    for g in range(1, design.gear_count + 1):
-        if f"gear {g}" in skip:
-            continue
+    for g in gears:
         say = None if stage is None else (lambda s, g=g: stage(f"gear {g}: {s}"))
         res = body_modal(design, g, convergence=False, stage=say)
         out.append(ComponentModes.from_body_modal(res))

@@ -94,14 +94,27 @@ def user_errors() -> Iterator[None]:
         fail(exc)
 
 
+def count_text(completed: float, total: float | None) -> str:
+    """The counter of a progress bar: ``"3/24"``, or nothing while the total is unknown
+    (the bar then pulses; never ``"0/None"``)."""
+    if total is None:
+        return ""
+    return f"{completed:.0f}/{total:.0f}"
+
+
 def progress_bar() -> Progress:
-    """A transient progress bar on stderr; task descriptions are shown verbatim."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    """A transient progress bar on stderr; task descriptions are shown verbatim. A task
+    without a total (``total=None``) shows a pulsing bar and no counter."""
+    from rich.progress import BarColumn, Progress, ProgressColumn, TextColumn, TimeElapsedColumn
+
+    class CountColumn(ProgressColumn):
+        def render(self, task: Any) -> Text:
+            return Text(count_text(task.completed, task.total))
 
     return Progress(
         TextColumn("{task.description}", markup=False),
         BarColumn(),
-        TextColumn("{task.completed}/{task.total}", markup=False),
+        CountColumn(),
         TimeElapsedColumn(),
         console=err,
         transient=True,

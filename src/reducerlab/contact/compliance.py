@@ -33,6 +33,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -46,6 +47,7 @@ __all__ = [
     "FacetQuadratureError",
     "ToothCompliance",
     "bump_interaction",
+    "compliance_estimate",
     "facet_quadrature",
     "fe_tooth_compliance",
     "flank_influence",
@@ -142,6 +144,37 @@ def _linear(nodes: Array, x: Array) -> tuple[NDArray[np.int64], Array]:
     return i, np.stack([1.0 - t, t], axis=1)
 
 
+def _sizes(m_n: float, tooth_size: float | None, body_size: float | None) -> tuple[float, float]:
+    ts = 0.3 * m_n if tooth_size is None else float(tooth_size)
+    bs = 1.0 * m_n if body_size is None else float(body_size)
+    return ts, max(bs, ts)
+
+
+def compliance_estimate(
+    pair, tooth_size: float | None = None, body_size: float | None = None,
+    grid: tuple[int, int] = (6, 9), rim: float | None = None,
+) -> Any:  # fmt: skip
+    """The :class:`~reducerlab.budget.Estimate` of both gears' tooth-compliance models
+    of ``pair`` (five tooth sectors each, and the dense loads and responses of the
+    flank loads), from the element sizes before any meshing; the larger of the two."""
+    from ..fe.gear_mesh import BlankFeatures, MeshSizes, mesh_estimate
+
+    worst = None
+    for flank in (pair.flank_a, pair.flank_b):
+        crown, gear = flank.crown, flank.gear
+        m_n = crown.profile.module
+        ts, bs = _sizes(m_n, tooth_size, body_size)
+        est = mesh_estimate(
+            crown, gear, 2.0 * m_n if rim is None else rim, BlankFeatures(), MeshSizes(ts, bs),
+            what=f"contact: the tooth compliance of the {gear.kind} gear",
+            control="the tooth element size (--tooth-size, tooth_size=)", sectors=5,
+            dense_columns=len(TEETH) * grid[0] * grid[1],
+        )  # fmt: skip
+        if worst is None or est.memory > worst.memory:
+            worst = est
+    return worst
+
+
 def fe_tooth_compliance(
     flank,
     *,
@@ -174,14 +207,13 @@ def fe_tooth_compliance(
     say = stage or (lambda _s: None)
     crown, gear = flank.crown, flank.gear
     m_n = crown.profile.module
-    ts = 0.3 * m_n if tooth_size is None else float(tooth_size)
-    bs = 1.0 * m_n if body_size is None else float(body_size)
+    ts, bs = _sizes(m_n, tooth_size, body_size)
     n_u, n_v = (int(g) for g in grid)
     if n_u < 2 or n_v < 2:
         raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
     a = 2.0 * ts  # bump radius: two tooth elements
     say("meshing five tooth sectors")
-    mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, max(bs, ts)), sectors=range(-2, 3))
+    mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, bs), sectors=range(-2, 3))
     # load grid, inset by the bump radius from the flank's edges (arc length)
     u_nodes, v_nodes = load_nodes(flank, a, n_u, n_v)
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")

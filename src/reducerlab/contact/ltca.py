@@ -36,11 +36,21 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import RegularGridInterpolator
 
+from ..budget import Estimate
 from ..errors import ReducerlabError
-from .complementarity import ContactError, solve_contact
+from .complementarity import MAX_SET, ContactError, solve_contact
 from .flanks import MeshPair, separations
 
-__all__ = ["ContactGrid", "PositionContact", "loaded_contact"]
+__all__ = [
+    "MAX_CANDIDATES",
+    "MAX_GRID_CELLS",
+    "ContactGrid",
+    "PositionContact",
+    "candidate_estimate",
+    "flank_size",
+    "grid_estimate",
+    "loaded_contact",
+]
 
 Array = NDArray[np.float64]
 
@@ -53,6 +63,22 @@ S_MAX_LIMIT = 1e-3
 #: gap ``g - lam psi + (C F)_i`` stays positive); the completeness check widens it
 #: where the next position needs more
 MARGIN = 1.1
+
+
+#: fine cells on one flank at most (the documented work bound of the contact grid): 3x
+#: the finest automatic grid (``0.01 m_n`` cells) of a flank 15 m_n wide
+MAX_GRID_CELLS = 1_000_000
+
+#: bytes per fine cell of the grid set-up, both flanks (cell axes and geometry, the
+#: flank-edge distance maps; measured 510 B on ``examples/nutation_surface.toml``)
+GRID_BYTES = 640
+
+#: candidate cells of one mesh position at most (the dense compliance matrix among them
+#: is made column by column; its contact set is bounded by ``MAX_SET``)
+MAX_CANDIDATES = 3 * MAX_SET
+
+#: the setting that sizes the contact grid, as the refusals name it
+CELL_CONTROL = "the contact cell (--cell, cell=)"
 
 
 @dataclass(frozen=True)
@@ -249,6 +275,45 @@ def _cells(flank, u: Array, v: Array, du: Array, dv: Array) -> tuple[Array, ...]
     return e1, e2, hu, area / (4 * hu), area
 
 
+def flank_size(flank, n: int = 201) -> tuple[float, float]:
+    """Arc lengths (m) of a flank along its profile (mid-face) and along its face
+    (mid-height)."""
+    _, arc_u = _arc(flank, True, 0.5, n)
+    _, arc_v = _arc(flank, False, 0.5 * sum(flank.u_range), n)
+    return float(arc_u[-1]), float(arc_v[-1])
+
+
+def grid_estimate(pair: MeshPair, grid: ContactGrid, control: str = CELL_CONTROL) -> Estimate:
+    """The fine cells of the contact grid of ``pair`` and the memory of its set-up,
+    from the flanks' arc lengths and ``grid.cell`` alone (milliseconds, nothing
+    allocated by the cell count): check it before :func:`loaded_contact`.
+
+    Work: fine cells on the larger flank, bounded by :data:`MAX_GRID_CELLS`; memory:
+    :data:`GRID_BYTES` per cell, both flanks."""
+    cells = []
+    for flank in (pair.flank_a, pair.flank_b):
+        su, sv = flank_size(flank)
+        nu = math.ceil(su / grid.cell) + grid.coarse
+        nv = math.ceil(sv / grid.cell) + grid.coarse
+        cells.append(float(nu) * float(nv))
+    return Estimate(
+        f"contact: the grid of {grid.cell * 1e3:.3g} mm cells on the flanks",
+        GRID_BYTES * sum(cells), max(cells), "fine cells", MAX_GRID_CELLS, control,
+    )  # fmt: skip
+
+
+def candidate_estimate(n: int, phi: float, control: str = CELL_CONTROL) -> Estimate:
+    """The compliance matrix among ``n`` candidate cells of one mesh position (dense,
+    ``8 n^2`` bytes) and the contact set's block and Cholesky factor (``16 m^2``,
+    ``m = min(n, MAX_SET)``); work bounded by :data:`MAX_CANDIDATES`."""
+    m = min(n, MAX_SET)
+    return Estimate(
+        f"contact: the compliance matrix at mesh position {math.degrees(phi):.4g} deg",
+        8.0 * n * n + 16.0 * m * m + 400.0 * n, float(n), "candidate cells",
+        MAX_CANDIDATES, f"{control} or the load (--power, --torque)",
+    )  # fmt: skip
+
+
 def loaded_contact(
     pair: MeshPair,
     torque: float,
@@ -285,6 +350,7 @@ def loaded_contact(
     phis = np.atleast_1d(np.asarray(positions, float))
     if phis.ndim != 1 or not np.all(np.isfinite(phis)):
         raise ReducerlabError("positions: must be a 1-D array of finite angles (rad)")
+    grid_estimate(pair, grid).check()
     A = pair.flank_a
     pu, arc_u = _arc(A, True, 0.5)
     pv, arc_v = _arc(A, False, 0.5 * sum(A.u_range))
@@ -358,6 +424,7 @@ def loaded_contact(
                                  (compliance_b, (uv_b[:, 0], uv_b[:, 1])))
                 if comp is not None
             ]  # fmt: skip
+            candidate_estimate(len(P), float(phi)).check()
             C = CellCompliance(P, e1, e2, hu, hv, E_star, teeth, bending)
             keys = list(zip(teeth.tolist(), idx.tolist(), strict=True))
             start = np.array([k in prev for k in keys])
@@ -370,6 +437,13 @@ def loaded_contact(
             worst = min(left.min(initial=np.inf), out_g.min(initial=np.inf))
             if worst > 0:
                 break
+            if s_max > S_MAX_LIMIT:
+                raise ContactError(
+                    f"contact: at mesh position {math.degrees(phi):.4g} deg the load closes "
+                    f"gaps wider than {S_MAX_LIMIT * 1e3:.3g} mm (elastic approach "
+                    f"{float(np.max(lam * approach)) * 1e3:.3g} mm): far beyond what the "
+                    "teeth carry elastically; lower the load (--power, --torque)"
+                )
             s_max *= 2.0
         edge = edge_a[idx] | (edge_b(sel["uv_b"][keep]) < band)
         out.append(

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..budget import Estimate
 from ..errors import ReducerlabError
 from ..geometry.bevel_surface import BevelGear
 from ..geometry.solid import Blank, build_gear_solid, cone_coordinates, default_blank
@@ -46,8 +47,11 @@ __all__ = [
     "GearBodyMesh",
     "MeshError",
     "MeshSizes",
+    "check_blank",
     "check_sizes",
+    "element_density",
     "gmsh_session",
+    "mesh_estimate",
     "mesh_gear",
     "tet_options",
 ]
@@ -403,6 +407,86 @@ def _side_surfaces(gmsh: Any, phi: float, tol: float) -> list[int]:
     return out
 
 
+def element_density(
+    crown: CrownGear,
+    gear: BevelGear,
+    rim: float,
+    features: BlankFeatures,
+    sizes: MeshSizes,
+    sectors: int | None = None,
+) -> float:
+    """``sum V / s^3`` over the gear body (dimensionless): its volume in cubes of the
+    local element size ``s`` of :func:`mesh_gear`'s size field (the tooth band at the
+    tooth size, taken whole, spaces included; the rim graded to the body size over one
+    tooth depth; web and hub at the body size), for ``sectors`` tooth sectors (default
+    the whole gear). No CAD, no meshing: milliseconds."""
+    bl = default_blank(crown, gear, rim)
+    delta = gear.cone_angle
+    a, b = sizes.tooth, sizes.body
+    depth = abs(bl.face - bl.root)
+    total = abs(bl.ring_volume(delta, bl.root, bl.face)) / a**3
+    steps = 32
+    edges = np.linspace(bl.root, bl.body, steps + 1)
+    for h0, h1 in itertools.pairwise(edges):
+        d = abs(0.5 * (h0 + h1) - bl.root) / depth
+        s = a + (b - a) * min(1.0, d)
+        total += abs(bl.ring_volume(delta, h0, h1)) / s**3
+    polys, _ = _feature_polygons(gear, bl, features, crown.profile.module)
+    for poly in polys:
+        r = np.array([p[0] for p in poly])
+        z = np.array([p[1] for p in poly])
+        r1, z1 = np.roll(r, -1), np.roll(z, -1)
+        cross = r * z1 - r1 * z
+        area = 0.5 * cross.sum()
+        rc = ((r + r1) * cross).sum() / (6.0 * area) if area else 0.0
+        total += abs(2 * math.pi * rc * area) / b**3  # Pappus
+    share = 1.0 if sectors is None else min(sectors, gear.teeth) / gear.teeth
+    return float(total * share)
+
+
+#: DOFs of one finite-element gear model at most (quadratic tetrahedra, 3 per node): the
+#: documented work bound of ``body-modal``, ``check --bodies`` and the contact analysis'
+#: tooth compliance (the default meshes of the bundled gears have 0.14-0.16 million)
+MAX_DOFS = 3_000_000
+#: tetrahedra per cube of the local element size (``element_density``): gmsh's HXT
+#: mesher gave 3.2 (fine meshes) to 5.3 (coarse, surface-dominated) on the bundled
+#: gears; the estimate takes the high side
+TETS_PER_CUBE = 5.5
+#: P2 nodes per tetrahedron (measured 1.65-1.80)
+NODES_PER_TET = 1.8
+#: peak bytes per DOF of meshing, assembling the P2 stiffness and mass matrices and
+#: factorising ``K - sigma M`` (measured on the bundled gears: see docs/reliability.md)
+BYTES_PER_DOF = 16_000.0
+
+
+def mesh_estimate(
+    crown: CrownGear,
+    gear: BevelGear,
+    rim: float,
+    features: BlankFeatures,
+    sizes: MeshSizes,
+    *,
+    what: str,
+    control: str,
+    sectors: int | None = None,
+    dense_columns: int = 0,
+) -> Estimate:
+    """The tetrahedra, DOFs and peak memory of meshing gear ``gear`` with ``sizes`` and
+    solving on it, estimated from the body's volume and the element sizes
+    (:func:`element_density`) before gmsh runs (milliseconds).
+
+    ``dense_columns`` adds dense load and solution blocks of that many columns (the
+    tooth-compliance model's flank loads). Work: DOFs, bounded by :data:`MAX_DOFS`."""
+    tets = TETS_PER_CUBE * element_density(crown, gear, rim, features, sizes, sectors)
+    dofs = 3.0 * NODES_PER_TET * tets
+    memory = BYTES_PER_DOF * dofs + 3 * 8.0 * dofs * dense_columns
+    return Estimate(
+        f"{what}: a mesh of about {tets:.3g} quadratic tetrahedra ({sizes.tooth * 1e3:.3g} mm "
+        f"in the teeth, {sizes.body * 1e3:.3g} mm in the blank)",
+        memory, dofs, "DOFs", MAX_DOFS, control,
+    )  # fmt: skip
+
+
 def max_tooth_size(crown: CrownGear, gear: BevelGear, rim: float) -> float:
     """Largest tooth-band element size (m) that resolves a tooth: half its depth."""
     return _max_tooth(default_blank(crown, gear, rim))
@@ -410,6 +494,37 @@ def max_tooth_size(crown: CrownGear, gear: BevelGear, rim: float) -> float:
 
 def _max_tooth(bl: Blank) -> float:
     return 0.5 * abs(bl.face - bl.root)
+
+
+def check_blank(
+    crown: CrownGear, gear: BevelGear, rim: float, features: BlankFeatures | None = None
+) -> Blank:
+    """The blank of the gear, after checking its body geometry before any CAD work: the
+    rim of an external gear must stay half a module clear of the axis at the toe (its
+    body cone closes toward the apex), and the web and hub must fit the rim
+    (:class:`BlankFeatures`).
+
+    Raises
+    ------
+    MeshError
+        ``rim: ...`` or ``blank.web: ...``, ``blank.hub: ...`` with the dimension and
+        its limit.
+    """
+    m_n = crown.profile.module
+    bl = default_blank(crown, gear, rim)
+    delta = gear.cone_angle
+    if gear.kind == "external":
+        r_toe = _rz(bl.front, bl.body, delta)[0]
+        if r_toe < 0.5 * m_n:
+            most = rim - (0.5 * m_n - r_toe) / math.cos(delta)
+            raise MeshError(
+                f"rim: {rim * 1e3:.5g} mm reaches past the axis of the external gear (its "
+                f"body cone meets the axis inside the toe: inner radius {r_toe * 1e3:.4g} mm "
+                f"at the toe); at most {max(most, 0.0) * 1e3:.4g} mm leaves half a module "
+                "clear of the axis"
+            )
+    _feature_polygons(gear, bl, features or BlankFeatures(), m_n)
+    return bl
 
 
 def check_sizes(crown: CrownGear, gear: BevelGear, rim: float, sizes: MeshSizes) -> Blank:
@@ -479,6 +594,31 @@ def mesh_gear(
     features = BlankFeatures() if features is None else features
     sizes = MeshSizes.default(m_n) if sizes is None else sizes
     bl = check_sizes(crown, gear, rim, sizes)
+    check_blank(crown, gear, rim, features)
+    mesh_estimate(
+        crown, gear, rim, features, sizes, what="gear body", control="the element sizes",
+        sectors=None if sectors is None else len(sectors),
+    ).check()  # fmt: skip
+    try:
+        return _mesh_gear(crown, gear, bl, rim, features, sizes, stage, threads, sectors)
+    except ReducerlabError:
+        raise
+    except Exception as exc:  # gmsh raises plain Exception; any other failure inside it
+        raise MeshError(f"gear body: gmsh failed ({exc})") from None
+
+
+def _mesh_gear(
+    crown: CrownGear,
+    gear: BevelGear,
+    bl: Blank,
+    rim: float,
+    features: BlankFeatures,
+    sizes: MeshSizes,
+    stage: Stage | None,
+    threads: int,
+    sectors: range | None,
+) -> GearBodyMesh:
+    m_n = crown.profile.module
     depth = abs(bl.face - bl.root)
     z = gear.teeth
     pitch = 2 * math.pi / z

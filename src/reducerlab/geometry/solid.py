@@ -82,6 +82,15 @@ Array = NDArray[np.float64]
 Progress = Callable[[int, int], None]
 
 
+#: vertices of a whole-gear triangle mesh at most (``surface --export``): 4 times the
+#: 28-tooth example at the finest ``--points 401``
+MAX_MESH_VERTICES = 1e8
+#: peak bytes per vertex of a whole-gear triangle mesh: the patterned sections, the
+#: vertices and two triangles each, and their normals and export buffers (measured 620 B
+#: at ``--points 101``)
+MESH_BYTES = 800
+
+
 class SolidError(ProfileError):
     """The gear solid cannot be built (pointed tooth, crossing flanks, bad blank...)."""
 
@@ -328,8 +337,23 @@ class GearSolid:
         loop, body = self._sector_points()
         return _closed_mesh(loop, body, cyclic=False, name=f"{self.gear.kind} gear tooth")
 
+    def gear_mesh_estimate(self, control: str = "--points or --tooth") -> Any:
+        """The :class:`~reducerlab.budget.Estimate` of :meth:`gear_mesh`: vertices
+        (``z`` copies of the section points, loop and body) and :data:`MESH_BYTES` per
+        vertex, bounded by :data:`MAX_MESH_VERTICES`; check it before patterning."""
+        from ..budget import Estimate
+
+        nf, npch, _ = self.loop.shape
+        vertices = 2.0 * nf * npch * self.gear.teeth
+        return Estimate(
+            f"surface: the whole gear's triangle mesh ({self.gear.teeth} teeth)",
+            MESH_BYTES * vertices, vertices, "vertices", MAX_MESH_VERTICES, control,
+        )  # fmt: skip
+
     def gear_mesh(self, progress: Progress | None = None) -> TriangleMesh:
-        """Closed mesh of the whole gear (``z`` teeth patterned about the axis)."""
+        """Closed mesh of the whole gear (``z`` teeth patterned about the axis); its
+        size is checked first (:meth:`gear_mesh_estimate`)."""
+        self.gear_mesh_estimate().check()
         z = self.gear.teeth
         nf, npch, _ = self.loop.shape
         loop = np.empty((nf, z * npch, 3))
