@@ -33,10 +33,10 @@ import traceback
 from datetime import date
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-from tests.fuzz_commands import Case, cases, combinations
+from fuzz_commands import Case, cases, combinations
 
 
 def _child(args: tuple[str, ...], cap: int, out_path: str) -> None:  # pragma: no cover

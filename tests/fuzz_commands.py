@@ -82,7 +82,7 @@ def cases(tmp: str) -> list[Case]:
                        [misalign, "misalignment."])  # fmt: skip
     out += _option(contact, "--shaft-angle", ["nan", "inf", "1e300", "5 kg", "90 deg"],
                    ["--shaft-angle", "misalignment.shaft_angle"])  # fmt: skip
-    out += _option(contact, "--write-design", ["/nonexistent-dir/x.toml", folder, "/dev/null"],
+    out += _option(contact, "--write-design", [f"{text}/x.toml", folder, "/dev/null"],
                    ["--write-design"])  # fmt: skip
     check = ["check", GEAR]
     out += _option(check, "--body-modes", ["/dev/null", folder, f"{tmp}/missing.nc", text],
@@ -95,7 +95,7 @@ def cases(tmp: str) -> list[Case]:
     out += _option(report, "--with", ["/dev/null", folder, f"{tmp}/missing.nc", text],
                    ["--with", "result", "file"])  # fmt: skip
     out += _option(report, "--section", ["nonexistent", ""], ["--section", "section"])
-    out += _option(report, "-o", ["/dev/null/r.html", f"{tmp}/r.txt", "/nonexistent-dir/r.html"],
+    out += _option(report, "-o", ["/dev/null/r.html", f"{tmp}/r.txt", f"{text}/r.html"],
                    ["-o", "--output", "output"])  # fmt: skip
     return out
 

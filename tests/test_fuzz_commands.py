@@ -14,10 +14,9 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
+from fuzz_commands import cases
 from reducerlab.budget import MEMORY_ENV
 from reducerlab.cli import app
-
-from .fuzz_commands import cases
 
 
 class ReachedWork(Exception):

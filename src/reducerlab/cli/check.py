@@ -73,6 +73,10 @@ def check(
             parts = parse_speeds(speed_range, "--speed-range")
             if parts is None or len(parts) != 2:
                 raise ReducerlabError("--speed-range must be 'MIN,MAX' in rpm")
+            if not parts[0] <= parts[1]:
+                raise ReducerlabError(
+                    f"--speed-range {speed_range!r}: MIN must not exceed MAX ('MIN,MAX' in rpm)"
+                )
             rng = (parts[0], parts[1])
         d = load_design(design, sets or ())
         components = []
