@@ -209,3 +209,28 @@ def test_bundled_rattle_design_has_a_non_trivial_x1_diagram():
     # for another class
     early = bifurcation(d, axis, periods=600, keep=100, exponents=True).labels()
     assert all(a in (b, "unsettled") for a, b in zip(early, settled, strict=True))
+
+
+def test_the_quasi_periodic_tongue_spans_the_band_the_doc_states():
+    """docs/paper_004_regimes.md (reading A) states the bands of the package's own 10 rpm
+    map (issue 26, item 7): at x1 = 0.416 quasi-periodic from 1160 to 1280 rpm in both
+    sweep directions, interrupted by a period-3 stripe at 1220 rpm, period-1 at 1150 and
+    1290 rpm. The same row (10 rpm steps) swept up and down from its ends; the edges are
+    known to the 10 rpm of the grid, which is what the doc claims."""
+    from reducerlab.analysis.parameters import parse_values
+    from reducerlab.analysis.regime_map import regime_map
+
+    res = regime_map(
+        load_design(EXAMPLE),
+        parse_values("input_speed", "lin:1150 rpm:1290 rpm:15"),
+        parse_values("gears.x1", "0.416"),
+        continuation="both",
+    )
+    rpm = np.round(res.data.p0.values * 30 / math.pi)
+    expected = [
+        "period-1" if v in (1150, 1290) else "period-3" if v == 1220 else "quasi-periodic"
+        for v in rpm
+    ]
+    labels = np.asarray(res.labels())
+    assert list(labels[0, 0]) == expected
+    assert list(labels[1, 0]) == expected
