@@ -80,10 +80,10 @@ def classify(
     range), else ``"unsettled"`` when the points still converge (:func:`_converging`:
     their spread, or for some n <= ``max_period`` their n-step differences
     ``|x[k+n] - x[k]|``, shrink from quarter to quarter of the sequence, the last below
-    :data:`SETTLE` times the first, and the shrinking is carried by decaying modes of the
-    sequence, not by a slow drift along a closed curve: a transient of a lightly damped
-    mode towards a fixed point, a period-n orbit or a torus, not an attractor; run more
-    periods), else ``"quasi-periodic"``.
+    :data:`SETTLE` times the first, and the sequence is a periodic orbit plus decaying
+    modes, not a slow drift along a closed curve: a transient of a lightly damped mode
+    towards a fixed point or a period-n orbit, not an attractor; run more periods), else
+    ``"quasi-periodic"``.
     """
     if exponent > chaos * frequency:
         return "chaotic"
@@ -105,23 +105,25 @@ def _converging(pts: NDArray, max_period: int, tol: float = 1e-3) -> bool:
        for some n <= ``max_period`` the largest n-step difference ``|x[k+n] - x[k]|`` in
        each quarter (towards a period-n orbit), shrinks from quarter to quarter, the
        last below :data:`SETTLE` times the first;
-    2. decaying modes carry the shrinking: with its decaying part removed
+    2. it is a periodic orbit plus decaying modes: with its decaying part removed
        (:func:`_decaying_part`: the modes ``c z**k`` of a linear-prediction fit with
-       ``|z| < SETTLE**(1 / (2 (N - 1)))``) the sequence no longer shrinks (or what
-       still shrinks stays within ``tol`` of its range).
+       ``|z| < SETTLE**(1 / (2 (N - 1)))``) it repeats every n <= ``max_period`` points
+       to ``tol`` of its range (the test of period-n in :func:`classify`).
 
-    A transient is a periodic orbit plus modes decaying geometrically (roots inside the
-    unit circle); a quasi-periodic sequence ``f(theta0 + 2 pi rho k)`` is a sum of
-    undamped modes ``exp(i 2 pi m rho k)`` (roots on the unit circle). Near a rational
-    rotation number p/n its points drift slowly along the curve and the n-step
+    A transient towards a fixed point or a period-n orbit is that orbit plus modes
+    decaying geometrically (roots inside the unit circle); a quasi-periodic sequence
+    ``f(theta0 + 2 pi rho k)`` is a sum of undamped modes ``exp(i 2 pi m rho k)`` (roots
+    on the unit circle) and stays aperiodic with any decaying modes removed. Near a
+    rational rotation number p/n its points drift slowly along the curve and the n-step
     differences can shrink over the window (where the drift nears an extremum of the
-    curve): condition 1 alone called such sequences unsettled (issue 26), condition 2
-    does not, since removing the (absent or negligible) decaying modes leaves the
-    shrinking in place. The root bound is looser than what condition 1 can see (a mode
-    losing ``1 - SETTLE`` over three quarters of the window has ``|z|`` below it), so a
-    transient condition 1 detects has all its decay in the decaying part.
+    curve, or slows near the ghost of a period-n orbit at the edge of its locking
+    tongue): condition 1 alone called such sequences unsettled (issue 26). The root
+    bound is looser than what condition 1 can see (a mode losing ``1 - SETTLE`` over
+    three quarters of the window has ``|z|`` below it), so a transient condition 1
+    detects has all its decay in the decaying part. A drift over a short stretch of a
+    curve rich in harmonics can still pass both (more kept points resolve it).
     """
-    if not _shrinking(pts, max_period, 0.0):
+    if not _shrinking(pts, max_period):
         return False
     if not np.all(np.isfinite(pts)):
         return True
@@ -130,17 +132,14 @@ def _converging(pts: NDArray, max_period: int, tol: float = 1e-3) -> bool:
         rest = pts - _decaying_part(pts)
     except np.linalg.LinAlgError:  # no fit: keep condition 1
         return True
-    return not _shrinking(rest, max_period, tol * span)
+    return any(np.all(np.abs(rest[n:] - rest[:-n]) <= tol * span) for n in range(1, max_period + 1))
 
 
-def _shrinking(pts: NDArray, max_period: int, floor: float) -> bool:
-    """Condition 1 of :func:`_converging`, counting only quarters that start above
-    ``floor``."""
+def _shrinking(pts: NDArray, max_period: int) -> bool:
+    """Condition 1 of :func:`_converging`."""
 
     def shrinking(q: list[float]) -> bool:
-        return (
-            q[0] > floor and q[3] < SETTLE * q[0] and all(a >= b for a, b in itertools.pairwise(q))
-        )
+        return q[3] < SETTLE * q[0] and all(a >= b for a, b in itertools.pairwise(q))
 
     if shrinking([float(np.ptp(part)) for part in np.array_split(pts, 4)]):
         return True
@@ -185,11 +184,11 @@ def _decaying_part(pts: NDArray) -> NDArray:
 
 
 #: A Poincaré sequence whose spread (or n-step differences) shrinks from quarter to
-#: quarter, the last below this fraction of the first, and whose shrinking is carried by
+#: quarter, the last below this fraction of the first, and which is a periodic orbit plus
 #: decaying modes, is still converging (``classify``: "unsettled", :func:`_converging`).
 #: A quasi-periodic sequence fills its closed curve in every quarter (no steady
-#: shrinking) or drifts along it (no decaying modes); a transient decaying by a factor 2
-#: over the kept points ends at ~0.6.
+#: shrinking) or drifts along it (aperiodic with decaying modes removed); a transient
+#: decaying by a factor 2 over the kept points ends at ~0.6.
 SETTLE = 0.8
 
 
