@@ -194,6 +194,45 @@ def test_a_transient_towards_a_period_3_orbit_is_unsettled():
     assert classify(torus, -0.5, f) == "quasi-periodic"
 
 
+# issue 26 (7): quasi-periodic sequences near a rational rotation number p/n drift slowly
+# along their curve; where the drift nears an extremum the n-step differences shrink over
+# the 64 kept points, which alone called them unsettled. Each case below shrinks so
+# (condition 1 of _converging) yet has no decaying mode.
+CURVES = {
+    "c2": lambda t: np.cos(t) + 0.3 * np.cos(2 * t),
+    "c3": lambda t: np.cos(t) + 0.3 * np.cos(2 * t) + 0.1 * np.sin(3 * t),
+}
+
+
+@pytest.mark.parametrize(
+    ("curve", "rho", "theta0"),
+    [("c2", 0.3268, 6.0214), ("c2", 0.3305, 4.1888), ("c2", 0.3329, 2.3562),
+     ("c2", 0.3361, 2.8798), ("c3", 0.3326, 1.309), ("c3", 0.3398, 0.2618),
+     ("c2", 0.2478, 4.7124), ("c3", 0.2521, 1.8326), ("c2", 0.5002, 1.309),
+     ("c2", 0.4965, 1.0472), ("c2", 0.4019, 0.0), ("c3", 0.401, 1.309)],
+)  # fmt: skip
+def test_a_drift_along_a_quasi_periodic_curve_is_not_unsettled(curve, rho, theta0):
+    from reducerlab.analysis.motion import _shrinking
+
+    x = CURVES[curve](theta0 + 2 * math.pi * rho * np.arange(64))
+    assert _shrinking(x, 12)
+    assert classify(x, -1.0, 1.0) == "quasi-periodic"
+
+
+@pytest.mark.parametrize("orbit", [(0.3,), (1.0, -0.5), (1.0, -0.4, 0.3)])
+@pytest.mark.parametrize("factor", [0.5, 0.7])
+@pytest.mark.parametrize("omega", [0.0, 1.0, 2.1, math.pi])
+def test_decaying_transients_stay_unsettled(orbit, factor, omega):
+    # towards a fixed point, a period-2 or a period-3 orbit, by a real (omega 0 or pi)
+    # or complex root, the amplitude falling by `factor` over the 64 points; also with
+    # white noise of 1e-5 of the range (the decaying part comes from a fit)
+    k = np.arange(64)
+    x = np.array(orbit)[k % len(orbit)] + 0.3 * factor ** (k / 63) * np.cos(omega * k + 0.7)
+    assert classify(x, -1.0, 1.0) == "unsettled"
+    noise = np.random.default_rng(7).standard_normal(64)
+    assert classify(x + 1e-5 * np.ptp(x) * noise, -1.0, 1.0) == "unsettled"
+
+
 def test_response_outputs_and_cli(tmp_path):
     from typer.testing import CliRunner
 

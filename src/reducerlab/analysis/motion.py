@@ -77,11 +77,13 @@ def classify(
     ``"chaotic"`` when the exponent exceeds ``chaos`` x the forcing frequency (1/s per
     Hz: a separation growing by e within ~100 periods), else ``"period-n"`` when the
     Poincaré sequence repeats every n <= ``max_period`` points (to ``tol`` of its
-    range), else ``"unsettled"`` when the points still converge (their spread, or for
-    some n <= ``max_period`` their n-step differences ``|x[k+n] - x[k]|``, shrink from
-    quarter to quarter of the sequence, the last below :data:`SETTLE` times the first: a
-    transient of a lightly damped mode towards a fixed point or a period-n orbit, not an
-    attractor; run more periods), else ``"quasi-periodic"``.
+    range), else ``"unsettled"`` when the points still converge (:func:`_converging`:
+    their spread, or for some n <= ``max_period`` their n-step differences
+    ``|x[k+n] - x[k]|``, shrink from quarter to quarter of the sequence, the last below
+    :data:`SETTLE` times the first, and the sequence is a periodic orbit plus decaying
+    modes, not a slow drift along a closed curve: a transient of a lightly damped mode
+    towards a fixed point or a period-n orbit, not an attractor; run more periods), else
+    ``"quasi-periodic"``.
     """
     if exponent > chaos * frequency:
         return "chaotic"
@@ -89,16 +91,52 @@ def classify(
     n = period_of(pts, tol, max_period)
     if n:
         return f"period-{n}"
-    if pts.size >= 16 and _converging(pts, max_period):
+    if pts.size >= 16 and _converging(pts, max_period, tol):
         return "unsettled"
     return "quasi-periodic"
 
 
-def _converging(pts: NDArray, max_period: int) -> bool:
-    """Whether a Poincaré sequence still converges: the spread of its quarters (a
-    transient towards a fixed point), or for some n <= ``max_period`` the largest n-step
-    difference ``|x[k+n] - x[k]|`` in each quarter (towards a period-n orbit), shrinks
-    from quarter to quarter, the last below :data:`SETTLE` times the first."""
+def _converging(pts: NDArray, max_period: int, tol: float = 1e-3) -> bool:
+    """Whether a Poincaré sequence still converges.
+
+    Two conditions, both needed:
+
+    1. it shrinks: the spread of its quarters (a transient towards a fixed point), or
+       for some n <= ``max_period`` the largest n-step difference ``|x[k+n] - x[k]|`` in
+       each quarter (towards a period-n orbit), shrinks from quarter to quarter, the
+       last below :data:`SETTLE` times the first;
+    2. it is a periodic orbit plus decaying modes: with its decaying part removed
+       (:func:`_decaying_part`: the modes ``c z**k`` of a linear-prediction fit with
+       ``|z| < SETTLE**(1 / (2 (N - 1)))``) it repeats every n <= ``max_period`` points
+       to ``tol`` of its range (the test of period-n in :func:`classify`).
+
+    A transient towards a fixed point or a period-n orbit is that orbit plus modes
+    decaying geometrically (roots inside the unit circle); a quasi-periodic sequence
+    ``f(theta0 + 2 pi rho k)`` is a sum of undamped modes ``exp(i 2 pi m rho k)`` (roots
+    on the unit circle) and stays aperiodic with any decaying modes removed. Near a
+    rational rotation number p/n its points drift slowly along the curve and the n-step
+    differences can shrink over the window (where the drift nears an extremum of the
+    curve, or slows near the ghost of a period-n orbit at the edge of its locking
+    tongue): condition 1 alone called such sequences unsettled (issue 26). The root
+    bound is looser than what condition 1 can see (a mode losing ``1 - SETTLE`` over
+    three quarters of the window has ``|z|`` below it), so a transient condition 1
+    detects has all its decay in the decaying part. A drift over a short stretch of a
+    curve rich in harmonics can still pass both (more kept points resolve it).
+    """
+    if not _shrinking(pts, max_period):
+        return False
+    if not np.all(np.isfinite(pts)):
+        return True
+    span = max(float(np.ptp(pts)), float(np.abs(pts).max()), 1e-300)
+    try:
+        rest = pts - _decaying_part(pts)
+    except np.linalg.LinAlgError:  # no fit: keep condition 1
+        return True
+    return any(np.all(np.abs(rest[n:] - rest[:-n]) <= tol * span) for n in range(1, max_period + 1))
+
+
+def _shrinking(pts: NDArray, max_period: int) -> bool:
+    """Condition 1 of :func:`_converging`."""
 
     def shrinking(q: list[float]) -> bool:
         return q[3] < SETTLE * q[0] and all(a >= b for a, b in itertools.pairwise(q))
@@ -112,10 +150,45 @@ def _converging(pts: NDArray, max_period: int) -> bool:
     return False
 
 
-#: A Poincaré sequence whose spread shrinks from quarter to quarter, the last below this
-#: fraction of the first, is still converging (``classify``: "unsettled"). A
-#: quasi-periodic sequence fills its closed curve in every quarter (no steady shrinking);
-#: a transient decaying by a factor 2 over the kept points ends at ~0.6.
+#: Singular values of the Hankel matrix below this share of the largest are noise
+#: (:func:`_decaying_part`).
+_RANK_TOL = 1e-7
+
+
+def _decaying_part(pts: NDArray) -> NDArray:
+    """The decaying modes of a sequence ``x_k`` (k = 0..N-1): fit ``x_k = sum_i c_i
+    z_i**k`` by the matrix-pencil method (Hankel matrix of N/2 + 1 columns, its rank
+    from the singular values above :data:`_RANK_TOL` of the largest, the roots ``z_i``
+    as the eigenvalues of the shifted signal subspace, the amplitudes ``c_i`` by least
+    squares) and return the sum over the modes with ``|z_i| < SETTLE**(1 / (2 (N -
+    1)))``, those losing at least ``1 - sqrt(SETTLE)`` (~11 %) over the sequence."""
+    x = np.asarray(pts, float)
+    size = x.size
+    cols = size // 2
+    hankel = np.lib.stride_tricks.sliding_window_view(x, cols + 1)
+    _, sing, vh = np.linalg.svd(hankel, full_matrices=False)
+    rank = int(np.sum(sing > _RANK_TOL * sing[0]))
+    if rank == 0:
+        return np.zeros_like(x)
+    sub = vh[:rank].conj().T
+    roots = np.linalg.eigvals(np.linalg.pinv(sub[:-1]) @ sub[1:])
+    # z**k, or z**(k - N + 1) where |z| > 1: no column above 1 in modulus
+    k = np.arange(size)[:, None]
+    with np.errstate(divide="ignore"):
+        log = np.log(roots.astype(complex))
+    with np.errstate(invalid="ignore", over="ignore"):
+        basis = np.nan_to_num(np.exp((k - np.where(log.real > 0, size - 1, 0)) * log))
+    amp = np.linalg.lstsq(basis, x.astype(complex), rcond=None)[0]
+    decaying = np.abs(roots) < SETTLE ** (1 / (2 * (size - 1)))
+    return (basis[:, decaying] @ amp[decaying]).real
+
+
+#: A Poincaré sequence whose spread (or n-step differences) shrinks from quarter to
+#: quarter, the last below this fraction of the first, and which is a periodic orbit plus
+#: decaying modes, is still converging (``classify``: "unsettled", :func:`_converging`).
+#: A quasi-periodic sequence fills its closed curve in every quarter (no steady
+#: shrinking) or drifts along it (aperiodic with decaying modes removed); a transient
+#: decaying by a factor 2 over the kept points ends at ~0.6.
 SETTLE = 0.8
 
 
