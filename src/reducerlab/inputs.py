@@ -18,7 +18,8 @@ Which fields a result depends on is its kind's rule: by default every field of t
 design except its title, description and ``[report]`` table (a result computed from a
 model depends on all of it); a kind may narrow it with a rule named in :data:`RULES`
 (``body-modal``: the fields that generate that one gear's body, so that a changed
-operating speed does not refuse a gear's modes). Computation settings that are not part
+operating speed does not refuse a gear's modes; ``contact``: the fields that generate the
+pair's teeth). Computation settings that are not part
 of the design (mesh sizes, boundary, mode count) stay in the result's own attributes:
 they are the user's choice, not the design's.
 """
@@ -52,6 +53,7 @@ IGNORED = ("name", "description", "report")
 #: like the result classes of :mod:`reducerlab.results`.
 RULES: dict[str, str] = {
     "body-modal": "reducerlab.analysis.gear_bodies:body_inputs",
+    "contact": "reducerlab.analysis.gear_bodies:contact_inputs",
 }
 
 Rule = Callable[[Mapping[str, Any], Mapping[str, Any]], "list[str] | None"]

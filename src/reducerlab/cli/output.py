@@ -33,7 +33,7 @@ err = Console(stderr=True, markup=False, emoji=False, highlight=False)
 
 #: What the running command has kept so far (files moved into place, the resumable run
 #: folder it writes chunks into), for the line an interruption prints (:func:`kept`).
-_KEPT: dict[str, list[str]] = {"files": [], "runs": []}
+_KEPT: dict[str, list[str]] = {"files": [], "runs": [], "caches": []}
 
 
 def note(line: str) -> None:
@@ -57,6 +57,12 @@ def keeps_run(folder: Path) -> None:
     _KEPT["runs"].append(str(folder))
 
 
+def keeps_cache(folder: Path) -> None:
+    """Record that the command stores each finished stage in the cache ``folder``
+    (``reducerlab run``: kept when interrupted, read when run again)."""
+    _KEPT["caches"].append(str(folder))
+
+
 def kept() -> str:
     """What an interrupted command leaves behind, in one line: the finished chunks of
     its run folder, the files it wrote before, or nothing (an output set is moved into
@@ -68,6 +74,13 @@ def kept() -> str:
             f"{n} finished chunk(s) kept in {folder}; run the same command again to resume"
             if n
             else f"no chunk had finished in {folder}"
+        )
+    for folder in _KEPT["caches"]:
+        n = len(list(Path(folder).glob("*.json")))
+        parts.append(
+            f"{n} finished stage(s) kept in {folder}; run the same command again to resume"
+            if n
+            else f"no stage had finished in {folder}"
         )
     files = _KEPT["files"]
     if files:

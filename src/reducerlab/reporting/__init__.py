@@ -187,7 +187,7 @@ def report(
 
 
 #: Kinds of results the report can take from a file.
-GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map")
+GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map", "response")
 
 
 def _results(items: Sequence[Any], design: Design) -> dict[str, list[Any]]:

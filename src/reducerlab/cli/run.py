@@ -1,0 +1,121 @@
+"""``reducerlab run``: a design at its operating point through the whole chain, to one
+verdict and one report (:func:`reducerlab.pipeline.run`)."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from .options import DesignArgument, SchedulerOption, SetOption, scheduler_client
+from .output import err, keeps_cache, note, user_errors
+
+#: Seconds between two progress lines when stderr is not a terminal (a log).
+LOG_EVERY_S = 10.0
+
+
+def run_cmd(
+    design: DesignArgument,
+    output: Annotated[
+        Path,
+        typer.Option(
+            "--output",
+            "-o",
+            help="Output folder: report.html, verdict.json, "
+            "run.json and every stage's result (netCDF).",
+        ),
+    ] = Path("run-output"),
+    cache: Annotated[
+        Path | None,
+        typer.Option(
+            help="Stage cache folder (default OUTPUT/cache); shared between runs "
+            "of designs that share stages."
+        ),
+    ] = None,
+    bodies: Annotated[
+        bool, typer.Option("--bodies/--no-bodies", help="Compute the gear bodies' FE modes.")
+    ] = True,
+    positions: Annotated[
+        int, typer.Option(min=2, max=1000, help="Loaded-contact positions per mesh cycle.")
+    ] = 24,
+    scheduler: SchedulerOption = None,
+    sets: SetOption = None,
+) -> None:
+    """The whole chain of a design at its operating point: torque flow, loaded contact per
+    pair, k(t) in the model, modes and Campbell diagram, nonlinear response under load,
+    gear-body modes, verdict and report. Each stage is cached by what it depends on: a
+    second run reads it. Exit 1 when the verdict finds a risk."""
+    from ..io import prepare_output_dir
+    from ..pipeline import ContactSettings, run
+    from ..pipeline.store import Store
+
+    with user_errors():
+        prepare_output_dir(output)
+        store = Store(cache if cache is not None else output / "cache")
+        keeps_cache(store.root)
+        settings = ContactSettings(positions=positions)
+        with scheduler_client(scheduler) as client, _progress() as show:
+            res = run(design, output, overrides=sets or (), cache=store.root, contact=settings,
+                      bodies=bodies, scheduler=client, progress=show)  # fmt: skip
+    for f in res.files:
+        note(f"wrote {f}")
+    for st in res.stages:
+        typer.echo(f"  {st.name:<32} {st.status:<9} {st.seconds:8.1f} s")
+    typer.echo(res.verdict.table())
+    typer.echo(f"report: {res.report}" if res.report else "")
+    typer.echo(f"run: {res.seconds:.1f} s")
+    if not res.ok:
+        raise typer.Exit(1)
+
+
+class _Lines:
+    """Progress as log lines on stderr (output not a terminal): the stage, the
+    percentage of the whole run and the time left, at most every ``LOG_EVERY_S`` and at
+    every new stage."""
+
+    def __init__(self) -> None:
+        self.t0 = time.monotonic()
+        self.last = -LOG_EVERY_S
+        self.stage = ""
+
+    def __call__(self, description: str, fraction: float) -> None:
+        now = time.monotonic() - self.t0
+        stage = description.split(":")[0]
+        if stage == self.stage and now - self.last < LOG_EVERY_S:
+            return
+        self.stage, self.last = stage, now
+        left = ""
+        if 0.02 < fraction < 1:
+            left = f", about {now * (1 - fraction) / fraction:.0f} s left"
+        err.print(f"[{now:7.1f} s] {100 * fraction:3.0f} % {description}{left}", soft_wrap=True)
+
+
+class _progress:
+    """A progress display: a bar with percentage and ETA on a terminal, log lines
+    otherwise. Yields ``show(description, fraction)``."""
+
+    def __enter__(self) -> Any:
+        if not sys.stderr.isatty():
+            return _Lines()
+        from rich import progress as rp
+
+        self.bar = rp.Progress(
+            rp.TextColumn("{task.description}", markup=False), rp.BarColumn(),
+            rp.TaskProgressColumn(), rp.TimeElapsedColumn(), rp.TimeRemainingColumn(),
+            console=err, transient=True,
+        )  # fmt: skip
+        self.bar.__enter__()
+        task = self.bar.add_task("run", total=1.0)
+        return lambda d, f: self.bar.update(task, description=d, completed=f)
+
+    def __exit__(self, *exc: Any) -> None:
+        if hasattr(self, "bar"):
+            self.bar.__exit__(*exc)
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``run`` to the command line."""
+    app.command("run")(run_cmd)
