@@ -83,3 +83,11 @@ def test_a_file_in_place_of_the_cache_folder_is_refused(tmp_path):
     f.write_text("x")
     with pytest.raises(Exception, match="not a folder"):
         Store(f)
+
+
+def test_each_gear_and_pair_has_its_own_key(double):
+    from reducerlab.pipeline.stages import body_inputs
+
+    s = Store("unused")
+    keys = {s.key("body", body_inputs(double, g)) for g in range(1, 5)}
+    assert len(keys) == 4  # gears without a blank share their design fields

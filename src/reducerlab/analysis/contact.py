@@ -39,6 +39,7 @@ __all__ = [
     "check_misalignment",
     "contact_analysis",
     "contact_pair",
+    "design_with_contact",
     "design_with_mesh",
 ]
 
@@ -565,6 +566,42 @@ def _cells_dataset(runs: list) -> dict[str, Any]:
         "pressure": ("cell", cat(lambda r: r.pressure), {"units": "Pa"}),
         "edge": ("cell", cat(lambda r: r.edge).astype(np.int8)),
     }
+
+
+def design_with_contact(design: Design, results: Any) -> Design:
+    """``design`` with each given pair's mesh stiffness from its loaded contact:
+    ``[meshN]`` ``stiffness`` = k_m, ``harmonics`` = k_r and ``phases`` = phi_r of paper
+    000's Eq. 8 (N = the result's pair). Damping, backlash and error amplitude are kept.
+
+    Parameters
+    ----------
+    design : Design
+        A design with ``[meshN]`` tables (the nutation drive).
+    results : iterable of ContactResult
+        At most one per pair.
+
+    Raises
+    ------
+    ReducerlabError
+        Two results of one pair.
+    """
+    changes: dict[str, Any] = {}
+    pairs: list[int] = []
+    for res in results:
+        pair = int(res.data.attrs["pair"])
+        if pair in pairs:
+            raise ReducerlabError(
+                f"contact: two loaded-contact results of pair {pair}: give one per pair"
+            )
+        pairs.append(pair)
+        amp, phase = res.harmonics()
+        changes[f"mesh{pair}.stiffness"] = res.mean_stiffness
+        changes[f"mesh{pair}.harmonics"] = amp
+        changes[f"mesh{pair}.phases"] = phase
+    if not changes:
+        return design
+    shown = ", ".join(f"mesh{p}" for p in sorted(pairs))
+    return design.with_values(changes, source=f"{design.source} with {shown} from loaded contact")
 
 
 def design_with_mesh(path: Any, result: ContactResult) -> str:

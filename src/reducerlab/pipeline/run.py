@@ -27,6 +27,7 @@ from .consistency import TOLERANCE, body_consistency, stiffness_consistency
 from .stages import (
     ContactSettings,
     Stage,
+    body_inputs,
     body_stage,
     compliance_stage,
     contact_stage,
@@ -177,6 +178,7 @@ def run(
     cache: str | Path | None = None,
     contact: ContactSettings | None = None,
     bodies: bool = True,
+    body_sizes: tuple[float | None, float | None] = (None, None),
     response: dict[str, Any] | None = None,
     scheduler: Any = None,
     progress: Progress | None = None,
@@ -201,6 +203,9 @@ def run(
         The contact grid (default: ``contact_analysis``'s).
     bodies : bool
         Compute the gear bodies' FE modes (designs with tooth surfaces).
+    body_sizes : (float or None, float or None)
+        Element sizes ``(tooth, body)`` of the gear-body meshes (m); None: the default
+        (:func:`~reducerlab.analysis.gear_bodies.body_mesh_sizes`).
     response : dict, optional
         Keyword arguments of :func:`~reducerlab.analysis.response.response` (periods,
         keep, history, accuracy...).
@@ -218,6 +223,7 @@ def run(
     """
     import tempfile
 
+    from ..analysis.contact import design_with_contact
     from ..analysis.torque_flow import torque_flow
     from ..drives import has_model, load_design
 
@@ -247,13 +253,16 @@ def run(
     with _client(scheduler) as client:
         submit = None if client is None else client.submit
         body_futures = {}
-        if bodies and pairs and client is not None:
+        if bodies and pairs and client is not None:  # every body not stored, at once
             from ..analysis.body_modal import body_modal
+            from ..analysis.gear_bodies import body_mesh_sizes
 
             body_futures = {
-                g: client.submit(body_modal, design, g, convergence=False)
+                g: client.submit(body_modal, design, g, convergence=False,
+                                 sizes=body_mesh_sizes(design, g, *body_sizes))
                 for g in range(1, design.gear_count + 1)
-            }
+                if not store.has("body", store.key("body", body_inputs(design, g, body_sizes)))
+            }  # fmt: skip
         contacts: dict[int, Any] = {}
         for p in pairs:
             torque = _pair_torque(flow, p)
@@ -263,7 +272,7 @@ def run(
             res, st = contact_stage(store, design, p, torque, settings, comp, track.report)
             record(st)
             contacts[p] = res
-        model_design = _with_contact(design, contacts)
+        model_design = design_with_contact(design, contacts.values())
         responses: list[Any] = []
         if has_model(model_design):
             track.finish("modes and Campbell diagram")  # computed by the verdict below
@@ -274,7 +283,9 @@ def run(
         body_results: dict[int, Any] = {}
         if bodies and pairs:
             for g in range(1, design.gear_count + 1):
-                res, st = body_stage(store, design, g, track.report, body_futures.get(g))
+                res, st = body_stage(
+                    store, design, g, track.report, body_futures.get(g), body_sizes
+                )
                 record(st)
                 body_results[g] = res
     reasons = stiffness_consistency(design, contacts) + body_consistency(
@@ -312,20 +323,6 @@ def _pair_torque(flow: Any, pair: int) -> float:
             "output_power): the loaded tooth contact of its gear pairs needs a torque"
         )
     return torque
-
-
-def _with_contact(design: Design, contacts: dict[int, Any]) -> Design:
-    """``design`` with each pair's mesh stiffness from its loaded contact: ``[meshN]``
-    ``stiffness`` = k_m, ``harmonics`` and ``phases`` of paper 000's Eq. 8."""
-    if not contacts:
-        return design
-    changes: dict[str, Any] = {}
-    for pair, res in contacts.items():
-        amp, phase = res.harmonics()
-        changes[f"mesh{pair}.stiffness"] = res.mean_stiffness
-        changes[f"mesh{pair}.harmonics"] = amp
-        changes[f"mesh{pair}.phases"] = phase
-    return design.with_values(changes, source=f"{design.source} with the loaded contact's k(t)")
 
 
 def _tolerance(design: Design) -> float:

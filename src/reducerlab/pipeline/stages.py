@@ -35,6 +35,7 @@ from .store import Store
 __all__ = [
     "ContactSettings",
     "Stage",
+    "body_inputs",
     "body_stage",
     "compliance_stage",
     "contact_stage",
@@ -166,6 +167,7 @@ def contact_stage(
     base = design_inputs("contact", design, {"pair": pair})
     inputs = {
         "design": base,
+        "pair": pair,
         "torque": float(torque),
         "positions": settings.positions,
         "order": settings.order,
@@ -211,15 +213,30 @@ def _at_speed(res: Any, design: Any) -> Any:
     return res
 
 
-def body_stage(
-    store: Store, design: Any, gear: int, report: Report = _quiet, future: Any = None
-) -> tuple[Any, Stage]:
-    """Free-free modes of gear ``gear``'s body (default mesh, ten modes, no convergence
-    run). ``future``: the result computed elsewhere (a Dask future), stored here."""
-    from ..analysis.body_modal import BodyModalResult, body_modal
-
+def body_inputs(
+    design: Any, gear: int, sizes: tuple[float | None, float | None] = (None, None)
+) -> dict[str, Any]:
+    """The key inputs of gear ``gear``'s body modes: its body's design fields, the mesh
+    sizes, the mode count and the boundary."""
     base = design_inputs("body-modal", design, {"gear": gear})
-    inputs = {"design": base, "sizes": "default", "count": 10, "boundary": "free"}
+    return {"design": base, "gear": gear, "sizes": list(sizes), "count": 10, "boundary": "free"}
+
+
+def body_stage(
+    store: Store,
+    design: Any,
+    gear: int,
+    report: Report = _quiet,
+    future: Any = None,
+    sizes: tuple[float | None, float | None] = (None, None),
+) -> tuple[Any, Stage]:
+    """Free-free modes of gear ``gear``'s body (ten modes, no convergence run) on the
+    mesh of element ``sizes`` ``(tooth, body)`` (m; None: the default). ``future``: the
+    result computed elsewhere (a Dask future), stored here."""
+    from ..analysis.body_modal import BodyModalResult, body_modal
+    from ..analysis.gear_bodies import body_mesh_sizes
+
+    inputs = body_inputs(design, gear, sizes)
     key = store.key("body", inputs)
     name = f"body modes gear {gear}"
     hit = store.get("body", key, extra=True)
@@ -232,8 +249,9 @@ def body_stage(
         res = future.result()
     else:
         res = body_modal(
-            design, gear, convergence=False, stage=lambda s: report(f"{name}: {s}", 0.5)
-        )
+            design, gear, convergence=False, sizes=body_mesh_sizes(design, gear, *sizes),
+            stage=lambda s: report(f"{name}: {s}", 0.5),
+        )  # fmt: skip
     store.put("body", key, inputs, res, extra=(res.mesh, res.shapes))
     return res, Stage(name, key, "computed", time.perf_counter() - t0)
 

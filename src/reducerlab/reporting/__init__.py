@@ -135,7 +135,7 @@ def report(
         unknown = [s for s in only if s not in ids]
         if unknown:
             raise ReducerlabError(f"report: unknown section(s) {unknown}; sections are {ids}")
-    given = _results(results, design)
+    design, given = _results(results, design)
     ctx = Context(design, text, repo_assumptions(), given, overrides=tuple(overrides))
     todo = [(sid, title, build) for sid, title, build in SECTIONS if only is None or sid in only]
     sections: list[Section] = []
@@ -190,13 +190,21 @@ def report(
 GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map", "response")
 
 
-def _results(items: Sequence[Any], design: Design) -> dict[str, list[Any]]:
-    """The given results by kind, each checked against ``design`` (the inputs it depends
-    on, :func:`reducerlab.inputs.check_inputs`): another design's result is refused."""
+def _results(items: Sequence[Any], design: Design) -> tuple[Design, dict[str, list[Any]]]:
+    """The design the report describes and the given results by kind.
+
+    Loaded-contact results are checked against ``design`` first (the fields that
+    generate their teeth) and put their k(t) into its meshes
+    (:func:`~reducerlab.analysis.contact.design_with_contact`): the dynamics of the
+    report are those of the contact's stiffness. Every other result is then checked
+    against that design (:func:`reducerlab.inputs.check_inputs`): a result computed for
+    other values of the inputs it depends on is refused, naming the fields that differ.
+    """
+    from ..analysis.contact import design_with_contact
     from ..inputs import check_inputs
     from ..results import Result
 
-    out: dict[str, list[Any]] = {}
+    loaded = []
     for item in items:
         r = item if isinstance(item, Result) else Result.load(item)
         if r.kind not in GIVEN_KINDS:
@@ -204,11 +212,22 @@ def _results(items: Sequence[Any], design: Design) -> dict[str, list[Any]]:
                 f"report: {item}: a {r.kind!r} result; the report takes {', '.join(GIVEN_KINDS)} "
                 "results (it computes the others itself)"
             )
-        check_inputs(r, design, f"report: {item}" if not isinstance(item, Result) else None)
+        name = f"report: {item}" if not isinstance(item, Result) else None
         if not isinstance(item, Result):
             r.data.attrs.setdefault("source", str(item))
-        out.setdefault(r.kind, []).append(r)
-    return out
+        loaded.append((name, r))
+    out: dict[str, list[Any]] = {}
+    for name, r in loaded:
+        if r.kind == "contact":
+            check_inputs(r, design, name)
+            out.setdefault("contact", []).append(r)
+    if out.get("contact"):
+        design = design_with_contact(design, out["contact"])
+    for name, r in loaded:
+        if r.kind != "contact":
+            check_inputs(r, design, name)
+            out.setdefault(r.kind, []).append(r)
+    return design, out
 
 
 def _summary(design: Design, sections: list[Section]) -> Section:
