@@ -11,12 +11,13 @@ mode. Two measures, one per kind of excitation line
 
       ``s_l = k_l |g_l . phi|^2 / (phi^H K phi)``
 
-  (the modal strain-energy measure of gear dynamics, e.g. Lin and Parker, J. Sound
-  Vib. 233, 2000, 921-928). A transmission error ``e`` on line ``l`` (force ``k_l e``
-  along ``g_l``) drives mode ``j`` with the modal force ``k_l (g_l . phi_j) e``; at
-  resonance the mesh deflection the mode adds is ``s_l e / (2 zeta_j)``. A mode with
-  ``s_l = 0`` (lateral motion orthogonal to the line of action, say) is not excited
-  at all, whatever its frequency.
+  (the modal strain-energy measure of gear dynamics: Lin and Parker, J. Sound Vib. 228,
+  1999, 109-128, show it is the eigenvalue's sensitivity to the mesh stiffness, ``s_l =
+  (k_l / lambda) d lambda / d k_l``, twice the relative frequency sensitivity). A
+  transmission error ``e`` on line ``l`` (force ``k_l e`` along ``g_l``) drives mode
+  ``j`` with the modal force ``k_l (g_l . phi_j) e``; at resonance the mesh deflection
+  the mode adds is ``s_l e / (2 zeta_j)``. A mode with ``s_l = 0`` (lateral motion
+  orthogonal to the line of action, say) is not excited at all, whatever its frequency.
 
 * **The rotation order** (``1x input``: unbalance) is a force turning with the rotor,
   ``m e Omega^2 (cos, sin)``: a forward circular excitation. For every lateral pair
@@ -27,7 +28,7 @@ mode. Two measures, one per kind of excitation line
   ``sum m |r_fwd|^2 / sum m (|r_fwd|^2 + |r_bwd|^2)`` (masses of the pair) is 1 for a
   forward whirl and 0 for a backward whirl of an isotropic rotor (which unbalance
   does not excite; Friswell, Penny, Garvey and Lees, *Dynamics of Rotating Machines*,
-  2010, Sec. 3.6); a planar (undamped, non-gyroscopic) mode has 1/2, and the elliptical
+  2010, Ch. 3); a planar (undamped, non-gyroscopic) mode has 1/2, and the elliptical
   whirls of an anisotropic rotor lie in between, so a backward whirl on unequal
   supports is excited in proportion to its forward component.
 
