@@ -348,3 +348,41 @@ def test_a_model_target_uses_the_default_thresholds():
     assert v.thresholds == Thresholds()
     assert v.resonance["speed_range_rpm"] == [pytest.approx(1500.0)] * 2
     assert np.isclose(v.speed_rpm, 1500.0)
+
+
+def test_body_modes_are_ranked_by_margin_and_unstable_modes_are_risks():
+    """Gear-body modes: a crossing (margin 0) before a near miss, each a risk; a mode
+    with negative damping: a risk naming its growth rate."""
+    from dataclasses import dataclass
+
+    from reducerlab.analysis.components import ComponentModes
+    from reducerlab.model import Contribution, Dof, Element, Inertia, Model, Support
+
+    d = load_design(GEAR)
+    f_cross = 25 * 1500 / 60  # 1x mesh at 1500 rpm (Hz)
+    f_near = 75 * 1800 / 60 * 1.02  # 2 % above 3x mesh at the top of the range
+    body = ComponentModes("gear 1", [f_cross, f_near], ["torsional", "2 nodal diameters"])
+    v = verdict(d, components=[body], run_response=False)
+    ranked = [r for r in v.reasons if r["rule"].startswith("body-")]
+    assert ranked[0]["rule"] == "body-crossing" and ranked[0]["value"] == 0.0
+    assert ranked[0]["speed_rpm"] == pytest.approx(1500.0)
+    assert [r["value"] for r in ranked] == sorted(r["value"] for r in ranked)
+    near = next(r for r in ranked if r["rule"] == "body-near" and r["mode"] == 2)
+    assert near["value"] == pytest.approx(0.02, rel=1e-9) and near["status"] == "risk"
+
+    @dataclass(frozen=True)
+    class NegativeDamper(Element):
+        name: str = "negative damper"
+
+        @property
+        def dofs(self) -> tuple[str, ...]:
+            return ("a.x",)
+
+        def contribution(self, dofs, speed) -> Contribution:
+            return Contribution(damping=np.array([[-4.0]]))
+
+    bad = Model([Dof("a", "x")], [Inertia("a.x", 1.0), Support("a.x", 1e4, 0.0),
+                                  NegativeDamper()], speed=100.0)  # fmt: skip
+    v = verdict(bad, speed_range=(50.0, 100.0), run_response=False)
+    (u,) = _by(v, "unstable")
+    assert u["status"] == "risk" and u["value"] == pytest.approx(2.0) and "grows" in u["text"]
