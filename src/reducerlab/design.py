@@ -41,6 +41,7 @@ __all__ = [
     "Spec",
     "SpeedRange",
     "Stiffness",
+    "Thresholds",
     "Torque",
     "angle_between",
     "field_kind",
@@ -223,6 +224,59 @@ class ReportSpec(Spec):
     regime_map: RegimeMapRequest | None = None
 
 
+#: Share (0..1) of a mode's strain energy in a mesh line, or of its lateral motion
+#: whirling forward, from which an excitation line that crosses it counts
+#: (:class:`Thresholds`).
+Share = Annotated[float, Field(ge=0, le=1)]
+
+
+class Thresholds(Spec):
+    """What the verdict (:func:`reducerlab.analysis.verdict.verdict`, ``reducerlab
+    check``, the report) counts as a risk: a design's ``[check]`` table. The reasons for
+    each default are in ``docs/assumptions.md`` ("The verdict's thresholds").
+
+    Attributes
+    ----------
+    margin : float
+        Relative distance of a natural frequency to an excitation that counts, in
+        (0, 1) (0.10 = 10 %, ``check --margin``).
+    mesh_strain_share : float
+        A mesh-order excitation (the transmission error and mesh-stiffness variation)
+        excites a mode only through its mesh lines: a crossing counts when the mode's
+        strain-energy share in them, ``k_mean (g . phi)^2 / (phi^T K phi)``, reaches this
+        (default 0.01: the resonant mesh deflection of such a mode is about
+        ``share / (2 zeta)`` times the transmission error).
+    forward_whirl_share : float
+        Unbalance turns with the rotor: a ``1x input`` crossing counts when the share of
+        the mode's lateral motion that whirls forward reaches this (default 0.01; a
+        backward whirl of an isotropic rotor has none).
+    dynamic_load_factor : float
+        The largest dynamic load factor ``max |F| / mean F`` of a mesh line at the
+        operating point that passes, >= 1 (default 1.5).
+    separation : float
+        The largest share of the time with the teeth apart that passes, in [0, 1)
+        (default 0: teeth that separate are never green).
+    back_impacts_risk : bool
+        Back-side impacts (double-sided impacts) are a risk (default true; false: a note).
+    non_periodic_risk : bool
+        Quasi-periodic or chaotic motion at the operating point is a risk (default true;
+        false: a note).
+    """
+
+    margin: Annotated[float, Field(gt=0, lt=1)] = 0.10
+    mesh_strain_share: Share = 0.01
+    forward_whirl_share: Share = 0.01
+    dynamic_load_factor: Annotated[float, Field(ge=1, le=1e6)] = 1.5
+    separation: Annotated[float, Field(ge=0, lt=1)] = 0.0
+    back_impacts_risk: bool = True
+    non_periodic_risk: bool = True
+
+
+#: Design tables that say how to show or judge results, not what to analyse: left out
+#: of the design hash, the provenance and the inputs a result depends on.
+NOT_ANALYSED = frozenset({"report", "check"})
+
+
 class Design(Spec):
     """Base of every drive's design.
 
@@ -232,12 +286,15 @@ class Design(Spec):
         The drive type; selects the builder (``"gear_pair"``, ...).
     name : str
         A title used in tables, figures and reports.
+    check : Thresholds, optional
+        The ``[check]`` table: what the verdict counts as a risk (:attr:`thresholds`).
     """
 
     type: str
     name: str = ""
     description: str = ""
     report: ReportSpec | None = None
+    check: Thresholds | None = None
     _source: str = PrivateAttr(default="<design>")
 
     @property
@@ -248,20 +305,26 @@ class Design(Spec):
 
     @property
     def hash(self) -> str:
-        """SHA-256 of the design's SI content (hex, 16 characters); the ``[report]``
-        table (what the report draws, not what is analysed) is left out."""
-        return digest(self.model_dump_json(exclude={"report"}))
+        """SHA-256 of the design's SI content (hex, 16 characters); the ``[report]`` and
+        ``[check]`` tables (what the report draws and what the verdict counts, not what
+        is analysed) are left out."""
+        return digest(self.model_dump_json(exclude=set(NOT_ANALYSED)))
 
     @property
     def provenance(self) -> dict[str, str]:
         """``{"design": SI JSON, "design_hash": hash, "source": file}``: the metadata that
         models and results built from this design carry (one JSON dump serves both; the
         source, when known, lets an analysis's error name the file)."""
-        text = self.model_dump_json(exclude={"report"})
+        text = self.model_dump_json(exclude=set(NOT_ANALYSED))
         out = {"design": text, "design_hash": digest(text)}
         if self._source != "<design>":
             out["source"] = self._source
         return out
+
+    @property
+    def thresholds(self) -> Thresholds:
+        """What the verdict counts as a risk: the ``[check]`` table, else the defaults."""
+        return self.check if self.check is not None else Thresholds()
 
     # -- the drive contract: what analyses and the report ask of every design --------
 

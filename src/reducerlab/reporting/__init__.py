@@ -102,6 +102,7 @@ def report(
     results: Sequence[Any] = (),
     only: Sequence[str] | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    verdict: Any = None,
 ) -> Report:
     """Build the HTML design report of a design.
 
@@ -119,6 +120,10 @@ def report(
         the inputs it depends on is refused, naming the fields that differ.
     only : sequence of str, optional
         Section ids to build (default: all that apply); provenance is always added.
+    verdict : Verdict, optional
+        The verdict to show, computed by the caller from more evidence than the report
+        has (``reducerlab run``: with the consistency of its models); default the
+        report's own (:meth:`.context.Context.verdict`).
     progress : callable, optional
         ``progress(description, done, total)`` before each section (``done`` sections
         of ``total``); long sections (bifurcation, regime map) also call it as they go,
@@ -137,6 +142,8 @@ def report(
             raise ReducerlabError(f"report: unknown section(s) {unknown}; sections are {ids}")
     design, given = _results(results, design)
     ctx = Context(design, text, repo_assumptions(), given, overrides=tuple(overrides))
+    if verdict is not None:
+        ctx.cache["verdict"] = verdict
     todo = [(sid, title, build) for sid, title, build in SECTIONS if only is None or sid in only]
     sections: list[Section] = []
     for k, (sid, title, build) in enumerate(todo):
@@ -244,14 +251,18 @@ def _summary(design: Design, sections: list[Section]) -> Section:
         rows.append(("elastic modes", len(f)))
         if f:
             rows.append(("lowest natural frequency (Hz)", min(f)))
-    if "campbell" in by:
+    if "campbell" in by:  # the verdict (issue 27), as the Campbell section judged it
         v = by["campbell"].values
-        text = (
-            f"{len(v['crossings'])} crossing(s), {len(v['near'])} near miss(es), "
-            f"{len(v['unstable'])} unstable point(s) in the operating range"
-        )
-        s.blocks.append(verdict(v["ok"], ("no resonance: " if v["ok"] else "RESONANCE RISK: ")
-                                + text))  # fmt: skip
+        risks = [r["text"] for r in v["reasons"] if r["status"] == "risk"]
+        notes = sum(r["status"] == "note" for r in v["reasons"])
+        passed = sum(r["status"] == "ok" for r in v["reasons"])
+        if v["ok"]:
+            text = f"no risk: {passed} check(s) passed, {notes} note(s)"
+        else:
+            more = f"; and {len(risks) - 3} more" if len(risks) > 3 else ""
+            text = f"RISK ({len(risks)}): " + "; ".join(risks[:3]) + more
+        s.blocks.append(verdict(v["ok"], text))
+        rows.append(("verdict", "no risk" if v["ok"] else f"RISK ({len(risks)} finding(s))"))
     if "response" in by and "dynamic_load_factor" in by["response"].values:
         rows.append(("dynamic load factor", by["response"].values["dynamic_load_factor"]))
     failed = [x.title for x in sections if x.error]
@@ -307,9 +318,7 @@ def write_index(reports: Sequence[tuple[Path, Report]], path: str | Path) -> Pat
         if camp is None or camp.error:
             verdict, cls = "—", ""
         else:
-            verdict, cls = (
-                ("no resonance", "ok") if camp.values["ok"] else ("resonance risk", "risk")
-            )
+            verdict, cls = ("no risk", "ok") if camp.values["ok"] else ("risk", "risk")
         rows.append(
             {
                 "href": quote(Path(file).name),
