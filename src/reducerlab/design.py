@@ -261,6 +261,11 @@ class Thresholds(Spec):
     non_periodic_risk : bool
         Quasi-periodic or chaotic motion at the operating point is a risk (default true;
         false: a note).
+    consistency : float
+        Largest relative difference between a lumped gear's mass or moment of inertia
+        and its finite-element body's that is consistent (``reducerlab run``; default
+        0.10: a natural frequency moves by about half of it, f ~ 1/sqrt(m), within the
+        10 % margin).
     """
 
     margin: Annotated[float, Field(gt=0, lt=1)] = 0.10
@@ -270,6 +275,7 @@ class Thresholds(Spec):
     separation: Annotated[float, Field(ge=0, lt=1)] = 0.0
     back_impacts_risk: bool = True
     non_periodic_risk: bool = True
+    consistency: Annotated[float, Field(gt=0, lt=1)] = 0.10
 
 
 #: Design tables that say how to show or judge results, not what to analyse: left out

@@ -18,12 +18,15 @@ from typing import Any
 __all__ = ["TOLERANCE", "body_consistency", "stiffness_consistency"]
 
 #: Default relative tolerance between a lumped gear's mass or moment of inertia and its
-#: FE body's (``[check] consistency``): 10 %, the spread of a natural frequency by
-#: about 5 % (f ~ 1/sqrt(m)), half the 10 % margin the resonance check keeps.
+#: FE body's (``[check] consistency``, :class:`reducerlab.design.Thresholds`): 10 %, the
+#: spread of a natural frequency by about 5 % (f ~ 1/sqrt(m)), half the 10 % margin the
+#: resonance check keeps.
 TOLERANCE = 0.10
 
 
-def _reason(rule: str, status: str, text: str, value: float, threshold: float) -> dict[str, Any]:
+def _reason(
+    rule: str, status: str, text: str, value: float, threshold: float | None
+) -> dict[str, Any]:
     return {"rule": rule, "status": status, "text": text, "value": value, "threshold": threshold}
 
 
@@ -77,7 +80,7 @@ def body_consistency(
                 f"make gear{g}'s mass and moments the body's, or its blank the gear's"
             )
         out.append(
-            _reason("consistency.body", "risk" if bad else "ok", text, abs(worst[5]), tolerance)
+            _reason("body-consistency", "risk" if bad else "ok", text, abs(worst[5]), tolerance)
         )
     return out
 
@@ -101,5 +104,5 @@ def stiffness_consistency(design: Any, contacts: Mapping[int, Any]) -> list[dict
         else:
             text = f"mesh {pair}: k(t) from the loaded contact at {T:.4g} N m, k_m = {k_c:.4g} N/m"
             value = 0.0
-        out.append(_reason("consistency.mesh_stiffness", "note", text, value, float("nan")))
+        out.append(_reason("mesh-stiffness", "note", text, value, None))
     return out

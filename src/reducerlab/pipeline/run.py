@@ -23,7 +23,7 @@ from typing import Any
 
 from ..design import Design
 from ..errors import ReducerlabError
-from .consistency import TOLERANCE, body_consistency, stiffness_consistency
+from .consistency import body_consistency, stiffness_consistency
 from .stages import (
     ContactSettings,
     Stage,
@@ -289,7 +289,7 @@ def run(
                 record(st)
                 body_results[g] = res
     reasons = stiffness_consistency(design, contacts) + body_consistency(
-        design, body_results, _tolerance(model_design)
+        design, body_results, model_design.thresholds.consistency
     )
     verdict = _verdict(model_design, responses, body_results, reasons)
     result = RunResult(
@@ -323,14 +323,6 @@ def _pair_torque(flow: Any, pair: int) -> float:
             "output_power): the loaded tooth contact of its gear pairs needs a torque"
         )
     return torque
-
-
-def _tolerance(design: Design) -> float:
-    """The consistency tolerance of the design's ``[check]`` table (default
-    :data:`~.consistency.TOLERANCE`)."""
-    check = getattr(design, "check", None)
-    value = getattr(check, "consistency", None)
-    return TOLERANCE if value is None else float(value)
 
 
 def _verdict(
