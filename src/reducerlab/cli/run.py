@@ -10,7 +10,13 @@ from typing import Annotated, Any
 
 import typer
 
-from .options import DesignArgument, SchedulerOption, SetOption, scheduler_client
+from .options import (
+    DesignArgument,
+    SchedulerOption,
+    SetOption,
+    quantity_option,
+    scheduler_client,
+)
 from .output import err, keeps_cache, note, user_errors
 
 #: Seconds between two progress lines when stderr is not a terminal (a log).
@@ -39,8 +45,32 @@ def run_cmd(
         bool, typer.Option("--bodies/--no-bodies", help="Compute the gear bodies' FE modes.")
     ] = True,
     positions: Annotated[
-        int, typer.Option(min=2, max=1000, help="Loaded-contact positions per mesh cycle.")
+        int,
+        typer.Option(
+            min=15,
+            max=1000,
+            help="Loaded-contact positions per mesh cycle "
+            "(at least 15 for the 7 harmonics of paper 000's Eq. 8).",
+        ),
     ] = 24,
+    cell: Annotated[
+        str | None, typer.Option(help="Contact cell, e.g. '0.1 mm' (default: automatic).")
+    ] = None,
+    tooth_size: Annotated[
+        str | None,
+        typer.Option(help="Element size of the FE tooth-compliance models (default 0.3 m_n)."),
+    ] = None,
+    body_tooth_size: Annotated[
+        str | None,
+        typer.Option(help="Element size in the teeth of the gear-body meshes (default 0.6 m_n)."),
+    ] = None,
+    body_size: Annotated[
+        str | None,
+        typer.Option(help="Element size in the blanks of the gear-body meshes (default 1.5 m_n)."),
+    ] = None,
+    periods: Annotated[
+        int, typer.Option(min=10, max=100000, help="Forcing periods of each nonlinear response.")
+    ] = 600,
     scheduler: SchedulerOption = None,
     sets: SetOption = None,
 ) -> None:
@@ -55,11 +85,36 @@ def run_cmd(
     with user_errors():
         prepare_output_dir(output)
         store = Store(cache if cache is not None else output / "cache")
+        length = {
+            name: quantity_option(text, f"--{name.replace('_', '-')}", "length")
+            for name, text in (
+                ("cell", cell),
+                ("tooth_size", tooth_size),
+                ("body_tooth_size", body_tooth_size),
+                ("body_size", body_size),
+            )
+        }
+        settings = ContactSettings(
+            positions=positions, cell=length["cell"], tooth_size=length["tooth_size"]
+        )
         keeps_cache(store.root)
-        settings = ContactSettings(positions=positions)
         with scheduler_client(scheduler) as client, _progress() as show:
-            res = run(design, output, overrides=sets or (), cache=store.root, contact=settings,
-                      bodies=bodies, scheduler=client, progress=show)  # fmt: skip
+            res = run(
+                design,
+                output,
+                overrides=sets or (),
+                cache=store.root,
+                contact=settings,
+                bodies=bodies,
+                body_sizes=(length["body_tooth_size"], length["body_size"]),
+                response={
+                    "periods": periods,
+                    "keep": min(100, periods // 2),
+                    "history": min(20, periods // 4),
+                },
+                scheduler=client,
+                progress=show,
+            )
     for f in res.files:
         note(f"wrote {f}")
     for st in res.stages:
@@ -103,10 +158,14 @@ class _progress:
         from rich import progress as rp
 
         self.bar = rp.Progress(
-            rp.TextColumn("{task.description}", markup=False), rp.BarColumn(),
-            rp.TaskProgressColumn(), rp.TimeElapsedColumn(), rp.TimeRemainingColumn(),
-            console=err, transient=True,
-        )  # fmt: skip
+            rp.TextColumn("{task.description}", markup=False),
+            rp.BarColumn(),
+            rp.TaskProgressColumn(),
+            rp.TimeElapsedColumn(),
+            rp.TimeRemainingColumn(),
+            console=err,
+            transient=True,
+        )
         self.bar.__enter__()
         task = self.bar.add_task("run", total=1.0)
         return lambda d, f: self.bar.update(task, description=d, completed=f)

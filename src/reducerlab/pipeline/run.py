@@ -230,6 +230,8 @@ def run(
     t0 = time.perf_counter()
     design = target if isinstance(target, Design) else load_design(target, overrides)
     settings = contact or ContactSettings()
+    # response()'s defaults written out: the same run with or without them has one key
+    response = {"periods": 600, "keep": 100, "history": 20, **(response or {})}
     out_dir = None if output is None else Path(output)
     if cache is not None:
         store = Store(cache)
@@ -277,7 +279,7 @@ def run(
         if has_model(model_design):
             track.finish("modes and Campbell diagram")  # computed by the verdict below
             for j in range(_lines(model_design)):
-                res, st = response_stage(store, model_design, j, response or {}, track.report)
+                res, st = response_stage(store, model_design, j, response, track.report)
                 record(st)
                 responses.append(res)
         body_results: dict[int, Any] = {}
@@ -316,8 +318,9 @@ def _client(scheduler: Any) -> Any:
 def _pair_torque(flow: Any, pair: int) -> float:
     """The torque (N m) on pair ``pair``'s external gear at the operating point; the
     loaded contact needs one."""
-    torque = abs(float(flow.external_torque(pair)))
-    if not torque > 0:
+    mesh = flow.meshes.get(f"mesh{pair}")
+    torque = None if mesh is None else mesh.external_torque
+    if not (torque is not None and torque > 0):
         raise ReducerlabError(
             "run: the design has no load at its operating point (give output_torque or "
             "output_power): the loaded tooth contact of its gear pairs needs a torque"
