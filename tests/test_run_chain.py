@@ -15,9 +15,9 @@ from __future__ import annotations
 import json
 
 import pytest
+from reducerlab.analysis.torque_flow import torque_flow
 from typer.testing import CliRunner
 
-from reducerlab.analysis.torque_flow import torque_flow
 from reducerlab.cli import app
 from reducerlab.examples import example_dir
 from reducerlab.pipeline import ContactSettings, run

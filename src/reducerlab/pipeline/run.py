@@ -74,6 +74,8 @@ class RunResult:
         What was computed, read from the cache or given, with the seconds it took.
     report : Path or None
         The report file.
+    built : Report or None
+        The report itself (its sections and their values).
     files : list of Path
         Every file written into the output folder.
     seconds : float
@@ -88,6 +90,7 @@ class RunResult:
     verdict: Any
     stages: list[Stage]
     report: Path | None = None
+    built: Any = None
     files: list[Path] = field(default_factory=list)
     seconds: float = 0.0
 
@@ -374,6 +377,7 @@ def _write(result: RunResult, out_dir: Path, write_report: bool, report: Progres
             )
             names.append("report.html")
             rep.write(files.path("report.html"))
+            result.built = rep
         names.append("run.json")
         files.path("run.json").write_text(
             json.dumps({**result.to_dict(), **prov}, indent=2, default=str) + "\n"

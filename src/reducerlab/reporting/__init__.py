@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import hashlib
+import os
 import platform
 import time
 import traceback
@@ -321,8 +322,8 @@ def write_index(reports: Sequence[tuple[Path, Report]], path: str | Path) -> Pat
             verdict, cls = ("no risk", "ok") if camp.values["ok"] else ("risk", "risk")
         rows.append(
             {
-                "href": quote(Path(file).name),
-                "file": Path(file).name,
+                "href": quote(Path(os.path.relpath(file, p.parent)).as_posix()),
+                "file": Path(os.path.relpath(file, p.parent)).as_posix(),
                 "title": rep.design.name or rep.design.type,
                 "type": rep.design.type,
                 "sections": len(rep.sections),
