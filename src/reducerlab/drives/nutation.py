@@ -23,9 +23,9 @@ y (Eq. 4's ``a_11, a_13`` with ``cos d sin b cos a`` where the text prints
 from __future__ import annotations
 
 import math
-from typing import ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, TypeAdapter, ValidationError, WrapValidator, model_validator
 from scipy.optimize import brentq
 
 from ..design import (
@@ -47,6 +47,7 @@ from ..design import (
     quantity,
 )
 from ..design_files import field_rules
+from ..errors import ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics, gyroscopic_moment
 from ..kinematics.mesh import internal_cone_angles
 from ..model import (
@@ -155,11 +156,33 @@ class TiltSupport(Spec):
     J_y: MomentOfInertia | None = None
 
 
+_STIFFNESS = TypeAdapter(Stiffness)
+
+
+def _stiffness_or_contact(value: Any, handler: Any) -> float | str:
+    """``"contact"``, or a stiffness (its own message when it is neither)."""
+    if value == "contact":
+        return "contact"
+    try:
+        return _STIFFNESS.validate_python(value)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        msg = "must be > 0" if err["type"] == "greater_than" else str(err["msg"])
+        msg = msg.removeprefix("Value error, ")
+        raise ValueError(f'{msg} (or "contact": the loaded contact\'s k(t))') from None
+
+
 class MeshSpec(Spec):
     """One gear pair: mean mesh stiffness, optional Fourier terms (Eq. 8), damping,
-    full backlash (Eq. 6) and transmission error amplitude."""
+    full backlash (Eq. 6) and transmission error amplitude.
 
-    stiffness: Stiffness
+    ``stiffness = "contact"`` asks for the loaded contact's k(t) at the operating point
+    (paper 000 section 2.3): ``reducerlab run`` computes it from the tooth surfaces
+    (``[surface]``) and puts its mean, harmonics and phases here; the other commands,
+    which take the model as written, refuse it and say so.
+    """
+
+    stiffness: Annotated[float | str, WrapValidator(_stiffness_or_contact)]
     harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
     phases: list[angle_between(-360, 360, closed=True)] = Field(default_factory=list)  # type: ignore[valid-type]
     damping: Damping = 0.0
@@ -168,6 +191,10 @@ class MeshSpec(Spec):
 
     @model_validator(mode="after")
     def _terms(self) -> MeshSpec:
+        if self.stiffness == "contact":
+            if self.harmonics or self.phases:
+                raise field_rules(("harmonics", 'come from the contact with stiffness = "contact"'))
+            return self
         if self.phases and len(self.phases) != len(self.harmonics):
             raise field_rules(
                 ("phases", f"has {len(self.phases)} entries, harmonics {len(self.harmonics)}")
@@ -256,6 +283,14 @@ class NutationDesign(Design):
             raise field_rules(("nutation_angle", "a single-sided drive needs nutation_angle"))
         if self.input_speed <= 0:
             raise field_rules(("input_speed", "must be > 0"))
+        for name in ("mesh1", "mesh2"):
+            spec = getattr(self, name)
+            if spec is not None and spec.stiffness == "contact" and self.surface is None:
+                raise field_rules((
+                    f"{name}.stiffness",
+                    '"contact" needs the tooth surfaces: add a [surface] table (profile, '
+                    "face_width)",
+                ))  # fmt: skip
         if self.rotating_frame:
             # the housing-fixed supports (the nutating gear's bearings turn with the
             # crank, so any support13 is steady in the mesh frame)
@@ -438,7 +473,13 @@ class NutationDesign(Design):
         return TRAINS["nutation"].build(teeth, self.theta, output="nutating")
 
 
-def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
+def _law(spec: MeshSpec, omega: float, speed: float, name: str) -> TimeLaw:
+    if spec.stiffness == "contact":
+        raise ReducerlabError(
+            f'{name}.stiffness = "contact": the mesh stiffness comes from the loaded tooth '
+            "contact at the operating point, which `reducerlab run` computes (or write a number, "
+            "e.g. with `reducerlab contact --write-design`)"
+        )
     if not spec.harmonics:
         return Constant(spec.stiffness)
     return Fourier(spec.stiffness, tuple(spec.harmonics), omega, tuple(spec.phases),
@@ -533,7 +574,7 @@ def build_model(design: NutationDesign) -> Model:
         elements.append(
             Mesh(
                 g,
-                stiffness=_law(spec, omega, design.input_speed),
+                stiffness=_law(spec, omega, design.input_speed, f"mesh{j + 1}"),
                 damping=spec.damping,
                 backlash=Backlash.full(spec.backlash),
                 error=error,
