@@ -37,6 +37,7 @@ from ..design import (
     MomentOfInertia,
     NonNegativeStiffness,
     PositiveInt,
+    Power,
     Spec,
     SpeedRange,
     Stiffness,
@@ -65,7 +66,7 @@ from ..model import (
     Support,
 )
 from ..model.laws import TimeLaw
-from .nutation_mesh import contact_normal, tilt_lever
+from .nutation_mesh import contact_normal, drive_loads, tilt_lever
 
 __all__ = ["NutationDesign", "build_model"]
 
@@ -212,15 +213,23 @@ class SurfaceSpec(Spec):
 
 
 class NutationDesign(Design):
-    """Design of a nutation drive (``type = "nutation"``)."""
+    """Design of a nutation drive (``type = "nutation"``). The load is the output's:
+    ``output_torque`` (N m, on gear 4, or on the nutating gear's coupling single-sided)
+    or ``output_power`` (W); the fixed gear's reaction follows from the torque flow."""
 
     type: Literal["nutation"] = "nutation"
     speed_fields: ClassVar = ("input_speed", "speed_range")
+    load_fields: ClassVar = ("output_torque", "output_power")
+    retired_fields: ClassVar = {
+        "input_torque": "it loaded the fixed gear 2 (paper 000's T1), whose reaction now "
+        "follows from the output load by the torque flow: give the load as output_torque "
+        "or output_power (the crank's torque is then output_torque / i)"
+    }
     sides: Literal["single", "double"] = "double"
     input_speed: AngularVelocity
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
-    input_torque: Torque = 0.0
-    output_torque: Torque = 0.0
+    output_torque: Torque | None = None
+    output_power: Power | None = None
     module: Length
     helix_angle: angle_between(0, 60, closed=True)  # type: ignore[valid-type]
     normal_pressure_angle: angle_between(5, 45)  # type: ignore[valid-type]
@@ -437,6 +446,12 @@ class NutationDesign(Design):
         teeth = {"nutating": self.gear1.teeth, "central": self.gear2.teeth}
         return TRAINS["nutation"].build(teeth, self.theta, output="nutating")
 
+    def pitch_radii(self) -> dict[str, float]:
+        """Mean radii ``r_m`` (m) by the kinematics' gear names."""
+        if self.sides == "double":
+            return {f"gear {k}": getattr(self, f"gear{k}").mean_radius for k in range(1, 5)}
+        return {"nutating gear": self.gear1.mean_radius, "central gear": self.gear2.mean_radius}
+
 
 def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
     if not spec.harmonics:
@@ -565,10 +580,10 @@ def build_model(design: NutationDesign) -> Model:
             total += float((M[0] ** 2 + M[1] ** 2) ** 0.5) / gear.mean_radius
         if total:
             elements.append(Load("g13.y", total, name="gyroscopic"))
-    if design.input_torque:
-        elements.append(Load("g2.rz", design.input_torque, name="T1"))
-    if design.output_torque and double:
-        elements.append(Load("g4.rz", -design.output_torque, name="T4"))
+    levers = {(e.name, d): g for e in elements if isinstance(e, Mesh)
+              for d, g in e.coefficients.items() if d.endswith(".rz")}  # fmt: skip
+    grounded = design.fixed_gear_torsional_stiffness > 0
+    elements += drive_loads(kin, design.operating_point(), levers, grounded)
     return Model(
         dofs,
         elements,
