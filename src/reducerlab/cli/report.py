@@ -13,7 +13,7 @@ from rich.text import Text
 from ..errors import ReducerlabError
 from ..io import prepare_output_dir, prepare_output_file
 from .options import DesignArgument, SetOption
-from .output import fail, out, progress_bar, user_errors, write_file
+from .output import fail, out, progress_bar, run_progress, user_errors, write_file
 
 
 def report_cmd(
@@ -93,7 +93,6 @@ def demo(
     from ..pipeline import run
     from ..reporting import report as build_report
     from ..reporting import write_index
-    from .run import _progress
 
     with user_errors():
         prepare_output_dir(output)
@@ -103,7 +102,7 @@ def demo(
     done = []
     flagship = [p for p in examples if p.name == FLAGSHIP]
     for path in flagship:
-        with user_errors(), _progress() as show:
+        with user_errors(), run_progress() as show:
             res = run(path, output / path.stem, progress=show)
         done.append((res.report, res.built))
         verdict = "no risk" if res.ok else f"RISK ({len(res.verdict.risks)} reason(s))"

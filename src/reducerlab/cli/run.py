@@ -3,10 +3,8 @@ verdict and one report (:func:`reducerlab.pipeline.run`)."""
 
 from __future__ import annotations
 
-import sys
-import time
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 
@@ -17,10 +15,7 @@ from .options import (
     quantity_option,
     scheduler_client,
 )
-from .output import err, keeps_cache, note, user_errors
-
-#: Seconds between two progress lines when stderr is not a terminal (a log).
-LOG_EVERY_S = 10.0
+from .output import keeps_cache, note, run_progress, user_errors
 
 
 def run_cmd(
@@ -98,7 +93,7 @@ def run_cmd(
             positions=positions, cell=length["cell"], tooth_size=length["tooth_size"]
         )
         keeps_cache(store.root)
-        with scheduler_client(scheduler) as client, _progress() as show:
+        with scheduler_client(scheduler) as client, run_progress() as show:
             res = run(
                 design,
                 output,
@@ -124,55 +119,6 @@ def run_cmd(
     typer.echo(f"run: {res.seconds:.1f} s")
     if not res.ok:
         raise typer.Exit(1)
-
-
-class _Lines:
-    """Progress as log lines on stderr (output not a terminal): the stage, the
-    percentage of the whole run and the time left, at most every ``LOG_EVERY_S`` and at
-    every new stage."""
-
-    def __init__(self) -> None:
-        self.t0 = time.monotonic()
-        self.last = -LOG_EVERY_S
-        self.stage = ""
-
-    def __call__(self, description: str, fraction: float) -> None:
-        now = time.monotonic() - self.t0
-        stage = description.split(":")[0]
-        if stage == self.stage and now - self.last < LOG_EVERY_S:
-            return
-        self.stage, self.last = stage, now
-        left = ""
-        if 0.02 < fraction < 1:
-            left = f", about {now * (1 - fraction) / fraction:.0f} s left"
-        err.print(f"[{now:7.1f} s] {100 * fraction:3.0f} % {description}{left}", soft_wrap=True)
-
-
-class _progress:
-    """A progress display: a bar with percentage and ETA on a terminal, log lines
-    otherwise. Yields ``show(description, fraction)``."""
-
-    def __enter__(self) -> Any:
-        if not sys.stderr.isatty():
-            return _Lines()
-        from rich import progress as rp
-
-        self.bar = rp.Progress(
-            rp.TextColumn("{task.description}", markup=False),
-            rp.BarColumn(),
-            rp.TaskProgressColumn(),
-            rp.TimeElapsedColumn(),
-            rp.TimeRemainingColumn(),
-            console=err,
-            transient=True,
-        )
-        self.bar.__enter__()
-        task = self.bar.add_task("run", total=1.0)
-        return lambda d, f: self.bar.update(task, description=d, completed=f)
-
-    def __exit__(self, *exc: Any) -> None:
-        if hasattr(self, "bar"):
-            self.bar.__exit__(*exc)
 
 
 def register(app: typer.Typer) -> None:

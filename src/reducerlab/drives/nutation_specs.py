@@ -127,7 +127,7 @@ def _stiffness_or_contact(value: Any, handler: Any) -> float | str:
         return _STIFFNESS.validate_python(value)
     except ValidationError as exc:
         err = exc.errors()[0]
-        msg = "must be > 0" if err["type"] == "greater_than" else str(err["msg"])
+        msg = "must be greater than 0" if err["type"] == "greater_than" else str(err["msg"])
         msg = msg.removeprefix("Value error, ")
         raise ValueError(f'{msg} (or "contact": the loaded contact\'s k(t))') from None
 
