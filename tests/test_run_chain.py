@@ -15,9 +15,9 @@ from __future__ import annotations
 import json
 
 import pytest
-from reducerlab.analysis.torque_flow import torque_flow
 from typer.testing import CliRunner
 
+from reducerlab.analysis.torque_flow import torque_flow
 from reducerlab.cli import app
 from reducerlab.examples import example_dir
 from reducerlab.pipeline import ContactSettings, run
@@ -129,3 +129,56 @@ def test_the_cli_gives_the_same_verdict(first):
     assert [x["text"] for x in saved["reasons"]] == [x["text"] for x in res.verdict.reasons]
     for reason in res.verdict.reasons:
         assert reason["text"] in r.output
+
+
+def test_sigterm_keeps_the_finished_stages(first):
+    """SIGTERM in the middle of a stage: exit 143, one line saying how many stages the
+    cache keeps, no output files, no half-written cache entry."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    out, _ = first
+    cache = out / "cache"
+    before = len(list(cache.glob("*.json")))
+    folder = out.parent / "sigterm"
+    args = [sys.executable, "-m", "reducerlab", "run", str(EXAMPLE), "-o", str(folder),
+            "--cache", str(cache), "--positions", "15", "--cell", "0.2 mm", "--tooth-size",
+            "0.7 mm", "--body-tooth-size", "2 mm", "--body-size", "6 mm",
+            "--periods", "100000"]  # fmt: skip
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    proc = subprocess.Popen(args, stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                            env=env)  # fmt: skip
+    seen = []
+    for line in proc.stderr:  # log lines: stderr is not a terminal
+        seen.append(line)
+        if "response line 1" in line:
+            break
+    proc.send_signal(signal.SIGTERM)
+    _, rest = proc.communicate(timeout=120)
+    text = "".join(seen) + rest
+    assert proc.returncode == 143, text
+    assert f"{before} finished stage(s) kept in {cache}" in text
+    assert not folder.exists() or not any(folder.iterdir())
+    assert not list(cache.glob(".tmp-*"))
+
+
+def test_bodies_run_on_a_dask_cluster(first):
+    """With a scheduler, the FE work not in the cache (here gear 2's body, whose blank
+    changed) runs as Dask tasks; the rest is read from the cache."""
+    distributed = pytest.importorskip("dask.distributed")
+
+    out, _ = first
+    with (
+        distributed.Client(processes=False, n_workers=1, threads_per_worker=1) as client,
+        distributed.get_task_stream(client) as tasks,
+    ):
+        res = run(EXAMPLE, out.parent / "dask", cache=out / "cache", scheduler=client,
+                  overrides=["gear2.blank.rim=5 mm"], **KW)  # fmt: skip
+    status = {s.name: s.status for s in res.stages}
+    assert status["body modes gear 2"] == "computed"
+    assert status["body modes gear 1"] == status["contact pair 1"] == "cached"
+    names = [t["key"] for t in tasks.data]
+    assert any(str(k).startswith("body_modal") for k in names), names
+    assert res.bodies[2].data.attrs["rim_m"] == pytest.approx(5e-3)
