@@ -182,3 +182,18 @@ def test_bodies_run_on_a_dask_cluster(first):
     names = [t["key"] for t in tasks.data]
     assert any(str(k).startswith("body_modal") for k in names), names
     assert res.bodies[2].data.attrs["rim_m"] == pytest.approx(5e-3)
+
+
+def test_report_with_a_contact_puts_its_stiffness_in_the_dynamics(first):
+    """``report --with contact.nc``: the report's model takes the contact's k(t); a
+    contact of other teeth (another profile and pressure angle) is refused, naming the
+    fields, never shown with a note."""
+    from reducerlab.errors import ReducerlabError
+    from reducerlab.reporting import report
+
+    out, res = first
+    rep = report(EXAMPLE, results=[out / "contact-pair1.nc"], only=["design"])
+    assert rep.design.mesh1.stiffness == pytest.approx(res.contacts[1].mean_stiffness)
+    other = ["surface.profile=double-arc", "normal_pressure_angle=24 deg"]
+    with pytest.raises(ReducerlabError, match=r"normal_pressure_angle.*surface\.profile"):
+        report(EXAMPLE, overrides=other, results=[out / "contact-pair1.nc"], only=["design"])

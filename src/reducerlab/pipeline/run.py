@@ -301,7 +301,7 @@ def run(
         design, model_design, flow, contacts, body_results, responses, verdict, stages
     )
     if out_dir is not None:
-        _write(result, out_dir, write_report, track.report)
+        _write(result, out_dir, write_report, track.report, t0)
     track.finish("report")
     result.seconds = time.perf_counter() - t0
     return result
@@ -342,7 +342,9 @@ def _verdict(
     return verdict(design, responses=responses, components=components, extra_reasons=reasons)
 
 
-def _write(result: RunResult, out_dir: Path, write_report: bool, report: Progress) -> None:
+def _write(
+    result: RunResult, out_dir: Path, write_report: bool, report: Progress, t0: float
+) -> None:
     """The run's files, moved into ``out_dir`` together: every stage's result, the
     verdict, the run record and the report."""
     from ..io import OutputSet, stamp
@@ -378,6 +380,7 @@ def _write(result: RunResult, out_dir: Path, write_report: bool, report: Progres
             names.append("report.html")
             rep.write(files.path("report.html"))
             result.built = rep
+        result.seconds = time.perf_counter() - t0  # the whole run, its files but this one
         names.append("run.json")
         files.path("run.json").write_text(
             json.dumps({**result.to_dict(), **prov}, indent=2, default=str) + "\n"

@@ -238,8 +238,9 @@ def bodies_section(ctx: Context) -> Section | None:
     s.blocks.append(
         note(
             "Free-body finite-element modes of the gear blanks (paper 000 §4), "
-            "from 'reducerlab body-modal' results; the resonance verdict above "
-            "checks them against the excitations and the system modes."
+            "from 'reducerlab body-modal' or 'reducerlab run' results; the verdict above "
+            "checks them against the excitations and the system modes (renders where the "
+            "mesh is at hand: computed in this run, not read from a netCDF file)."
         )
     )
     for r in given:
@@ -257,4 +258,9 @@ def bodies_section(ctx: Context) -> Section | None:
                 ["mode", "frequency (Hz)", "type"], rows, digits=6, caption=label, name="body-modes"
             )
         )
+        if r.mesh is not None and r.shapes is not None:  # computed here, or by a run
+            s.blocks.append(figure(r.figure(), f"{label}: mode shapes"))
+        mass = ds.attrs.get("mass_kg")
+        if mass is not None:
+            s.values.setdefault("mass_kg", []).append(float(mass))
     return s
