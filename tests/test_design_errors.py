@@ -174,7 +174,7 @@ def test_pressure_angle_message_shows_the_angle_in_degrees(tmp_path, written, sh
         (
             'type = "gear_pair"\n',
             "mas",
-            "description, gear, mesh, name, operating, pinion, report, type",
+            "check, description, gear, mesh, name, operating, pinion, report, type",
         ),
     ],
     ids=["pinion", "bearing", "top-level"],

@@ -27,8 +27,8 @@ def coarse(gear: int) -> MeshSizes:
 @pytest.fixture(scope="module")
 def ring_mesh():
     crown, bevel = DESIGN.tooth_generation(1)
-    rim, features = gear_blank(DESIGN, 1)
-    return mesh_gear(crown, bevel, rim=rim, features=features, sizes=coarse(1))
+    rim, _ = gear_blank(DESIGN, 1)  # the rim ring alone (the example's gear 1 is a cup)
+    return mesh_gear(crown, bevel, rim=rim, sizes=coarse(1))
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,12 @@ import math
 import numpy as np
 import pytest
 
-from reducerlab.analysis.contact import contact_analysis, contact_pair, design_with_mesh
+from reducerlab.analysis.contact import (
+    ContactResult,
+    contact_analysis,
+    contact_pair,
+    design_with_mesh,
+)
 from reducerlab.contact.complementarity import ContactError
 from reducerlab.contact.flanks import Misalignment, separations
 from reducerlab.contact.halfspace import combined_modulus
@@ -214,7 +219,7 @@ def test_cli_contact_options_are_checked(tmp_path):
     runner = CliRunner()
     base = ["contact", "examples/nutation_surface.toml", "-o", str(tmp_path / "o")]
     for extra, message in (
-        ([], "--power/--torque: give exactly one of them"),
+        (["--set", "output_torque=0"], "--power/--torque: give exactly one of them, or a load"),
         (["--power", "3 kg"], "--power"),
         (["--torque", "1 N*m", "--power", "1 kW"], "exactly one"),
         (["--torque", "1 N*m", "--cell", "-1 mm"], "--cell"),
@@ -224,6 +229,22 @@ def test_cli_contact_options_are_checked(tmp_path):
         r = runner.invoke(app, base + extra)
         assert r.exit_code == 2, (extra, r.output)
         assert message in r.output and "Traceback" not in r.output
+
+
+def test_cli_contact_takes_the_torque_flow_at_the_designs_load(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+
+    args = ["contact", "examples/nutation_surface.toml", "--rigid", "--positions", "5",
+            "--order", "2", "-o", str(tmp_path / "o")]  # fmt: skip
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    # 60 N m on the nutating gear's coupling: z2 / z1 of it on the fixed external gear 2
+    assert "torque on central gear (pair 1) from the torque flow at 60 N m output " in r.output
+    assert f"{60 * 26 / 28:.6g} N m" in r.output
+    back = ContactResult.load(tmp_path / "o" / "contact.nc")
+    assert back.data.attrs["torque_external"] == pytest.approx(60 * 26 / 28)
 
 
 def test_cli_contact_writes_results_and_a_fitted_design(tmp_path):

@@ -167,7 +167,13 @@ def test_bifurcation_asked_by_the_design_is_the_apis(reports):
 
 
 def test_an_unexcited_drive_reports_no_response_instead_of_round_off(reports):
+    # the bundled drive carries its rated load and k(t) (issue 27): a load factor
     s = reports["nutation_double_sided"].section("response")
+    assert s.values["dynamic_load_factor"] > 1.0
+    # without them nothing excites it: no load factor from round-off
+    sets = ["output_torque=0", "mesh1.harmonics=[]", "mesh2.harmonics=[]"]
+    path = example_dir() / "nutation_double_sided.toml"
+    s = report(path, overrides=sets, only=["response"]).section("response")
     assert math.isnan(s.values["dynamic_load_factor"])
     assert "not excited" in s.blocks[0].html
 
@@ -256,17 +262,32 @@ def test_cli_report_and_demo_index(tmp_path, monkeypatch):
 
 
 def test_demo_writes_a_report_per_example(reports, tmp_path, monkeypatch):
-    """Every bundled example gets its report and a row in the index (the reports are
-    the module's, handed in through a stand-in to keep the test fast)."""
+    """The flagship example goes through the whole chain (``run``, into its own folder),
+    every other example gets its report, and the index has a row for each (the reports
+    are the module's, handed in through stand-ins to keep the test fast)."""
+    from types import SimpleNamespace
+
+    import reducerlab.pipeline as pipe
     import reducerlab.reporting as rep
+    from reducerlab.cli.report import FLAGSHIP
+
+    def run(path, out, progress=None):
+        out.mkdir(parents=True)
+        r = reports[Path(path).stem]
+        file = r.write(out / "report.html")
+        return SimpleNamespace(report=file, built=r, ok=False, seconds=1.0,
+                               verdict=SimpleNamespace(risks=[{}]))  # fmt: skip
 
     monkeypatch.setattr(rep, "report", lambda path: reports[Path(path).stem])
+    monkeypatch.setattr(pipe, "run", run)
     res = CliRunner().invoke(app, ["demo", "-o", str(tmp_path)])
     assert res.exit_code == 0, res.output
-    for path in example_files():
-        assert (tmp_path / f"{path.stem}.html").read_text() == reports[path.stem].html
+    assert f"{FLAGSHIP}: the whole chain" in res.output and "RISK" in res.output
     index = (tmp_path / "index.html").read_text()
-    assert all(f'href="{p.stem}.html"' in index for p in example_files())
+    for path in example_files():
+        file = f"{path.stem}/report.html" if path.name == FLAGSHIP else f"{path.stem}.html"
+        assert (tmp_path / file).read_text() == reports[path.stem].html
+        assert f'href="{file}"' in index
 
 
 def test_cli_report_into_a_folder_writes_report_html(tmp_path):

@@ -13,12 +13,21 @@ from __future__ import annotations
 import math
 import typing
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Self
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, Self
 
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    PrivateAttr,
+    model_validator,
+)
 from pydantic_core import PydanticCustomError
 
-from .design_files import set_path, validate_design
+from .design_files import field_rules, set_path, validate_design
 from .io import digest
 from .units import QUANTITIES, parse_quantity, shown
 
@@ -36,11 +45,14 @@ __all__ = [
     "MomentOfInertia",
     "NonNegativeDamping",
     "NonNegativeStiffness",
+    "OperatingPoint",
     "PositiveInt",
+    "Power",
     "Real",
     "Spec",
     "SpeedRange",
     "Stiffness",
+    "Thresholds",
     "Torque",
     "angle_between",
     "field_kind",
@@ -142,6 +154,7 @@ NonNegativeDamping = Damping
 TorsionalDamping = quantity("torsional damping", ge=0)
 Force = quantity("force")
 Torque = quantity("torque")
+Power = quantity("power")
 #: Speeds are bounded by the kind's range, 1e7 rad/s (about 95 million rpm), so that
 #: squares stay finite.
 AngularVelocity = quantity("angular velocity")
@@ -223,6 +236,108 @@ class ReportSpec(Spec):
     regime_map: RegimeMapRequest | None = None
 
 
+#: Share (0..1) of a mode's strain energy in a mesh line, or of its lateral motion
+#: whirling forward, from which an excitation line that crosses it counts
+#: (:class:`Thresholds`).
+Share = Annotated[float, Field(ge=0, le=1)]
+
+
+class Thresholds(Spec):
+    """What the verdict (:func:`reducerlab.analysis.verdict.verdict`, ``reducerlab
+    check``, the report) counts as a risk: a design's ``[check]`` table. The reasons for
+    each default are in ``docs/assumptions.md`` ("The verdict's thresholds").
+
+    Attributes
+    ----------
+    margin : float
+        Relative distance of a natural frequency to an excitation that counts, in
+        (0, 1) (0.10 = 10 %, ``check --margin``).
+    mesh_strain_share : float
+        A mesh-order excitation (the transmission error and mesh-stiffness variation)
+        excites a mode only through its mesh lines: a crossing counts when the mode's
+        strain-energy share in them, ``k_mean (g . phi)^2 / (phi^T K phi)``, reaches this
+        (default 0.01: the resonant mesh deflection of such a mode is about
+        ``share / (2 zeta)`` times the transmission error).
+    forward_whirl_share : float
+        Unbalance turns with the rotor: a ``1x input`` crossing counts when the share of
+        the mode's lateral motion that whirls forward reaches this (default 0.01; a
+        backward whirl of an isotropic rotor has none).
+    dynamic_load_factor : float
+        The largest dynamic load factor ``max |F| / mean F`` of a mesh line at the
+        operating point that passes, >= 1 (default 1.5).
+    separation : float
+        The largest share of the time with the teeth apart that passes, in [0, 1)
+        (default 0: teeth that separate are never green).
+    back_impacts_risk : bool
+        Back-side impacts (double-sided impacts) are a risk (default true; false: a note).
+    non_periodic_risk : bool
+        Quasi-periodic or chaotic motion at the operating point is a risk (default true;
+        false: a note).
+    consistency : float
+        Largest relative difference between a lumped gear's mass or moment of inertia
+        and its finite-element body's that is consistent (``reducerlab run``; default
+        0.10: a natural frequency moves by about half of it, f ~ 1/sqrt(m), within the
+        10 % margin).
+    """
+
+    margin: Annotated[float, Field(gt=0, lt=1)] = 0.10
+    mesh_strain_share: Share = 0.01
+    forward_whirl_share: Share = 0.01
+    dynamic_load_factor: Annotated[float, Field(ge=1, le=1e6)] = 1.5
+    separation: Annotated[float, Field(ge=0, lt=1)] = 0.0
+    back_impacts_risk: bool = True
+    non_periodic_risk: bool = True
+    consistency: Annotated[float, Field(gt=0, lt=1)] = 0.10
+
+
+#: Design tables that say how to show or judge results, not what to analyse: left out
+#: of the design hash, the provenance and the inputs a result depends on.
+NOT_ANALYSED = frozenset({"report", "check"})
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """Where a design runs: its input speed and the load its output member carries.
+
+    Attributes
+    ----------
+    input_speed : float
+        rad/s, the input member's speed (signed).
+    output_torque : float
+        N m, the load the output member carries (``>= 0``; 0 when unloaded); it opposes
+        the output's rotation.
+    ratio : float or None
+        ``omega_in / omega_out`` (signed); None for a design without kinematics.
+    """
+
+    input_speed: float
+    output_torque: float
+    ratio: float | None = None
+
+    @property
+    def output_speed(self) -> float:
+        """rad/s, the output member's speed (signed; 0 without kinematics)."""
+        return self.input_speed / self.ratio if self.ratio else 0.0
+
+    @property
+    def power(self) -> float:
+        """W, the power delivered to the load, ``T_out |omega_out|``."""
+        return self.output_torque * abs(self.output_speed)
+
+    @property
+    def input_torque(self) -> float:
+        """N m, the input torque of the lossless drive, ``T_out / |i|`` (signed along the
+        input speed: it drives)."""
+        if not self.ratio:
+            return 0.0
+        return math.copysign(self.output_torque / abs(self.ratio), self.input_speed or 1.0)
+
+    @property
+    def loaded(self) -> bool:
+        """Whether the output carries a load."""
+        return self.output_torque > 0
+
+
 class Design(Spec):
     """Base of every drive's design.
 
@@ -232,12 +347,15 @@ class Design(Spec):
         The drive type; selects the builder (``"gear_pair"``, ...).
     name : str
         A title used in tables, figures and reports.
+    check : Thresholds, optional
+        The ``[check]`` table: what the verdict counts as a risk (:attr:`thresholds`).
     """
 
     type: str
     name: str = ""
     description: str = ""
     report: ReportSpec | None = None
+    check: Thresholds | None = None
     _source: str = PrivateAttr(default="<design>")
 
     @property
@@ -248,20 +366,26 @@ class Design(Spec):
 
     @property
     def hash(self) -> str:
-        """SHA-256 of the design's SI content (hex, 16 characters); the ``[report]``
-        table (what the report draws, not what is analysed) is left out."""
-        return digest(self.model_dump_json(exclude={"report"}))
+        """SHA-256 of the design's SI content (hex, 16 characters); the ``[report]`` and
+        ``[check]`` tables (what the report draws and what the verdict counts, not what
+        is analysed) are left out."""
+        return digest(self.model_dump_json(exclude=set(NOT_ANALYSED)))
 
     @property
     def provenance(self) -> dict[str, str]:
         """``{"design": SI JSON, "design_hash": hash, "source": file}``: the metadata that
         models and results built from this design carry (one JSON dump serves both; the
         source, when known, lets an analysis's error name the file)."""
-        text = self.model_dump_json(exclude={"report"})
+        text = self.model_dump_json(exclude=set(NOT_ANALYSED))
         out = {"design": text, "design_hash": digest(text)}
         if self._source != "<design>":
             out["source"] = self._source
         return out
+
+    @property
+    def thresholds(self) -> Thresholds:
+        """What the verdict counts as a risk: the ``[check]`` table, else the defaults."""
+        return self.check if self.check is not None else Thresholds()
 
     # -- the drive contract: what analyses and the report ask of every design --------
 
@@ -301,6 +425,79 @@ class Design(Spec):
         """The drive's kinematics (ratio, member speeds, mesh frequencies), or None for
         a design that defines none (a lumped model)."""
         return None
+
+    #: Where the design keeps its load: the dotted paths of a torque (N m) and of the
+    #: output power (W), of which a design gives at most one (a 0 counts as not given);
+    #: None where it has none
+    #: (``("output_torque", "output_power")``, ``("operating.torque", "operating.power")``).
+    load_fields: ClassVar[tuple[str | None, str | None]] = (None, None)
+    #: Which member the torque field loads: ``"output"`` (its load) or ``"input"`` (the
+    #: torque it transmits, a gear pair's pinion torque).
+    load_at: ClassVar[Literal["output", "input"]] = "output"
+    #: Fields a design type no longer takes: name -> what replaces it. A file that still
+    #: gives one is refused with that message (not read with a new meaning).
+    retired_fields: ClassVar[Mapping[str, str]] = {}
+
+    @model_validator(mode="before")
+    @classmethod
+    def _retired(cls, data: Any) -> Any:
+        if isinstance(data, Mapping):
+            gone = [(k, f"no longer a field: {why}") for k, why in cls.retired_fields.items()
+                    if k in data]  # fmt: skip
+            if gone:
+                raise field_rules(*gone)
+        return data
+
+    @model_validator(mode="after")
+    def _load_rules(self) -> Self:
+        tpath, ppath = self.load_fields
+        torque, power = self._at(tpath), self._at(ppath)
+        problems = []
+        role = ("the load the output member carries" if self.load_at == "output"
+                else "the torque the input member transmits")  # fmt: skip
+        for path, value, unit in ((tpath, torque, "N m"), (ppath, power, "W")):
+            if value is not None and value < 0:
+                problems.append((
+                    path, f"must be >= 0 ({unit}): {role}; its direction follows from the rotation"
+                ))  # fmt: skip
+        if torque and power:
+            problems.append(
+                (ppath, f"give the load as {tpath} or as {ppath}, not both (the other 0)")
+            )
+        elif power and not self.operating_speed:
+            speed = self.speed_fields[0] or "input_speed"
+            problems.append((ppath, f"a power needs a non-zero {speed} to give a torque"))
+        if problems:
+            raise field_rules(*problems)
+        return self
+
+    def operating_point(self) -> OperatingPoint:
+        """The operating point: the input speed (``operating_speed``) and the output
+        torque, given (``load_fields``: a torque, or a power ``P``, ``T_out = P /
+        |omega_out|``) or 0 when the design gives no load.
+
+        Returns
+        -------
+        OperatingPoint
+        """
+        speed = self.operating_speed
+        tpath, ppath = self.load_fields
+        torque, power = self._at(tpath), self._at(ppath)
+        kin = self.kinematics() if (torque or power) else None
+        if kin is None:
+            return OperatingPoint(speed, 0.0, None)
+        ratio = float(kin.ratio)
+        if power:
+            out = float(power) * abs(ratio) / abs(speed)
+        else:
+            out = float(torque) * (abs(ratio) if self.load_at == "input" else 1.0)
+        return OperatingPoint(speed, out, ratio)
+
+    def pitch_radii(self) -> dict[str, float]:
+        """Mean or pitch radius (m) of every gear of the kinematics' torque train, by
+        the train's gear names, for tangential forces; empty where the design has no
+        geometry (a kinematics-only design)."""
+        return {}
 
     @property
     def has_tooth_surfaces(self) -> bool:

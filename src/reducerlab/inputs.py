@@ -15,10 +15,12 @@ result's record with the values the current design gives at the same paths and r
 the result, naming the first fields that differ, when any does.
 
 Which fields a result depends on is its kind's rule: by default every field of the
-design except its title, description and ``[report]`` table (a result computed from a
-model depends on all of it); a kind may narrow it with a rule named in :data:`RULES`
+design except its title, description, ``[report]`` and ``[check]`` tables (a result
+computed from a model depends on all of it); a kind may narrow it with a rule named in
+:data:`RULES`
 (``body-modal``: the fields that generate that one gear's body, so that a changed
-operating speed does not refuse a gear's modes). Computation settings that are not part
+operating speed does not refuse a gear's modes; ``contact``: the fields that generate the
+pair's teeth). Computation settings that are not part
 of the design (mesh sizes, boundary, mode count) stay in the result's own attributes:
 they are the user's choice, not the design's.
 """
@@ -44,7 +46,7 @@ __all__ = [
 ]
 
 #: Design fields no analysis reads: never part of a result's inputs.
-IGNORED = ("name", "description", "report")
+IGNORED = ("name", "description", "report", "check")
 
 #: Result kind -> ``"module:function"`` giving the design paths a result of that kind
 #: depends on, as ``function(design, attrs) -> list of paths`` (None: the whole design).
@@ -52,6 +54,7 @@ IGNORED = ("name", "description", "report")
 #: like the result classes of :mod:`reducerlab.results`.
 RULES: dict[str, str] = {
     "body-modal": "reducerlab.analysis.gear_bodies:body_inputs",
+    "contact": "reducerlab.analysis.gear_bodies:contact_inputs",
 }
 
 Rule = Callable[[Mapping[str, Any], Mapping[str, Any]], "list[str] | None"]

@@ -278,9 +278,12 @@ def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[n
 
 def _solve(
     mesh: GearBodyMesh, material: Any, count: int, boundary: Boundary, stage: Stage
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, float]:
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, float,
+    tuple[float, float, float],
+]:  # fmt: skip
     """Frequencies (Hz), shapes at the mesh points (n, 3, count), the points' HRZ masses
-    (n,) (kg), DOFs, mass (kg)."""
+    (n,) (kg), DOFs, mass (kg), moments of inertia ``(J_x, J_y, J_z)`` (kg m^2)."""
     from ..errors import ModelError
     from ..fe import assemble, body_modes
 
@@ -311,7 +314,8 @@ def _solve(
     shapes = _at_points(basis, skm, mesh, modes.shapes)
     mass = _translation_mass(basis, M)
     weights = _point_masses(basis, skm, mesh, M, mass)
-    return modes.frequencies, shapes, weights, int(K.shape[0]), mass
+    inertia = _rigid_inertia(basis, M, mass)
+    return modes.frequencies, shapes, weights, int(K.shape[0]), mass, inertia
 
 
 def _translation_mass(basis: Any, M: Any) -> float:
@@ -320,6 +324,34 @@ def _translation_mass(basis: Any, M: Any) -> float:
     e[basis.nodal_dofs[0]] = 1.0
     e[basis.edge_dofs[0]] = 1.0
     return float(e @ (M @ e))
+
+
+def _rigid_inertia(basis: Any, M: Any, mass: float) -> tuple[float, float, float]:
+    """Moments of inertia (kg m^2) of the body about its centre of mass: ``J_x, J_y``
+    (diametral, about axes through the centre) and ``J_z`` (polar, about the gear axis
+    z through x = y = 0): ``u^T M u`` for the unit rigid rotation field ``u = e x (r -
+    c)`` about each axis, exact for the quadratic elements (the field is linear)."""
+    loc = np.asarray(basis.doflocs, dtype=float)
+    d = [np.r_[basis.nodal_dofs[k], basis.edge_dofs[k]] for k in range(3)]
+    n = M.shape[0]
+
+    def quad(u: NDArray[np.float64], w: NDArray[np.float64] | None = None) -> float:
+        return float(u @ (M @ (u if w is None else w)))
+
+    ez, zf = np.zeros(n), np.zeros(n)
+    ez[d[2]] = 1.0
+    zf[d[2]] = loc[2, d[2]]
+    zc = quad(ez, zf) / mass  # centre of mass along the axis
+    rel = loc.copy()
+    rel[2] -= zc
+    out = []
+    for a in range(3):  # rotation about axis a: u_b = -r_c, u_c = r_b (cyclic b, c)
+        b, c = (a + 1) % 3, (a + 2) % 3
+        u = np.zeros(n)
+        u[d[b]] = -rel[c, d[b]]
+        u[d[c]] = rel[b, d[c]]
+        out.append(quad(u))
+    return out[0], out[1], out[2]
 
 
 def _point_masses(
@@ -456,7 +488,9 @@ def body_modal(
                        _coarser(sizes, crown, bevel, rim), say)  # fmt: skip
         coarse_f = _solve(coarse, material, count, boundary, say)[0]
     mesh = _mesh(design, gear, crown, bevel, rim, features, sizes, say)
-    freq, shapes, weights, dofs, mass = _solve(mesh, material, count, boundary, say)
+    freq, shapes, weights, dofs, mass, (J_x, J_y, J_z) = _solve(
+        mesh, material, count, boundary, say
+    )
     say("classifying the modes")
     types = classify_modes(mesh.points, shapes, freq, weights)
     change = freq / coarse_f - 1.0 if convergence else coarse_f
@@ -481,6 +515,7 @@ def body_modal(
         gear=int(gear), teeth=int(bevel.teeth), gear_kind=bevel.kind, boundary=boundary,
         tooth_size_mm=sizes.tooth * 1e3, body_size_mm=sizes.body * 1e3,
         tetrahedra=len(mesh.tets), dofs=dofs, mass_kg=mass,
+        J_x_kg_m2=J_x, J_y_kg_m2=J_y, J_z_kg_m2=J_z,
         seconds=time.perf_counter() - t0,
         material=f"E = {mat.youngs_modulus:.6g} Pa, nu = {mat.poisson_ratio:.4g}, "
         f"rho = {mat.density:.6g} kg/m^3",

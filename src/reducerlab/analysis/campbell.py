@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
     from .components import ComponentModes
 
-__all__ = ["CampbellResult", "campbell", "frequencies_over"]
+__all__ = ["CampbellResult", "campbell", "frequencies_over", "undamped_modes_over"]
 
 #: Public names that lived here before the resonance verdict got its own module
 #: (issue 25) and stay importable from here, as the README's
@@ -69,6 +69,14 @@ def frequencies_over(model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL
     ndarray
         Frequencies (Hz), shape (speed, mode); a divergent mode is negative.
     """
+    return undamped_modes_over(model, speeds, rigid_tol)[0]
+
+
+def undamped_modes_over(
+    model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL
+) -> tuple[NDArray, NDArray]:
+    """:func:`frequencies_over` with the mode shapes: frequencies (Hz), shape (speed,
+    mode), and mass-normalised shapes, shape (speed, dof, mode), in the same order."""
     from .sweep import PointModes
 
     Ms, Ks = [], []
@@ -82,7 +90,7 @@ def frequencies_over(model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL
     modes = PointModes(np.array(Ms), K, rest, element_blocks(model), model.dof_names,
                        f"campbell of {model.name!r}")  # fmt: skip
     try:
-        lam, _, _ = modes.solve(rigid_tol)
+        lam, phi, _ = modes.solve(rigid_tol)
     except (np.linalg.LinAlgError, ValueError) as exc:
         if isinstance(exc, ReducerlabError):
             raise
@@ -95,7 +103,7 @@ def frequencies_over(model: Model, speeds: NDArray, rigid_tol: float = RIGID_TOL
             f"campbell: non-finite natural frequencies for model {model.name!r}; check for "
             "an extreme inertia or stiffness value"
         )
-    return np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
+    return np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI, phi
 
 
 @names_source

@@ -43,7 +43,13 @@ if TYPE_CHECKING:
 
     from .components import ComponentModes
 
-__all__ = ["ComplexCampbellResult", "ComplexModalResult", "complex_campbell", "complex_modes"]
+__all__ = [
+    "ComplexCampbellResult",
+    "ComplexModalResult",
+    "complex_campbell",
+    "complex_modes",
+    "spin_signs",
+]
 
 #: An orbit whose minor axis is below this share of its major axis is planar (no whirl).
 PLANAR = 0.05
@@ -53,7 +59,7 @@ PLANAR = 0.05
 UNSTABLE_TOL = 1e-9
 
 
-def _spin_signs(model: Model) -> dict[tuple[str, str], float]:
+def spin_signs(model: Model) -> dict[tuple[str, str], float]:
     """Spin sense per ``(body, pair)`` (pair ``"xy"`` or ``"rxry"``): of the frame a
     Coriolis element turns with, of the spin of a Gyroscopic or Nutating body."""
     out: dict[tuple[str, str], float] = {}
@@ -147,7 +153,7 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
     scale = float(np.max(np.abs(lam_e))) if lam_e.size else 1.0
     keep = (lam_e.imag > 1e-12 * scale) | (np.abs(lam_e.imag) <= 1e-12 * scale)
     lam_e, vec_e = lam_e[keep], vec_e[:, keep]
-    spins = _spin_signs(model)
+    spins = spin_signs(model)
     mass = np.diag(M)
     rows = []
     for k in range(lam_e.size):

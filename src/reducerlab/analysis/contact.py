@@ -39,8 +39,12 @@ __all__ = [
     "check_misalignment",
     "contact_analysis",
     "contact_pair",
+    "design_with_contact",
     "design_with_mesh",
 ]
+
+# the contact's k(t) into a design: its own module, importable from here as before
+from .contact_mesh import design_with_contact, design_with_mesh
 
 Stage = Callable[[str], None]
 #: cell of the pilot run that sizes the contact grid, in normal modules
@@ -565,31 +569,3 @@ def _cells_dataset(runs: list) -> dict[str, Any]:
         "pressure": ("cell", cat(lambda r: r.pressure), {"units": "Pa"}),
         "edge": ("cell", cat(lambda r: r.edge).astype(np.int8)),
     }
-
-
-def design_with_mesh(path: Any, result: ContactResult) -> str:
-    """The design file at ``path`` as TOML text whose ``[meshN]`` table (``N`` = the
-    result's pair) takes the contact analysis' mesh stiffness: ``stiffness = k_m``,
-    ``harmonics = k_r`` and ``phases = phi_r`` of paper 000's Eq. 8 (time origin: tooth
-    pair 0 at mid-mesh). Damping, backlash and error amplitude are kept. Comments of
-    the original file are not carried over; a header names the source."""
-    import tomli_w
-
-    from ..design_files import read_toml
-
-    data = read_toml(path)
-    pair = int(result.data.attrs["pair"])
-    amp, phase = result.harmonics()
-    table = dict(data.get(f"mesh{pair}", {}))
-    table["stiffness"] = f"{result.mean_stiffness:.6g} N/m"
-    table["harmonics"] = [f"{a:.6g} N/m" for a in amp]
-    table["phases"] = [f"{math.degrees(p):.6g} deg" for p in phase]
-    data[f"mesh{pair}"] = table
-    a = result.data.attrs
-    head = (
-        f"# {path} with [mesh{pair}] from `reducerlab contact` (pair {pair}, "
-        f"{a['profile']}, T_ext = {a['torque_external']:.6g} N m, "
-        f"{result.data.sizes['position']} positions, Eq. 8 order {a['order']}, "
-        f"fit residual {100 * a['fit_residual']:.2f} %)\n"
-    )
-    return head + tomli_w.dumps(data)

@@ -12,7 +12,7 @@ from ..fe.gear_mesh import MeshSizes
 from .body_modal import body_estimate, body_modal
 from .components import ComponentModes
 
-__all__ = ["body_inputs", "body_mesh_sizes", "gear_body_modes"]
+__all__ = ["body_inputs", "body_mesh_sizes", "contact_inputs", "gear_body_modes"]
 
 
 def body_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str] | None:
@@ -44,6 +44,38 @@ def body_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str
     return [
         "type", "sides", "helix_angle", "normal_pressure_angle", "nutation_angle",
         "surface", "material", f"gear{gear}.blank",
+        *(f"gear{k}.{f}" for k in gears for f in ("teeth", "mean_radius")),
+    ]  # fmt: skip
+
+
+def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str] | None:
+    """The design fields a loaded-contact result of one gear pair depends on (the rule
+    of ``contact`` results in :data:`reducerlab.inputs.RULES`): the tooth generation of
+    the pair (as for :func:`body_inputs`, without the blanks: the tooth compliance
+    models hold teeth and rim only), the ``[surface]`` table and the ``[material]``.
+    Not the masses, supports, meshes or speeds: a changed damping or stiffness of the
+    lumped model does not make the contact of the same teeth another result. The load,
+    grid and misalignment are the result's own attributes. None (the whole design) for a
+    result of another drive type or without a pair number.
+
+    Parameters
+    ----------
+    design : mapping
+        The design's SI dump.
+    attrs : mapping
+        The result's attributes (``pair``).
+    """
+    try:
+        pair = int(attrs.get("pair"))  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return None
+    if design.get("type") != "nutation" or pair not in (1, 2):
+        return None
+    free = design.get("nutation_angle") is None and design.get("sides") == "double"
+    gears = range(1, 5) if free else (2 * pair - 1, 2 * pair)
+    return [
+        "type", "sides", "helix_angle", "normal_pressure_angle", "nutation_angle",
+        "surface", "material",
         *(f"gear{k}.{f}" for k in gears for f in ("teeth", "mean_radius")),
     ]  # fmt: skip
 

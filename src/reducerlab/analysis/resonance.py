@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from ..design import Design
+from ..design import Design, Thresholds
 from ..errors import ReducerlabError, names_source
 from ..model import Model
 from ..units import RPM, TWO_PI
@@ -30,11 +30,19 @@ from .complex_modal import ComplexCampbellResult, complex_campbell, modes_over, 
 from .components import ComponentModes, as_components
 from .excitation import operating_range
 from .modal import has_skew_terms
+from .participation import participation
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["ResonanceResult", "format_check", "resonance_check"]
+__all__ = [
+    "ResonanceResult",
+    "drive_note",
+    "excited",
+    "format_check",
+    "percent",
+    "resonance_check",
+]
 
 
 class ResonanceResult(dict[str, Any]):
@@ -102,16 +110,27 @@ class ResonanceResult(dict[str, Any]):
 def resonance_check(
     target: Design | Model,
     *,
-    margin: float = 0.10,
+    margin: float | None = None,
     speed_range: tuple[float, float] | None = None,
     points: int = 101,
     components: Sequence[ComponentModes] | ComponentModes = (),
+    mesh_strain_share: float | None = None,
+    forward_whirl_share: float | None = None,
 ) -> ResonanceResult:
     """Resonance verdict over the operating speed range (paper 000's closing check).
 
     Lists every crossing of a natural frequency with an excitation inside the range,
     and every (mode, excitation) pair whose frequencies come within ``margin``
     (relative to the excitation) somewhere in the range, with the closest approach.
+
+    Each row says how strongly its excitation drives its mode
+    (:mod:`.participation`): a mesh order (transmission error) through the mode's
+    strain-energy share in the mesh lines it acts on (``mesh_share``, ``mesh_lines``),
+    the input rotation (unbalance) through the share of the mode's lateral motion that
+    whirls forward (``forward_share``; None for a mode without lateral motion, which
+    counts). A row is ``excited`` when that share reaches ``mesh_strain_share`` or
+    ``forward_whirl_share``; only excited rows are findings (the others stay listed:
+    "not mesh-excited", "backward whirl").
 
     With ``components`` (finite-element modes of the gear bodies, paper 000 §4), each
     body mode is also checked against
@@ -128,8 +147,9 @@ def resonance_check(
     Parameters
     ----------
     target : Design or Model
-    margin : float
-        Relative distance to an excitation that counts, in (0, 1) (0.10 = 10 %).
+    margin : float, optional
+        Relative distance to an excitation that counts, in (0, 1) (0.10 = 10 %);
+        default the design's ``[check]`` margin (:class:`~reducerlab.design.Thresholds`).
     speed_range : tuple of float, optional
         ``(min, max)`` input speeds (rad/s); default the design's operating range
         (:func:`~reducerlab.analysis.excitation.operating_range`).
@@ -137,23 +157,38 @@ def resonance_check(
         Speeds checked across the range.
     components : ComponentModes or sequence of them
         Gear-body modes to check (unique labels).
+    mesh_strain_share, forward_whirl_share : float, optional
+        The shares from which a mesh-order or rotation row is excited, in [0, 1];
+        default the design's ``[check]`` table (0.01 each, ``docs/assumptions.md``).
 
     Returns
     -------
     ResonanceResult
-        A dict ``{"ok": bool, "margin": ..., "speed_range_rpm": [...], "crossings": [...],
+        A dict ``{"ok": bool, "margin": ..., "mesh_strain_share": ...,
+        "forward_whirl_share": ..., "speed_range_rpm": [...], "crossings": [...],
         "near": [...], "title": ...}``; with components also ``"component_crossings"``,
         ``"component_near"``, ``"coincidences"``, ``"components"`` (per body: label,
         frequencies, types, source and its ``closest`` approach to an excitation and
         to a system mode) and ``"system"`` (the system natural frequencies over the
         range: ``frequencies_hz`` at its top speed, ``min_hz``, ``max_hz``). ``ok`` is
-        False if any list of findings is non-empty. Its ``campbell`` is the Campbell
-        diagram used (complex branches with gyroscopic, Coriolis or circulatory terms).
+        False if any list of findings holds an excited row (every body-mode row and
+        unstable mode counts). Its ``campbell`` is the Campbell diagram used (complex
+        branches with gyroscopic, Coriolis or circulatory terms).
     """
     from ..drives import design_and_model
 
-    if not (isinstance(margin, int | float) and 0 < margin < 1):
+    limits = target.thresholds if isinstance(target, Design) else Thresholds()
+    margin = limits.margin if margin is None else margin
+    mesh_strain_share = limits.mesh_strain_share if mesh_strain_share is None else mesh_strain_share
+    forward_whirl_share = (
+        limits.forward_whirl_share if forward_whirl_share is None else forward_whirl_share
+    )
+    if isinstance(margin, bool) or not (isinstance(margin, int | float) and 0 < margin < 1):
         raise ReducerlabError(f"margin must be a fraction in (0, 1), got {margin!r}")
+    for what, v in (("mesh_strain_share", mesh_strain_share),
+                    ("forward_whirl_share", forward_whirl_share)):  # fmt: skip
+        if isinstance(v, bool) or not (isinstance(v, int | float) and 0 <= v <= 1):
+            raise ReducerlabError(f"{what} must be a fraction in [0, 1], got {v!r}")
     comps = as_components(components)
     lo, hi = speed_range if speed_range is not None else operating_range(target)
     if not (0 <= lo <= hi) or not math.isfinite(hi):
@@ -200,10 +235,16 @@ def resonance_check(
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
+    participation(model, crossings + near, orders, gyroscopic)
+    for row in crossings + near:
+        row["excited"] = excited(row, mesh_strain_share, forward_whirl_share)
     stability = _stability(rows, speeds)
+    findings = [r for r in crossings + near if r["excited"]]
     report: dict[str, Any] = {
-        "ok": not crossings and not near and not stability["unstable"],
+        "ok": not findings and not stability["unstable"],
         "margin": margin,
+        "mesh_strain_share": mesh_strain_share,
+        "forward_whirl_share": forward_whirl_share,
         "frequencies": "complex (damped, whirl-split)" if gyroscopic else "undamped",
         "speed_range_rpm": [lo * RPM, hi * RPM],
         "crossings": crossings,
@@ -218,6 +259,17 @@ def resonance_check(
             report["component_crossings"] or report["component_near"] or report["coincidences"]
         )
     return ResonanceResult(report, res, comps)
+
+
+def excited(row: dict[str, Any], mesh_strain_share: float, forward_whirl_share: float) -> bool:
+    """Whether a crossing or near row's excitation drives its mode: its ``mesh_share``
+    reaches ``mesh_strain_share``, or its ``forward_share`` reaches
+    ``forward_whirl_share`` (a mode without lateral motion, share None, counts); a row
+    without either (an excitation the verdict cannot weigh) counts."""
+    if "mesh_share" in row:
+        return bool(row["mesh_share"] >= mesh_strain_share)
+    share = row.get("forward_share")
+    return share is None or bool(share >= forward_whirl_share)
 
 
 def _stability(rows: list[xr.Dataset], speeds: NDArray) -> dict[str, Any]:
@@ -345,7 +397,7 @@ def format_check(report: dict[str, Any]) -> str:
         whirl = f", {c['whirl']} whirl" if c.get("whirl") else ""
         lines.append(
             f"  CROSSING  mode {c['mode']} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
-            f"({c['frequency_hz']:.5g} Hz{whirl})"
+            f"({c['frequency_hz']:.5g} Hz{whirl}){drive_note(c, report)}"
         )
     for r in report["near"]:
         lines.append(
@@ -353,7 +405,7 @@ def format_check(report: dict[str, Any]) -> str:
             + (f", {r['whirl']} whirl" if r.get("whirl") else "")
             + ") within "
             f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
-            f"at {r['speed_rpm']:.5g} rpm"
+            f"at {r['speed_rpm']:.5g} rpm{drive_note(r, report)}"
         )
     for c in report.get("component_crossings", ()):
         lines.append(
@@ -403,9 +455,36 @@ def format_check(report: dict[str, Any]) -> str:
                 f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
             )
     lines.append(
-        "verdict: no resonance risk" if report["ok"] else "verdict: RESONANCE RISK (see above)"
+        "resonance: no resonance risk" if report["ok"] else "resonance: RESONANCE RISK (see above)"
     )
     return "\n".join(lines)
+
+
+def percent(share: float) -> str:
+    """A share (0..1) in per cent with three significant digits (``"3.05"``)."""
+    return f"{100 * share:.3g}"
+
+
+def drive_note(row: dict[str, Any], report: dict[str, Any]) -> str:
+    """``", mesh strain 0 %: not mesh-excited (< 1 %)"``: how strongly a crossing or near
+    row's excitation drives its mode (empty for a row without the measure)."""
+    if "mesh_share" in row:
+        text = f", mesh strain {percent(row['mesh_share'])} %"
+        if not row.get("excited", True):
+            text += f": not mesh-excited (< {100 * report['mesh_strain_share']:g} %)"
+        return text
+    if "forward_share" not in row:
+        return ""
+    share = row["forward_share"]
+    if share is None:
+        return ", no lateral whirl (counted)"
+    text = f", forward whirl {percent(share)} %"
+    if not row.get("excited", True):
+        text += (
+            f": not excited by unbalance (forward whirl < "
+            f"{100 * report['forward_whirl_share']:g} %)"
+        )
+    return text
 
 
 def _body_mode(row: dict[str, Any]) -> str:

@@ -1,6 +1,7 @@
-"""Command line: ``reducerlab modal``, ``sensitivity``, ``kinematics``, ``sweep``,
-``campbell``, ``check``, ``bifurcation``, ``frequency-response``, ``regime-map``,
-``response``, ``surface``, ``khv``, ``body-modal``, ``contact``, ``report``, ``demo``.
+"""Command line: ``reducerlab run`` (the whole chain), ``modal``, ``sensitivity``,
+``kinematics``, ``sweep``, ``campbell``, ``check``, ``bifurcation``,
+``frequency-response``, ``regime-map``, ``response``, ``surface``, ``khv``,
+``body-modal``, ``contact``, ``report``, ``demo``.
 Every command that reads a design file takes ``--set PATH=VALUE`` to override a field.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
@@ -32,7 +33,7 @@ from typing import Annotated, Any
 import typer
 
 from .. import __version__
-from . import body, check, contact, geometry, khv, kinematics, modal, nonlinear, report, sweep
+from . import body, check, contact, geometry, khv, kinematics, modal, nonlinear, report, run, sweep
 from .output import err, kept, reset_kept
 
 __all__ = ["app", "main"]
@@ -67,7 +68,8 @@ def _main(
 
 
 # the commands, in this order in the help
-for _group in (modal, kinematics, sweep, check, nonlinear, geometry, body, contact, report, khv):
+for _group in (run, modal, kinematics, sweep, check, nonlinear, geometry, body, contact, report,
+               khv):  # fmt: skip
     _group.register(app)
 del _group
 

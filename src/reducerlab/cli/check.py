@@ -1,5 +1,7 @@
-"""``reducerlab check``: the resonance verdict (paper 000 Table 5), with the gear
-bodies' modes given as files or computed first."""
+"""``reducerlab check``: the verdict (issue 27): resonance over the operating range
+(paper 000 Table 5), weighted by how strongly each excitation drives its mode, with the
+gear bodies' modes given as files or computed first, and the nonlinear response at the
+operating point, judged against the design's ``[check]`` table."""
 
 from __future__ import annotations
 
@@ -15,17 +17,18 @@ from .options import DesignArgument, Format, FormatOption, SetOption, parse_spee
 from .output import busy, outputs, progress_bar, savefig, user_errors
 
 if TYPE_CHECKING:
-    from ..analysis.resonance import ResonanceResult
+    from ..analysis.verdict import Verdict
 
 
 def check(
     design: DesignArgument,
     margin: Annotated[
-        float,
+        float | None,
         typer.Option(
-            help="Relative distance to an excitation that counts (0.10 = 10 %), in (0, 1)."
+            help="Relative distance to an excitation that counts (0.10 = 10 %), in (0, 1); "
+            "default the design's [check] margin, else 0.10."
         ),
-    ] = 0.10,
+    ] = None,
     speed_range: Annotated[
         str | None, typer.Option(help="Operating range in rpm 'MIN,MAX' (default: design's).")
     ] = None,
@@ -55,13 +58,24 @@ def check(
             "diagram with the body lines (PNG) here.",
         ),
     ] = None,
+    run_response: Annotated[
+        bool,
+        typer.Option(
+            "--response/--no-response",
+            help="Judge the nonlinear response at the operating point (dynamic load "
+            "factor, tooth separation, impacts, motion; seconds per mesh line).",
+        ),
+    ] = True,
     sets: SetOption = None,
 ) -> None:
-    """Resonance verdict: exits 1 when a natural frequency meets an excitation, or a gear
-    body's mode meets an excitation or a system mode (paper 000 Table 5)."""
+    """The verdict: exits 1 on any risk: a natural frequency meets an excitation that
+    drives it (mesh strain or forward whirl), a gear body's mode meets an excitation or
+    a system mode (paper 000 Table 5), a mode grows, or at the operating point the
+    dynamic load factor exceeds its limit, the teeth separate, strike their back flanks
+    or move non-periodically. Thresholds: the design's [check] table (docs/assumptions.md)."""
     from ..analysis.body_modal import BodyModalResult
     from ..analysis.components import ComponentModes
-    from ..analysis.resonance import format_check, resonance_check
+    from ..analysis.verdict import verdict
     from ..drives import load_design
     from ..inputs import check_inputs
 
@@ -85,12 +99,14 @@ def check(
             components.append(ComponentModes.from_body_modal(res_b, source=str(path)))
         if bodies:
             components += _all_body_modes(d, design, {c.label for c in components})
-        with busy("resonance check"):
-            report = resonance_check(d, margin=margin, speed_range=rng, components=components)
+        with busy("verdict"):
+            report = verdict(d, speed_range=rng, components=components,
+                             thresholds=None if margin is None else {"margin": margin},
+                             run_response=run_response)  # fmt: skip
         if files is not None:
             _write_check(d, report, files)
-    typer.echo(json.dumps(report, indent=2) if fmt is Format.json else format_check(report))
-    if not report["ok"]:
+    typer.echo(json.dumps(report.to_dict(), indent=2) if fmt is Format.json else report.table())
+    if not report.ok:
         raise typer.Exit(code=1)
 
 
@@ -110,18 +126,20 @@ def _all_body_modes(d: Any, design: Path, have: set[str]) -> list:
         return gear_body_modes(d, skip=have, stage=lambda s: progress.update(task, description=s))
 
 
-def _write_check(d: Any, report: ResonanceResult, files: OutputSet) -> None:
-    """check.json, components.png (Table 5-style, with body modes) and campbell.png: the
-    Campbell diagram the verdict used (``report.campbell``), with the body lines."""
+def _write_check(d: Any, report: Verdict, files: OutputSet) -> None:
+    """check.json (the verdict), components.png (Table 5-style, with body modes) and
+    campbell.png: the Campbell diagram the verdict used, with the body lines."""
     from ..io import stamp
 
+    res = report.resonance
     with files:
         files.path("check.json").write_text(
             json.dumps({**report.to_dict(), **stamp(d.provenance)}, indent=2) + "\n"
         )
-        if report.components:
-            savefig(report.plot_components(), files.path("components.png"), d.provenance)
-        savefig(report.plot(), files.path("campbell.png"), d.provenance)
+        if res is not None and res.components:
+            savefig(res.plot_components(), files.path("components.png"), d.provenance)
+        if res is not None:
+            savefig(res.plot(), files.path("campbell.png"), d.provenance)
 
 
 def register(app: typer.Typer) -> None:

@@ -23,7 +23,8 @@ def contact(
         str | None,
         typer.Option(
             help="Power through the pair at the design's input speed on the "
-            "external gear, e.g. '3 kW'."
+            "external gear, e.g. '3 kW'. Without --power and --torque: the torque flow's "
+            "torque on the external gear at the design's load (output_torque/output_power)."
         ),
     ] = None,
     torque: Annotated[
@@ -89,8 +90,10 @@ def contact(
         d = load_design(design, sets or ())
         P = quantity_option(power, "--power", "power")
         T = quantity_option(torque, "--torque", "torque")
-        if (P is None) == (T is None):
+        if P is not None and T is not None:
             raise ReducerlabError("--power/--torque: give exactly one of them")
+        if P is None and T is None:
+            T = _design_torque(d, pair)
         h = quantity_option(cell, "--cell", "length")
         ts = quantity_option(tooth_size, "--tooth-size", "length")
         mis = {}
@@ -131,6 +134,26 @@ def contact(
             text = design_with_mesh(design, res)
             write_file(write_design, lambda tmp: tmp.write_text(text))
     typer.echo(res.table())
+
+
+def _design_torque(design, pair: int) -> float:
+    """The torque flow's torque on pair ``pair``'s external gear at the design's load."""
+    from ..analysis.torque_flow import torque_flow
+
+    flow = torque_flow(design)
+    mesh = flow.meshes.get(f"mesh{pair}")
+    if mesh is None:
+        raise ReducerlabError(f"pair: must be 1..{len(flow.meshes)}; got {pair}")
+    if not flow.output_torque or mesh.external_torque is None:
+        raise ReducerlabError(
+            "--power/--torque: give exactly one of them, or a load in the design "
+            "(output_torque or output_power) for the torque flow to load the pair"
+        )
+    typer.echo(
+        f"torque on {mesh.external} (pair {pair}) from the torque flow at "
+        f"{flow.output_torque:.6g} N m output torque: {mesh.external_torque:.6g} N m"
+    )
+    return mesh.external_torque
 
 
 def register(app: typer.Typer) -> None:

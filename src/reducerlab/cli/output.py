@@ -9,6 +9,8 @@ stderr (:mod:`reducerlab.io` stages an output set and moves it into place at onc
 from __future__ import annotations
 
 import json
+import sys
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -33,7 +35,7 @@ err = Console(stderr=True, markup=False, emoji=False, highlight=False)
 
 #: What the running command has kept so far (files moved into place, the resumable run
 #: folder it writes chunks into), for the line an interruption prints (:func:`kept`).
-_KEPT: dict[str, list[str]] = {"files": [], "runs": []}
+_KEPT: dict[str, list[str]] = {"files": [], "runs": [], "caches": []}
 
 
 def note(line: str) -> None:
@@ -57,6 +59,12 @@ def keeps_run(folder: Path) -> None:
     _KEPT["runs"].append(str(folder))
 
 
+def keeps_cache(folder: Path) -> None:
+    """Record that the command stores each finished stage in the cache ``folder``
+    (``reducerlab run``: kept when interrupted, read when run again)."""
+    _KEPT["caches"].append(str(folder))
+
+
 def kept() -> str:
     """What an interrupted command leaves behind, in one line: the finished chunks of
     its run folder, the files it wrote before, or nothing (an output set is moved into
@@ -68,6 +76,13 @@ def kept() -> str:
             f"{n} finished chunk(s) kept in {folder}; run the same command again to resume"
             if n
             else f"no chunk had finished in {folder}"
+        )
+    for folder in _KEPT["caches"]:
+        n = len(list(Path(folder).glob("*.json")))
+        parts.append(
+            f"{n} finished stage(s) kept in {folder}; run the same command again to resume"
+            if n
+            else f"no stage had finished in {folder}"
         )
     files = _KEPT["files"]
     if files:
@@ -168,3 +183,56 @@ def save_with_figure(result: Any, files: OutputSet, stem: str) -> None:
 def write_json(result: Any, path: Path) -> None:
     """The result's JSON summary stamped with its provenance (version, time, design)."""
     path.write_text(json.dumps({**result.to_dict(), **result.provenance}, indent=2) + "\n")
+
+
+#: Seconds between two progress lines when stderr is not a terminal (a log).
+LOG_EVERY_S = 10.0
+
+
+class _Lines:
+    """Progress as log lines on stderr (output not a terminal): the stage, the
+    percentage of the whole run and the time left, at most every ``LOG_EVERY_S`` and at
+    every new stage."""
+
+    def __init__(self) -> None:
+        self.t0 = time.monotonic()
+        self.last = -LOG_EVERY_S
+        self.stage = ""
+
+    def __call__(self, description: str, fraction: float) -> None:
+        now = time.monotonic() - self.t0
+        stage = description.split(":")[0]
+        if stage == self.stage and now - self.last < LOG_EVERY_S:
+            return
+        self.stage, self.last = stage, now
+        left = ""
+        if 0.02 < fraction < 1:
+            left = f", about {now * (1 - fraction) / fraction:.0f} s left"
+        err.print(f"[{now:7.1f} s] {100 * fraction:3.0f} % {description}{left}", soft_wrap=True)
+
+
+class run_progress:
+    """A progress display: a bar with percentage and ETA on a terminal, log lines
+    otherwise. Yields ``show(description, fraction)``."""
+
+    def __enter__(self) -> Any:
+        if not sys.stderr.isatty():
+            return _Lines()
+        from rich import progress as rp
+
+        self.bar = rp.Progress(
+            rp.TextColumn("{task.description}", markup=False),
+            rp.BarColumn(),
+            rp.TaskProgressColumn(),
+            rp.TimeElapsedColumn(),
+            rp.TimeRemainingColumn(),
+            console=err,
+            transient=True,
+        )
+        self.bar.__enter__()
+        task = self.bar.add_task("run", total=1.0)
+        return lambda d, f: self.bar.update(task, description=d, completed=f)
+
+    def __exit__(self, *exc: Any) -> None:
+        if hasattr(self, "bar"):
+            self.bar.__exit__(*exc)

@@ -24,6 +24,7 @@ circle radius is ``e / 2`` and ``Z_p - Z_c = 2``), which is paper 003's Table 1
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, ClassVar, Literal
 
 from pydantic import Field, model_validator
@@ -37,10 +38,12 @@ from ..design import (
     MomentOfInertia,
     NonNegativeStiffness,
     PositiveInt,
+    Power,
     Real,
     Spec,
     SpeedRange,
     Stiffness,
+    Torque,
     angle_between,
 )
 from ..design_files import field_rules
@@ -53,6 +56,7 @@ from ..model import (
     Dof,
     Fourier,
     Inertia,
+    Load,
     Mesh,
     Model,
     StationaryDamping,
@@ -169,11 +173,15 @@ class CrossBall(Spec):
 
 
 class CycloidBallDesign(Design):
-    """Design of a cycloid ball transmission (``type = "cycloid_ball"``)."""
+    """Design of a cycloid ball transmission (``type = "cycloid_ball"``). The load is the
+    output disc's: ``output_torque`` (N m) or ``output_power`` (W)."""
 
     type: Literal["cycloid_ball"] = "cycloid_ball"
     speed_fields: ClassVar = ("input_speed", "speed_range")
+    load_fields: ClassVar = ("output_torque", "output_power")
     input_speed: AngularVelocity
+    output_torque: Torque | None = None
+    output_power: Power | None = None
     eccentricity: Length
     output: Literal["centre", "planetary"] = "centre"
     centripetal: bool = True
@@ -233,6 +241,13 @@ class CycloidBallDesign(Design):
         """Ratio and ball-passing frequency of the drive: the ``cycloid_ball`` train."""
         lobes = {"centre": self.centre_disc.lobes, "planetary": self.planetary_disc.lobes}
         return TRAINS["cycloid_ball"].build(lobes, output=self.output)
+
+    def pitch_radii(self) -> dict[str, float]:
+        """Pitch radii ``Z e / 2`` (m) of the two grooves of the ball track."""
+        return {
+            "centre disc": self.pitch_radius(self.centre_disc.lobes),
+            "planetary disc": self.pitch_radius(self.planetary_disc.lobes),
+        }
 
     @property
     def mesh_stiffness(self) -> float:
@@ -356,6 +371,20 @@ def build_model(design: CycloidBallDesign) -> Model:
             ("planetary_disc", p.mass),
         ):
             elements.append(Centripetal(f"{body}.x", m, name=f"centripetal_{body}"))
+    point = design.operating_point()
+    if point.loaded:
+        # paper 003 Eq. 7's F = [0, T_i/e, 0, -T_o/r2, 0, 0, 0]: the lossless input torque
+        # on u1 = e theta1 and, on the output (centre disc, or the end cover that takes the
+        # planetary disc's rotation out), the load -T_out sign(omega_out), whose work on
+        # the rigid rotation (theta_out = theta_in / i) cancels the input's
+        out_dof, r_out = ("centre_disc.u", r2)
+        if design.output == "planetary":
+            out_dof, r_out = ("end_cover_disc.u", r5)
+        out = -math.copysign(point.output_torque, point.output_speed)
+        elements += [
+            Load("input_shaft.u", point.input_torque / e, name="input_torque"),
+            Load(out_dof, out / r_out, name="output_torque"),
+        ]
     if design.coriolis:
         dofs, elements = _with_coriolis(design, dofs, elements, damping)
     return Model(

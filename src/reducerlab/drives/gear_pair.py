@@ -27,6 +27,7 @@ from ..design import (
     MomentOfInertia,
     NonNegativeStiffness,
     PositiveInt,
+    Power,
     Spec,
     SpeedRange,
     Stiffness,
@@ -97,11 +98,13 @@ class GearMesh(Spec):
 
 
 class Operating(Spec):
-    """Operating point: pinion speed and the torque it transmits; optionally the
-    operating speed range ``[min, max]`` used by the resonance check."""
+    """Operating point: pinion speed and the load, as the torque the pinion transmits
+    (N m) or the power (W), at most one; optionally the operating speed range
+    ``[min, max]`` used by the resonance check."""
 
     speed: AngularVelocity = 0.0
-    torque: Torque = 0.0
+    torque: Torque | None = None
+    power: Power | None = None
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
 
 
@@ -110,6 +113,8 @@ class GearPairDesign(Design):
 
     type: Literal["gear_pair"] = "gear_pair"
     speed_fields: ClassVar = ("operating.speed", "operating.speed_range")
+    load_fields: ClassVar = ("operating.torque", "operating.power")
+    load_at: ClassVar = "input"
     pinion: Gear
     gear: Gear
     mesh: GearMesh
@@ -137,6 +142,10 @@ class GearPairDesign(Design):
     def kinematics(self) -> DriveKinematics:
         """Kinematics of the pair (pinion input): the ``gear_pair`` train."""
         return TRAINS["gear_pair"].build({"pinion": self.pinion.teeth, "gear": self.gear.teeth})
+
+    def pitch_radii(self) -> dict[str, float]:
+        """Reference pitch radii ``m z / 2`` (m)."""
+        return {g: self.mesh.module * getattr(self, g).teeth / 2 for g in ("pinion", "gear")}
 
 
 def build_model(design: GearPairDesign) -> Model:
@@ -195,13 +204,13 @@ def build_model(design: GearPairDesign) -> Model:
             name="mesh",
         )
     )
-    torque = design.operating.torque
-    if torque:
+    point = design.operating_point()
+    if point.loaded:
         # the gear turns at omega / i (i < 0): the load torque opposes that rotation,
-        # so it acts counter-clockwise, T |i|; no net torque on the rigid rotation
+        # so it acts counter-clockwise, T_out = T |i|; no net torque on the rigid rotation
         elements += [
-            Load("pinion.rz", torque, name="input_torque"),
-            Load("gear.rz", torque * abs(kin.ratio), name="load_torque"),
+            Load("pinion.rz", point.output_torque / abs(kin.ratio), name="input_torque"),
+            Load("gear.rz", point.output_torque, name="load_torque"),
         ]
     return Model(
         dofs,

@@ -32,6 +32,7 @@ from ..design import (
     Mass,
     MomentOfInertia,
     PositiveInt,
+    Power,
     Real,
     Spec,
     SpeedRange,
@@ -137,13 +138,21 @@ class MeshSpec(Spec):
 
 
 class KHVDesign(Design):
-    """Design of a KHV drive (``type = "khv"``)."""
+    """Design of a KHV drive (``type = "khv"``).
+
+    The load is the output's: ``load_torque`` (N m, paper 004's ``T_L``) or
+    ``output_power`` (W). ``input_torque`` (paper 004's ``T_D``) defaults to the lossless
+    torque flow's ``T_L / |i|``, which balances the load; paper 004's Table 2 gives both
+    as 50 N m, which does not (``docs/assumptions.md``).
+    """
 
     type: Literal["khv"] = "khv"
     speed_fields: ClassVar = ("input_speed", "speed_range")
+    load_fields: ClassVar = ("load_torque", "output_power")
     input_speed: AngularVelocity
-    input_torque: Torque = 0.0
-    load_torque: Torque = 0.0
+    input_torque: Torque | None = None
+    load_torque: Torque | None = None
+    output_power: Power | None = None
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
     gears: Gears
     inertia: Inertias
@@ -171,6 +180,11 @@ class KHVDesign(Design):
         """Carrier input, ring fixed, planet output: the ``khv`` train."""
         teeth = {"planet": self.gears.planet_teeth, "ring": self.gears.ring_teeth}
         return TRAINS["khv"].build(teeth)
+
+    def pitch_radii(self) -> dict[str, float]:
+        """Reference pitch radii ``m z / 2`` (m) of the planet and the ring."""
+        g = self.gears
+        return {"planet V": g.module * g.planet_teeth / 2, "ring K": g.module * g.ring_teeth / 2}
 
     @property
     def mesh_frequency(self) -> float:
@@ -254,10 +268,14 @@ def build_model(design: KHVDesign) -> Model:
             name="mesh",
         ),
     ]
-    if design.input_torque:
-        elements.append(Load("drive.u", design.input_torque / rbH, name="drive_torque"))
-    if design.load_torque:
-        elements.append(Load("load.u", -design.load_torque / rbV, name="load_torque"))
+    # X = theta r_b: the rigid motion turns every X alike, so T_D / r_bH = T_L / r_bV
+    # (r_bV / r_bH = |i|) leaves the load on it zero: the torque flow's T_D = T_L / |i|
+    point = design.operating_point()
+    T_D = abs(point.input_torque) if design.input_torque is None else design.input_torque
+    if T_D:
+        elements.append(Load("drive.u", T_D / rbH, name="drive_torque"))
+    if point.output_torque:
+        elements.append(Load("load.u", -point.output_torque / rbV, name="load_torque"))
     model = Model(
         dofs,
         elements,

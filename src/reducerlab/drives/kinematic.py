@@ -17,7 +17,7 @@ from typing import ClassVar, Literal
 
 from pydantic import model_validator
 
-from ..design import AngularVelocity, Design, PositiveInt, angle_between
+from ..design import AngularVelocity, Design, PositiveInt, Power, Torque, angle_between
 from ..design_files import field_rules
 from ..errors import ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics
@@ -46,16 +46,22 @@ class KinematicsDesign(Design):
     output : str, optional
         Which member is the output (one of the train's ``outputs``; the first is the
         default).
+    output_torque, output_power : float, optional
+        The load the output member carries (N m) or the power it delivers (W), at most
+        one: the torque flow's operating point (``reducerlab.analysis.torque_flow``).
     """
 
     type: Literal["kinematics"] = "kinematics"
     speed_fields: ClassVar = ("input_speed", None)
+    load_fields: ClassVar = ("output_torque", "output_power")
     drive: Literal[tuple(TRAINS)]  # type: ignore[valid-type]
     input_speed: AngularVelocity
     nutation_angle: angle_between(0, 180) | None = None  # type: ignore[valid-type]
     teeth: dict[str, PositiveInt]
     contact: Literal["internal", "external"] | None = None
     output: str | None = None
+    output_torque: Torque | None = None
+    output_power: Power | None = None
 
     @model_validator(mode="after")
     def _drive_fields(self) -> KinematicsDesign:

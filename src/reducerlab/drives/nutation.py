@@ -30,23 +30,17 @@ from scipy.optimize import brentq
 
 from ..design import (
     AngularVelocity,
-    Damping,
     Design,
     Length,
-    Mass,
-    MomentOfInertia,
-    NonNegativeStiffness,
     PositiveInt,
-    Spec,
+    Power,
     SpeedRange,
-    Stiffness,
     Torque,
-    TorsionalDamping,
-    TorsionalStiffness,
     angle_between,
     quantity,
 )
 from ..design_files import field_rules
+from ..errors import ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics, gyroscopic_moment
 from ..kinematics.mesh import internal_cone_angles
 from ..model import (
@@ -65,7 +59,8 @@ from ..model import (
     Support,
 )
 from ..model.laws import TimeLaw
-from .nutation_mesh import contact_normal, tilt_lever
+from .nutation_mesh import contact_normal, drive_loads, tilt_lever
+from .nutation_specs import Bevel, MaterialSpec, MeshSpec, Support3, SurfaceSpec, TiltSupport
 
 __all__ = ["NutationDesign", "build_model"]
 
@@ -73,154 +68,24 @@ __all__ = ["NutationDesign", "build_model"]
 CONE_DISTANCE_TOL = 1e-3
 
 
-class BlankSpec(Spec):
-    """Blank features of one gear for its finite-element body (``[gearN.blank]``).
-
-    Paper 000 does not give its blanks; ``docs/assumptions.md`` records the defaults.
-
-    Attributes
-    ----------
-    rim : float, optional
-        Rim thickness beyond the root cone (m); default ``surface.rim`` or ``2 m_n``.
-    bore : float, optional
-        Bore diameter (m). Without it the body is the rim ring alone (no web).
-    web : float, optional
-        Web thickness along the axis (m); default ``1.5 rim``.
-    hub : float, optional
-        Hub outer diameter (m); default ``1.6 bore``.
-    hub_length : float, optional
-        Hub length along the axis (m); default ``max(2 web, face_width)``.
-    """
-
-    rim: Length | None = None
-    bore: Length | None = None
-    web: Length | None = None
-    hub: Length | None = None
-    hub_length: Length | None = None
-
-    @model_validator(mode="after")
-    def _needs_bore(self) -> BlankSpec:
-        given = [n for n in ("web", "hub", "hub_length") if getattr(self, n) is not None]
-        if given and self.bore is None:
-            raise field_rules((given[0], "a web or hub needs a bore: give bore too"))
-        return self
-
-
-class MaterialSpec(Spec):
-    """Isotropic linear elastic material of the gear bodies (``[material]``); default
-    paper 000 §4's structural steel (E = 206 GPa, nu = 0.29, rho = 7850 kg/m^3)."""
-
-    youngs_modulus: quantity("pressure", gt=0) = 206e9  # type: ignore[valid-type]
-    poisson_ratio: float = Field(0.29, gt=-1.0, lt=0.5)
-    density: quantity("density", gt=0) = 7850.0  # type: ignore[valid-type]
-
-
-class Bevel(Spec):
-    """One spiral bevel gear (paper 000 Table 1)."""
-
-    teeth: PositiveInt
-    mass: Mass
-    J_x: MomentOfInertia
-    J_y: MomentOfInertia
-    J_z: MomentOfInertia
-    mean_radius: Length
-    blank: BlankSpec | None = None
-
-
-class Support3(Spec):
-    """Support stiffness and damping of one body along x, y, z (paper 000 Table 2)."""
-
-    k_x: NonNegativeStiffness
-    k_y: NonNegativeStiffness
-    k_z: NonNegativeStiffness
-    c_x: Damping = 0.0
-    c_y: Damping = 0.0
-    c_z: Damping = 0.0
-
-
-class TiltSupport(Spec):
-    """Tilts of the nutating gear about its own transverse axes through the nutation
-    centre (``[tilt13]``; not in paper 000): the tilting stiffness and damping of its
-    crank bearings (e.g. two bearings of radial stiffness ``k`` a distance ``L`` apart
-    give ``k L^2 / 2``) and, optionally, the body's tilt inertias about the nutation
-    centre. Default ``J_x``, ``J_y``: each gear's own ``J_x``, ``J_y`` plus ``m e^2``, its
-    mass taken at the axial distance ``e = R_m cos(delta)`` of its mean pitch point from
-    the centre (paper 000 gives inertias, not mass centres)."""
-
-    k_rx: TorsionalStiffness
-    k_ry: TorsionalStiffness
-    c_rx: TorsionalDamping = 0.0
-    c_ry: TorsionalDamping = 0.0
-    J_x: MomentOfInertia | None = None
-    J_y: MomentOfInertia | None = None
-
-
-class MeshSpec(Spec):
-    """One gear pair: mean mesh stiffness, optional Fourier terms (Eq. 8), damping,
-    full backlash (Eq. 6) and transmission error amplitude."""
-
-    stiffness: Stiffness
-    harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
-    phases: list[angle_between(-360, 360, closed=True)] = Field(default_factory=list)  # type: ignore[valid-type]
-    damping: Damping = 0.0
-    backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
-    error_amplitude: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
-
-    @model_validator(mode="after")
-    def _terms(self) -> MeshSpec:
-        if self.phases and len(self.phases) != len(self.harmonics):
-            raise field_rules(
-                ("phases", f"has {len(self.phases)} entries, harmonics {len(self.harmonics)}")
-            )
-        if sum(self.harmonics) > self.stiffness:
-            raise field_rules((
-                "harmonics",
-                f"add up to {sum(self.harmonics):.6g} N/m, more than the mean stiffness "
-                f"{self.stiffness:.6g} N/m, so k(t) would become negative",
-            ))  # fmt: skip
-        return self
-
-
-class SurfaceSpec(Spec):
-    """Tooth-surface geometry of the bevel gears (paper 001), for ``reducerlab surface``.
-
-    Optional in a nutation design; every gear of the drive is generated by the crown
-    gear of its pair with these values.
-
-    Attributes
-    ----------
-    profile : {"involute", "double-arc"}
-        Normal basic profile: paper 001's involute (pressure angle
-        ``normal_pressure_angle``, ISO 53 depths) or the GB/T 12759-1991 double
-        circular arc (its own 24 deg).
-    face_width : float
-        Face width ``b`` along the pitch cone (m).
-    normal_module : float, optional
-        Normal module at the mean point (m). Default: from the mean radius of gear 1,
-        ``m_n = 2 r_m cos(beta) / z_1``; when given it must agree with the mean radii.
-    spiral_angle : float, optional
-        Mean spiral angle ``beta_m`` (rad); default ``helix_angle``.
-    rim : float, optional
-        Rim thickness of the blank beyond the root cone (m); default ``2 m_n``.
-    """
-
-    profile: Literal["involute", "double-arc"] = "involute"
-    face_width: Length
-    normal_module: Length | None = None
-    spiral_angle: angle_between(0, 60, closed=True) | None = None  # type: ignore[valid-type]
-    rim: Length | None = None
-
-
 class NutationDesign(Design):
-    """Design of a nutation drive (``type = "nutation"``)."""
+    """Design of a nutation drive (``type = "nutation"``). The load is the output's:
+    ``output_torque`` (N m, on gear 4, or on the nutating gear's coupling single-sided)
+    or ``output_power`` (W); the fixed gear's reaction follows from the torque flow."""
 
     type: Literal["nutation"] = "nutation"
     speed_fields: ClassVar = ("input_speed", "speed_range")
+    load_fields: ClassVar = ("output_torque", "output_power")
+    retired_fields: ClassVar = {
+        "input_torque": "it loaded the fixed gear 2 (paper 000's T1), whose reaction now "
+        "follows from the output load by the torque flow: give the load as output_torque "
+        "or output_power (the crank's torque is then output_torque / i)"
+    }
     sides: Literal["single", "double"] = "double"
     input_speed: AngularVelocity
     speed_range: SpeedRange | None = None  # type: ignore[valid-type]
-    input_torque: Torque = 0.0
-    output_torque: Torque = 0.0
+    output_torque: Torque | None = None
+    output_power: Power | None = None
     module: Length
     helix_angle: angle_between(0, 60, closed=True)  # type: ignore[valid-type]
     normal_pressure_angle: angle_between(5, 45)  # type: ignore[valid-type]
@@ -256,6 +121,14 @@ class NutationDesign(Design):
             raise field_rules(("nutation_angle", "a single-sided drive needs nutation_angle"))
         if self.input_speed <= 0:
             raise field_rules(("input_speed", "must be > 0"))
+        for name in ("mesh1", "mesh2"):
+            spec = getattr(self, name)
+            if spec is not None and spec.stiffness == "contact" and self.surface is None:
+                raise field_rules((
+                    f"{name}.stiffness",
+                    '"contact" needs the tooth surfaces: add a [surface] table (profile, '
+                    "face_width)",
+                ))  # fmt: skip
         if self.rotating_frame:
             # the housing-fixed supports (the nutating gear's bearings turn with the
             # crank, so any support13 is steady in the mesh frame)
@@ -437,8 +310,20 @@ class NutationDesign(Design):
         teeth = {"nutating": self.gear1.teeth, "central": self.gear2.teeth}
         return TRAINS["nutation"].build(teeth, self.theta, output="nutating")
 
+    def pitch_radii(self) -> dict[str, float]:
+        """Mean radii ``r_m`` (m) by the kinematics' gear names."""
+        if self.sides == "double":
+            return {f"gear {k}": getattr(self, f"gear{k}").mean_radius for k in range(1, 5)}
+        return {"nutating gear": self.gear1.mean_radius, "central gear": self.gear2.mean_radius}
 
-def _law(spec: MeshSpec, omega: float, speed: float) -> TimeLaw:
+
+def _law(spec: MeshSpec, omega: float, speed: float, name: str) -> TimeLaw:
+    if spec.stiffness == "contact":
+        raise ReducerlabError(
+            f'{name}.stiffness = "contact": the mesh stiffness comes from the loaded tooth '
+            "contact at the operating point, which `reducerlab run` computes (or write a number, "
+            "e.g. with `reducerlab contact --write-design`)"
+        )
     if not spec.harmonics:
         return Constant(spec.stiffness)
     return Fourier(spec.stiffness, tuple(spec.harmonics), omega, tuple(spec.phases),
@@ -533,7 +418,7 @@ def build_model(design: NutationDesign) -> Model:
         elements.append(
             Mesh(
                 g,
-                stiffness=_law(spec, omega, design.input_speed),
+                stiffness=_law(spec, omega, design.input_speed, f"mesh{j + 1}"),
                 damping=spec.damping,
                 backlash=Backlash.full(spec.backlash),
                 error=error,
@@ -565,10 +450,10 @@ def build_model(design: NutationDesign) -> Model:
             total += float((M[0] ** 2 + M[1] ** 2) ** 0.5) / gear.mean_radius
         if total:
             elements.append(Load("g13.y", total, name="gyroscopic"))
-    if design.input_torque:
-        elements.append(Load("g2.rz", design.input_torque, name="T1"))
-    if design.output_torque and double:
-        elements.append(Load("g4.rz", -design.output_torque, name="T4"))
+    levers = {(e.name, d): g for e in elements if isinstance(e, Mesh)
+              for d, g in e.coefficients.items() if d.endswith(".rz")}  # fmt: skip
+    grounded = design.fixed_gear_torsional_stiffness > 0
+    elements += drive_loads(kin, design.operating_point(), levers, grounded)
     return Model(
         dofs,
         elements,

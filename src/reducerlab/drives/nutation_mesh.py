@@ -1,13 +1,26 @@
 """Lines of action of a nutation drive's bevel meshes (paper 000): the contact normal of a
-spiral bevel gear (Eq. 4), the pair's mean contact point in the nutating gear's frame and
-the lever through which the nutating gear's tilts change the mesh deflection.
+spiral bevel gear (Eq. 4), the pair's mean contact point in the nutating gear's frame,
+the lever through which the nutating gear's tilts change the mesh deflection, and the
+drive's loads (the output torque and the fixed gear's reaction).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
-__all__ = ["contact_normal", "contact_point", "tilt_lever"]
+from ..design import OperatingPoint
+from ..kinematics import DriveKinematics
+from ..kinematics.torques import mesh_torques
+from ..model import Load
+
+__all__ = ["contact_normal", "contact_point", "drive_loads", "tilt_lever"]
+
+#: The model's rotation DOF of each gear of the kinematics' torque train.
+GEAR_DOFS = {
+    "gear 1": "g13.rz", "gear 2": "g2.rz", "gear 3": "g13.rz", "gear 4": "g4.rz",
+    "nutating gear": "g13.rz", "central gear": "g2.rz",
+}  # fmt: skip
 
 
 def contact_normal(
@@ -55,3 +68,55 @@ def tilt_lever(
     n = contact_normal(delta_n, beta, alpha_n)
     px, _, pz = contact_point(delta_c, nutation, R)
     return (-pz * n[1], pz * n[0] - px * n[2])
+
+
+def drive_loads(
+    kin: DriveKinematics,
+    point: OperatingPoint,
+    levers: Mapping[tuple[str, str], float],
+    grounded: bool,
+) -> list[Load]:
+    """The loads of the lumped model at an operating point: the output torque and the
+    fixed gear's reaction, so that no load acts along the model's rigid rotation.
+
+    The load on the output's rotation (``g4.rz``; single-sided ``g13.rz``, the nutating
+    gear's coupling) is ``-tau_out``, minus the torque flow's drive torque on it
+    (:func:`~reducerlab.kinematics.torques.mesh_torques`; the model's rotations turn as
+    the kinematics' relative speeds do). The reaction on the fixed gear's ``g2.rz`` is
+    taken from the model's own rigid rotation, which turns the gears in the ratio of the
+    mesh levers ``a_y r_m`` (their ``rz`` coefficients), not of the tooth numbers: the
+    two differ where the mean radii depart from ``r2 / r1 = z2 / z1`` (within the 1e-3
+    the design allows), and only the lever ratio leaves a static equilibrium
+    (``docs/assumptions.md``). With ``grounded`` (a torsional support of gear 2) the
+    support reacts and no reaction load is applied.
+
+    Parameters
+    ----------
+    kin : DriveKinematics
+        The ``double_nutation`` or ``nutation`` (output: the nutating gear) train.
+    point : OperatingPoint
+    levers : mapping of (str, str) to float
+        ``{(mesh name, DOF): g}``, the meshes' coefficients (m) on the ``rz`` DOFs.
+    grounded : bool
+
+    Returns
+    -------
+    list of Load
+        ``output_torque`` and ``reaction_torque`` (N m); none when unloaded.
+    """
+    if not point.loaded:
+        return []
+    flow = mesh_torques(kin, point.output_torque, point.input_speed)
+    out_dof = GEAR_DOFS[next(iter(flow.meshes.values())).gears[0]]
+    out_load = -flow.output_torque
+    loads = [Load(out_dof, out_load, name="output_torque")]
+    if grounded:
+        return loads
+    # rigid rotation with the nutating body turning by 1: each central gear turns by
+    # -g13 / g_c of its mesh (no mesh deflection)
+    turn = {"g13.rz": 1.0}
+    for (mesh, dof), g in levers.items():
+        if dof != "g13.rz":
+            turn[dof] = -levers[(mesh, "g13.rz")] / g
+    loads.append(Load("g2.rz", -out_load * turn[out_dof] / turn["g2.rz"], name="reaction_torque"))
+    return loads

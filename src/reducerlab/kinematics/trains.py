@@ -37,6 +37,7 @@ __all__ = [
     "DoubleNutationDrive",
     "DriveKinematics",
     "ExternalGearPair",
+    "GearMesh",
     "KHVDrive",
     "NutatingMotion",
     "NutationDrive",
@@ -63,6 +64,14 @@ def _angle(name: str, value: object) -> None:
         raise ReducerlabError(f"{name} must be a number in rad, got {value!r}")
     if not 0 < float(value) < math.pi:
         raise ReducerlabError(f"{name} must lie in (0°, 180°), got {math.degrees(value):g}°")
+
+
+def _external(a: tuple[str, int], b: tuple[str, int], contact: str) -> str | None:
+    """The external gear of a bevel pair (the one with fewer teeth in nested cones);
+    None for externally touching cones (both external)."""
+    if contact == "external":
+        return None
+    return a[0] if a[1] < b[1] else b[0]
 
 
 def _pair_cones(z_n: int, z_c: int, theta: float, contact: str) -> tuple[float, float]:
@@ -110,6 +119,28 @@ class NutatingMotion:
         return self.dphi * t, np.full_like(t, self.theta), self.dpsi * t
 
 
+@dataclass(frozen=True)
+class GearMesh:
+    """One mesh of a drive's series train, as the torque flow walks it.
+
+    Attributes
+    ----------
+    name : str
+        The mesh element's name in the drive's model (``"mesh1"``, ``"mesh"``,
+        ``"cycloid_pairs"``).
+    driven, driving : str
+        The gear nearer the output (it receives the carrier-frame power) and its mate.
+    external : str or None
+        The external gear of an internal pair (the one whose torque a loaded-contact
+        analysis takes); None when both gears are external.
+    """
+
+    name: str
+    driven: str
+    driving: str
+    external: str | None = None
+
+
 class DriveKinematics(ABC):
     """Kinematics of a drive: ratio, member speeds, mesh frequencies, cone angles."""
 
@@ -136,6 +167,30 @@ class DriveKinematics(ABC):
     def nutating_motion(self, omega_in: float) -> NutatingMotion | None:
         """Euler-angle rates of the nutating member, if there is one."""
         return None
+
+    # -- the series train the torque flow walks (:mod:`reducerlab.kinematics.torques`) --
+
+    def carrier_speed(self, omega_in: float) -> float:
+        """Speed of the carrier (crank, eccentric, planet carrier) about the main axis
+        (rad/s); the input's by default."""
+        return omega_in
+
+    @abstractmethod
+    def relative_speeds(self, omega_in: float) -> dict[str, float]:
+        """Speed of every gear of :meth:`torque_train` about its own axis relative to the
+        carrier (rad/s): ``omega_g - omega_H`` for a gear on the main axis, the spin
+        ``psi'`` for a nutating gear."""
+
+    @abstractmethod
+    def torque_train(self) -> tuple[GearMesh, ...]:
+        """The meshes of the series train from the output member to the member the
+        housing holds, named as the drive's model names its mesh elements."""
+
+    @property
+    def fixed_member(self) -> str | None:
+        """The gear the housing holds (the last driving gear of :meth:`torque_train`),
+        or None when the train ends at the input."""
+        return self.torque_train()[-1].driving
 
 
 @dataclass(frozen=True)
@@ -213,6 +268,20 @@ class NutationDrive(DriveKinematics):
     def nutating_motion(self, omega_in: float) -> NutatingMotion:
         return NutatingMotion(omega_in, self.nutation_angle, self._rates(omega_in)[0])
 
+    def relative_speeds(self, omega_in: float) -> dict[str, float]:
+        dpsi, wc = self._rates(omega_in)
+        return {"nutating gear": dpsi, "central gear": wc - omega_in}
+
+    def torque_train(self) -> tuple[GearMesh, ...]:
+        """Mesh ``mesh1``: the output (central gear, or the nutating gear through its
+        coupling) driven by its mate, which the housing holds (the central gear, or the
+        nutating gear through its pin)."""
+        ext = _external(("nutating gear", self.z_nutating), ("central gear", self.z_central),
+                        self.contact)  # fmt: skip
+        if self.output == "central":
+            return (GearMesh("mesh1", "central gear", "nutating gear", ext),)
+        return (GearMesh("mesh1", "nutating gear", "central gear", ext),)
+
     def pitch_line(self, phi: ArrayLike) -> NDArray[np.float64]:
         """Unit pitch line (fixed frame) when the precession angle is ``phi`` (rad).
 
@@ -288,6 +357,21 @@ class DoubleNutationDrive(DriveKinematics):
     def nutating_motion(self, omega_in: float) -> NutatingMotion:
         return NutatingMotion(omega_in, self.nutation_angle, self._rates(omega_in)[0])
 
+    def relative_speeds(self, omega_in: float) -> dict[str, float]:
+        dpsi, w4 = self._rates(omega_in)
+        return {"gear 1": dpsi, "gear 2": -omega_in, "gear 3": dpsi, "gear 4": w4 - omega_in}
+
+    def torque_train(self) -> tuple[GearMesh, ...]:
+        """``mesh2`` (gear 4, the output, driven by gear 3), then ``mesh1`` (gear 1,
+        one body with gear 3, driven by the fixed gear 2)."""
+        c = self.contact
+        ext2 = _external(("gear 3", self.z3), ("gear 4", self.z4), c)
+        ext1 = _external(("gear 1", self.z1), ("gear 2", self.z2), c)
+        return (
+            GearMesh("mesh2", "gear 4", "gear 3", ext2),
+            GearMesh("mesh1", "gear 1", "gear 2", ext1),
+        )
+
 
 @dataclass(frozen=True)
 class KHVDrive(DriveKinematics):
@@ -325,6 +409,13 @@ class KHVDrive(DriveKinematics):
 
     def mesh_frequencies(self, omega_in: float) -> dict[str, float]:
         return {"mesh K-V": self.z_ring * abs(omega_in) / TWO_PI}
+
+    def relative_speeds(self, omega_in: float) -> dict[str, float]:
+        return {"planet V": omega_in / self.ratio - omega_in, "ring K": -omega_in}
+
+    def torque_train(self) -> tuple[GearMesh, ...]:
+        """``mesh``: the planet (output through the W mechanism) driven by the fixed ring."""
+        return (GearMesh("mesh", "planet V", "ring K", "planet V"),)
 
 
 @dataclass(frozen=True)
@@ -391,6 +482,21 @@ class CycloidBallDrive(DriveKinematics):
             "ball engagement": self.z_centre * abs(s["centre disc"] - omega_in) / TWO_PI,
         }
 
+    def relative_speeds(self, omega_in: float) -> dict[str, float]:
+        s = self.speeds(omega_in)
+        return {m: s[m] - omega_in for m in ("centre disc", "planetary disc")}
+
+    def torque_train(self) -> tuple[GearMesh, ...]:
+        """``cycloid_pairs``: the output disc driven through the ball track by the disc
+        the housing holds (the planetary disc through the cross-ball mechanism and the
+        end cover, or the centre disc). The epitrochoid (centre disc) is read as the
+        external member. The track is one mesh: how the balls share its torque is not
+        resolved here."""
+        out, held = ("centre disc", "planetary disc")
+        if self.output == "planetary":
+            out, held = held, out
+        return (GearMesh("cycloid_pairs", out, held, "centre disc"),)
+
 
 @dataclass(frozen=True)
 class ExternalGearPair(DriveKinematics):
@@ -412,3 +518,18 @@ class ExternalGearPair(DriveKinematics):
 
     def mesh_frequencies(self, omega_in: float) -> dict[str, float]:
         return {"mesh": self.z_pinion * abs(omega_in) / TWO_PI}
+
+    def carrier_speed(self, omega_in: float) -> float:
+        """No carrier: the fixed frame (0)."""
+        return 0.0
+
+    def relative_speeds(self, omega_in: float) -> dict[str, float]:
+        return {"pinion": omega_in, "gear": omega_in / self.ratio}
+
+    def torque_train(self) -> tuple[GearMesh, ...]:
+        """``mesh``: the gear driven by the pinion (the input: no fixed member)."""
+        return (GearMesh("mesh", "gear", "pinion"),)
+
+    @property
+    def fixed_member(self) -> str | None:
+        return None

@@ -191,8 +191,9 @@ def plotly_campbell(
         ResonanceResult.campbell`); the whirl of a complex diagram in the hover text, its
         unstable points as red crosses.
     check : mapping, optional
-        A resonance verdict: its crossings in the operating range are circled and its
-        gear-body modes drawn as dotted horizontal lines.
+        A resonance verdict: its crossings in the operating range are circled (red when
+        their excitation drives the mode, grey when not: ``excited``) and its gear-body
+        modes drawn as dotted horizontal lines.
 
     Returns
     -------
@@ -272,16 +273,21 @@ def plotly_campbell(
                 name=f"{comp['label']} body modes",
             )
         )
-    cr = check.get("crossings", [])
-    if cr:
+    crossings = check.get("crossings", [])
+    kinds = ((True, "crimson", "crossings in range"),
+             (False, "gray", "crossings not driven (mesh strain, whirl)"))  # fmt: skip
+    for driven, color, label in kinds:
+        cr = [c for c in crossings if c.get("excited", True) == driven]
+        if not cr:
+            continue
         fig.add_trace(
             go.Scatter(
                 x=[c["speed_rpm"] for c in cr],
                 y=[c["frequency_hz"] for c in cr],
                 mode="markers",
-                marker=dict(color="crimson", size=10, symbol="circle-open", line=dict(width=2)),
-                name="crossings in range",
-                text=[f"mode {c['mode']} x {c['excitation']}" for c in cr],
+                marker=dict(color=color, size=10, symbol="circle-open", line=dict(width=2)),
+                name=label,
+                text=[f"mode {c['mode']} x {c['excitation']}" + _share_text(c) for c in cr],
                 hovertemplate="%{text}<br>%{x:.5g} rpm, %{y:.5g} Hz<extra></extra>",
             )
         )
@@ -295,3 +301,12 @@ def plotly_campbell(
         margin=dict(t=30, l=60, r=20, b=50),
     )
     return fig
+
+
+def _share_text(row: Mapping[str, Any]) -> str:
+    """``", mesh strain 3.05 %"`` or ``", forward whirl 0 %"`` of a crossing row."""
+    if row.get("mesh_share") is not None:
+        return f", mesh strain {100 * row['mesh_share']:.3g} %"
+    if row.get("forward_share") is not None:
+        return f", forward whirl {100 * row['forward_share']:.3g} %"
+    return ""

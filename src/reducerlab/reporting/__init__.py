@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import hashlib
+import os
 import platform
 import time
 import traceback
@@ -102,6 +103,7 @@ def report(
     results: Sequence[Any] = (),
     only: Sequence[str] | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    verdict: Any = None,
 ) -> Report:
     """Build the HTML design report of a design.
 
@@ -119,6 +121,10 @@ def report(
         the inputs it depends on is refused, naming the fields that differ.
     only : sequence of str, optional
         Section ids to build (default: all that apply); provenance is always added.
+    verdict : Verdict, optional
+        The verdict to show, computed by the caller from more evidence than the report
+        has (``reducerlab run``: with the consistency of its models); default the
+        report's own (:meth:`.context.Context.verdict`).
     progress : callable, optional
         ``progress(description, done, total)`` before each section (``done`` sections
         of ``total``); long sections (bifurcation, regime map) also call it as they go,
@@ -135,8 +141,10 @@ def report(
         unknown = [s for s in only if s not in ids]
         if unknown:
             raise ReducerlabError(f"report: unknown section(s) {unknown}; sections are {ids}")
-    given = _results(results, design)
+    design, given = _results(results, design)
     ctx = Context(design, text, repo_assumptions(), given, overrides=tuple(overrides))
+    if verdict is not None:
+        ctx.cache["verdict"] = verdict
     todo = [(sid, title, build) for sid, title, build in SECTIONS if only is None or sid in only]
     sections: list[Section] = []
     for k, (sid, title, build) in enumerate(todo):
@@ -187,16 +195,24 @@ def report(
 
 
 #: Kinds of results the report can take from a file.
-GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map")
+GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map", "response")
 
 
-def _results(items: Sequence[Any], design: Design) -> dict[str, list[Any]]:
-    """The given results by kind, each checked against ``design`` (the inputs it depends
-    on, :func:`reducerlab.inputs.check_inputs`): another design's result is refused."""
+def _results(items: Sequence[Any], design: Design) -> tuple[Design, dict[str, list[Any]]]:
+    """The design the report describes and the given results by kind.
+
+    Loaded-contact results are checked against ``design`` first (the fields that
+    generate their teeth) and put their k(t) into its meshes
+    (:func:`~reducerlab.analysis.contact.design_with_contact`): the dynamics of the
+    report are those of the contact's stiffness. Every other result is then checked
+    against that design (:func:`reducerlab.inputs.check_inputs`): a result computed for
+    other values of the inputs it depends on is refused, naming the fields that differ.
+    """
+    from ..analysis.contact import design_with_contact
     from ..inputs import check_inputs
     from ..results import Result
 
-    out: dict[str, list[Any]] = {}
+    loaded = []
     for item in items:
         r = item if isinstance(item, Result) else Result.load(item)
         if r.kind not in GIVEN_KINDS:
@@ -204,11 +220,22 @@ def _results(items: Sequence[Any], design: Design) -> dict[str, list[Any]]:
                 f"report: {item}: a {r.kind!r} result; the report takes {', '.join(GIVEN_KINDS)} "
                 "results (it computes the others itself)"
             )
-        check_inputs(r, design, f"report: {item}" if not isinstance(item, Result) else None)
+        name = f"report: {item}" if not isinstance(item, Result) else None
         if not isinstance(item, Result):
             r.data.attrs.setdefault("source", str(item))
-        out.setdefault(r.kind, []).append(r)
-    return out
+        loaded.append((name, r))
+    out: dict[str, list[Any]] = {}
+    for name, r in loaded:
+        if r.kind == "contact":
+            check_inputs(r, design, name)
+            out.setdefault("contact", []).append(r)
+    if out.get("contact"):
+        design = design_with_contact(design, out["contact"])
+    for name, r in loaded:
+        if r.kind != "contact":
+            check_inputs(r, design, name)
+            out.setdefault(r.kind, []).append(r)
+    return design, out
 
 
 def _summary(design: Design, sections: list[Section]) -> Section:
@@ -225,14 +252,18 @@ def _summary(design: Design, sections: list[Section]) -> Section:
         rows.append(("elastic modes", len(f)))
         if f:
             rows.append(("lowest natural frequency (Hz)", min(f)))
-    if "campbell" in by:
+    if "campbell" in by:  # the verdict (issue 27), as the Campbell section judged it
         v = by["campbell"].values
-        text = (
-            f"{len(v['crossings'])} crossing(s), {len(v['near'])} near miss(es), "
-            f"{len(v['unstable'])} unstable point(s) in the operating range"
-        )
-        s.blocks.append(verdict(v["ok"], ("no resonance: " if v["ok"] else "RESONANCE RISK: ")
-                                + text))  # fmt: skip
+        risks = [r["text"] for r in v["reasons"] if r["status"] == "risk"]
+        notes = sum(r["status"] == "note" for r in v["reasons"])
+        passed = sum(r["status"] == "ok" for r in v["reasons"])
+        if v["ok"]:
+            text = f"no risk: {passed} check(s) passed, {notes} note(s)"
+        else:
+            more = f"; and {len(risks) - 3} more" if len(risks) > 3 else ""
+            text = f"RISK ({len(risks)}): " + "; ".join(risks[:3]) + more
+        s.blocks.append(verdict(v["ok"], text))
+        rows.append(("verdict", "no risk" if v["ok"] else f"RISK ({len(risks)} finding(s))"))
     if "response" in by and "dynamic_load_factor" in by["response"].values:
         rows.append(("dynamic load factor", by["response"].values["dynamic_load_factor"]))
     failed = [x.title for x in sections if x.error]
@@ -288,13 +319,11 @@ def write_index(reports: Sequence[tuple[Path, Report]], path: str | Path) -> Pat
         if camp is None or camp.error:
             verdict, cls = "—", ""
         else:
-            verdict, cls = (
-                ("no resonance", "ok") if camp.values["ok"] else ("resonance risk", "risk")
-            )
+            verdict, cls = ("no risk", "ok") if camp.values["ok"] else ("risk", "risk")
         rows.append(
             {
-                "href": quote(Path(file).name),
-                "file": Path(file).name,
+                "href": quote(Path(os.path.relpath(file, p.parent)).as_posix()),
+                "file": Path(os.path.relpath(file, p.parent)).as_posix(),
                 "title": rep.design.name or rep.design.type,
                 "type": rep.design.type,
                 "sections": len(rep.sections),

@@ -17,7 +17,8 @@ __all__ = ["Context", "repo_assumptions"]
 @dataclass
 class Context:
     """What every section reads: the design, its file text, and results computed once
-    and shared (the model, the modal result)."""
+    and shared (the model, the modal result, the responses at the operating point, the
+    verdict)."""
 
     design: Design
     text: str = ""
@@ -55,6 +56,30 @@ class Context:
 
             self.cache["modal"] = modal(self.model())
         return self.cache["modal"]
+
+    def responses(self) -> tuple[list[Any], list[dict[str, Any]]]:
+        """The nonlinear responses at the operating point, one per mesh line, and the
+        notes where there is none (:func:`~reducerlab.analysis.verdict.operating_responses`),
+        computed once for the response section and the verdict."""
+        if "responses" not in self.cache and self.given("response"):
+            self.cache["responses"] = (list(self.given("response")), [])  # a run's
+        if "responses" not in self.cache:
+            from ..analysis.verdict import operating_responses
+
+            self.cache["responses"] = operating_responses(self.model())
+        return self.cache["responses"]
+
+    def verdict(self) -> Any:
+        """The design's :class:`~reducerlab.analysis.verdict.Verdict` (the resonance
+        check with the given body modes and the responses at the operating point),
+        computed once for the Campbell section and the summary."""
+        if "verdict" not in self.cache:
+            from ..analysis.verdict import verdict
+
+            responses, notes = self.responses()
+            self.cache["verdict"] = verdict(self.design, components=self.components(),
+                                            responses=responses, extra_reasons=notes)  # fmt: skip
+        return self.cache["verdict"]
 
     def has_model(self) -> bool:
         from ..drives import has_model

@@ -2,11 +2,11 @@
 :class:`~reducerlab.reporting.context.Context` and returns a
 :class:`~reducerlab.reporting.blocks.Section`, or None when the design does not support
 it (a kinematics-only design has no modes). Builders call the same API a user would
-(``modal``, ``resonance_check``, ``response`` ...), so the numbers in the report are the
+(``modal``, ``verdict``, ``response`` ...), so the numbers in the report are the
 API's; figures come from :mod:`reducerlab.plot`.
 
 One module per group: :mod:`.inputs` (design inputs, kinematics), :mod:`.modes`
-(natural frequencies, sensitivity, Campbell diagram and resonance verdict, gear bodies),
+(natural frequencies, sensitivity, Campbell diagram and verdict, gear bodies),
 :mod:`.motion` (nonlinear response, bifurcation, regime map), :mod:`.geometry` (tooth
 surfaces, closed graph, loaded contact).
 """
@@ -30,7 +30,7 @@ SECTIONS: list[tuple[str, str, Callable[[Context], Section | None]]] = [
     ("kinematics", "Kinematics", kinematics_section),
     ("modal", "Natural frequencies and mode shapes", modal_section),
     ("sensitivity", "Sensitivity", sensitivity_section),
-    ("campbell", "Campbell diagram and resonance verdict", campbell_section),
+    ("campbell", "Campbell diagram and verdict", campbell_section),
     ("bodies", "Gear-body modes", bodies_section),
     ("response", "Nonlinear response", response_section),
     ("bifurcation", "Bifurcation diagram", bifurcation_section),

@@ -8,7 +8,7 @@ import re
 import tomllib
 from typing import Any
 
-from ...design import Design, field_kind
+from ...design import NOT_ANALYSED, Design, field_kind
 from ...design_files import apply_overrides, lookup
 from ...kinematics import TRAINS
 from ...units import QUANTITIES, RPM
@@ -60,7 +60,7 @@ def design_section(ctx: Context) -> Section:
     if written and ctx.overrides:
         written = apply_overrides(written, ctx.overrides)
     rows = []
-    for key, value in _flatten(d.model_dump(mode="json", exclude={"report"})):
+    for key, value in _flatten(d.model_dump(mode="json", exclude=set(NOT_ANALYSED))):
         if key in ("name", "description"):
             continue
         as_written = lookup(written, key)

@@ -1,12 +1,11 @@
 """Report sections on the linear vibration of the drive: natural frequencies and mode
-shapes, their sensitivities, the Campbell diagram with the resonance verdict, and the
-gear-body modes given to the report."""
+shapes, their sensitivities, the Campbell diagram with the verdict, and the gear-body
+modes given to the report."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ...analysis.resonance import resonance_check
 from ...plot.campbell import plotly_campbell
 from ...plot.modal import plotly_mode_shapes, plotly_sensitivity
 from ..blocks import Section, figure, interactive, note, pre, table, verdict
@@ -100,30 +99,53 @@ def sensitivity_section(ctx: Context) -> Section | None:
 
 
 def campbell_section(ctx: Context) -> Section | None:
-    """The resonance verdict over the operating range and the Campbell diagram it used
-    (damped, whirl-split branches with gyroscopic terms), with the given body modes."""
+    """The verdict (issue 27: the resonance check over the operating range, each
+    crossing weighted by how strongly its excitation drives the mode, and the nonlinear
+    response at the operating point) and the Campbell diagram it used (damped,
+    whirl-split branches with gyroscopic terms), with the given body modes."""
     if not ctx.has_model():
         return None
     _, hi = ctx.design.operating_range()
     if hi == 0:
         return None
-    s = Section("campbell", "Campbell diagram and resonance verdict")
-    check = resonance_check(ctx.design, components=ctx.components())
+    s = Section("campbell", "Campbell diagram and verdict")
+    v = ctx.verdict()
+    check = v.resonance
     gyro = check["frequencies"] != "undamped"
     res = check.campbell  # the diagram the verdict used: never computed again
     s.values.update(
-        ok=bool(check["ok"]),
+        ok=v.ok,
+        resonance_ok=check.ok,
         crossings=check["crossings"],
         near=check["near"],
         unstable=check["stability"]["unstable"],
+        reasons=v.reasons,
     )
-    text = check.table()
+    risks = v.risks
     s.blocks.append(
         verdict(
-            check["ok"],
-            "no resonance in the operating range"
-            if check["ok"]
-            else "RESONANCE RISK: see the findings below",
+            v.ok,
+            "no risk in the operating range or at the operating point"
+            if v.ok
+            else f"RISK: {len(risks)} finding(s), see the reasons below",
+        )
+    )
+    s.blocks.append(
+        table(
+            ["status", "rule", "reason", "value", "threshold"],
+            [
+                (
+                    r["status"].upper(),
+                    r["rule"],
+                    r["text"],
+                    _shown(r["value"]),
+                    _shown(r["threshold"]),
+                )
+                for r in v.reasons
+            ],
+            name="reasons",
+            caption="the verdict's reasons (thresholds: the design's "
+            "[check] table, docs/assumptions.md)",
         )
     )
     s.blocks.append(
@@ -135,19 +157,20 @@ def campbell_section(ctx: Context) -> Section | None:
             div_id="campbell",
         )
     )
-    head = ["mode", "excitation", "speed (rpm)", "frequency (Hz)"] + (["whirl"] if gyro else [])
+    head = ["mode", "excitation", "speed (rpm)", "frequency (Hz)", "drive (%)", "excited"]
     rows = [
-        (c["mode"], c["excitation"], c["speed_rpm"], c["frequency_hz"])
+        (c["mode"], c["excitation"], c["speed_rpm"], c["frequency_hz"], _drive(c), c["excited"])
         + ((c["whirl"],) if gyro else ())
         for c in check["crossings"]
     ]
     if rows:
         s.blocks.append(
             table(
-                head,
+                head + (["whirl"] if gyro else []),
                 rows,
                 name="crossings",
-                caption="crossings in the operating range",
+                caption="crossings in the operating range; drive: the mode's mesh strain "
+                "(mesh orders) or forward whirl (1x input) share",
             )
         )
     near = [
@@ -158,6 +181,8 @@ def campbell_section(ctx: Context) -> Section | None:
             r["natural_hz"],
             r["excitation_hz"],
             100 * r["distance"],
+            _drive(r),
+            r["excited"],
         )
         + ((r["whirl"],) if gyro else ())
         for r in check["near"]
@@ -172,6 +197,8 @@ def campbell_section(ctx: Context) -> Section | None:
                     "natural (Hz)",
                     "excitation (Hz)",
                     "margin (%)",
+                    "drive (%)",
+                    "excited",
                 ]
                 + (["whirl"] if gyro else []),
                 near,
@@ -187,8 +214,19 @@ def campbell_section(ctx: Context) -> Section | None:
                 "gear-body modes against the excitations and the system modes (paper 000 Table 5)",
             )
         )
-    s.blocks.append(pre(text))
+    s.blocks.append(pre(v.table()))
     return s
+
+
+def _drive(row: dict) -> float:
+    """A row's mesh strain or forward whirl share in per cent (NaN where none)."""
+    share = row.get("mesh_share", row.get("forward_share"))
+    return float("nan") if share is None else 100 * share
+
+
+def _shown(x: object) -> object:
+    """A reason's value or threshold for a table cell (None: empty)."""
+    return "" if x is None else x
 
 
 def bodies_section(ctx: Context) -> Section | None:
@@ -200,8 +238,9 @@ def bodies_section(ctx: Context) -> Section | None:
     s.blocks.append(
         note(
             "Free-body finite-element modes of the gear blanks (paper 000 §4), "
-            "from 'reducerlab body-modal' results; the resonance verdict above "
-            "checks them against the excitations and the system modes."
+            "from 'reducerlab body-modal' or 'reducerlab run' results; the verdict above "
+            "checks them against the excitations and the system modes (renders where the "
+            "mesh is at hand: computed in this run, not read from a netCDF file)."
         )
     )
     for r in given:
@@ -219,4 +258,9 @@ def bodies_section(ctx: Context) -> Section | None:
                 ["mode", "frequency (Hz)", "type"], rows, digits=6, caption=label, name="body-modes"
             )
         )
+        if r.mesh is not None and r.shapes is not None:  # computed here, or by a run
+            s.blocks.append(figure(r.figure(), f"{label}: mode shapes"))
+        mass = ds.attrs.get("mass_kg")
+        if mass is not None:
+            s.values.setdefault("mass_kg", []).append(float(mass))
     return s

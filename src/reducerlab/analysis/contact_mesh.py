@@ -1,0 +1,78 @@
+"""The loaded contact's mesh stiffness into a design (paper 000 Eq. 8): as a validated
+design (:func:`design_with_contact`, what ``reducerlab run`` and ``report --with``
+model) or as the TOML text of the design file (:func:`design_with_mesh`, ``contact
+--write-design``)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from ..design import Design
+from ..errors import ReducerlabError
+
+__all__ = ["design_with_contact", "design_with_mesh"]
+
+
+def design_with_contact(design: Design, results: Any) -> Design:
+    """``design`` with each given pair's mesh stiffness from its loaded contact:
+    ``[meshN]`` ``stiffness`` = k_m, ``harmonics`` = k_r and ``phases`` = phi_r of paper
+    000's Eq. 8 (N = the result's pair). Damping, backlash and error amplitude are kept.
+
+    Parameters
+    ----------
+    design : Design
+        A design with ``[meshN]`` tables (the nutation drive).
+    results : iterable of ContactResult
+        At most one per pair.
+
+    Raises
+    ------
+    ReducerlabError
+        Two results of one pair.
+    """
+    changes: dict[str, Any] = {}
+    pairs: list[int] = []
+    for res in results:
+        pair = int(res.data.attrs["pair"])
+        if pair in pairs:
+            raise ReducerlabError(
+                f"contact: two loaded-contact results of pair {pair}: give one per pair"
+            )
+        pairs.append(pair)
+        amp, phase = res.harmonics()
+        changes[f"mesh{pair}.stiffness"] = res.mean_stiffness
+        changes[f"mesh{pair}.harmonics"] = amp
+        changes[f"mesh{pair}.phases"] = phase
+    if not changes:
+        return design
+    shown = ", ".join(f"mesh{p}" for p in sorted(pairs))
+    return design.with_values(changes, source=f"{design.source} with {shown} from loaded contact")
+
+
+def design_with_mesh(path: Any, result: Any) -> str:
+    """The design file at ``path`` as TOML text whose ``[meshN]`` table (``N`` = the
+    result's pair) takes the contact analysis' mesh stiffness: ``stiffness = k_m``,
+    ``harmonics = k_r`` and ``phases = phi_r`` of paper 000's Eq. 8 (time origin: tooth
+    pair 0 at mid-mesh). Damping, backlash and error amplitude are kept. Comments of
+    the original file are not carried over; a header names the source."""
+    import tomli_w
+
+    from ..design_files import read_toml
+
+    data = read_toml(path)
+    pair = int(result.data.attrs["pair"])
+    amp, phase = result.harmonics()
+    table = dict(data.get(f"mesh{pair}", {}))
+    table["stiffness"] = f"{result.mean_stiffness:.6g} N/m"
+    table["harmonics"] = [f"{a:.6g} N/m" for a in amp]
+    table["phases"] = [f"{math.degrees(p):.6g} deg" for p in phase]
+    data[f"mesh{pair}"] = table
+    a = result.data.attrs
+    head = (
+        f"# {path} with [mesh{pair}] from `reducerlab contact` (pair {pair}, "
+        f"{a['profile']}, T_ext = {a['torque_external']:.6g} N m, "
+        f"{result.data.sizes['position']} positions, Eq. 8 order {a['order']}, "
+        f"fit residual {100 * a['fit_residual']:.2f} %)\n"
+    )
+    return head + tomli_w.dumps(data)

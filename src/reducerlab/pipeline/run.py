@@ -1,0 +1,389 @@
+"""``run``: one design at its operating point through every link of the chain the
+drive supports, to one verdict and one report (issue 27).
+
+The chain: the torque flow (the operating point's load to every mesh, by virtual work
+through the drive's kinematics) -> the loaded tooth contact of each gear pair at its
+own torque (designs with tooth surfaces) -> the contact's k(t) in the lumped model ->
+modes, complex modes and Campbell diagram -> the nonlinear response at the operating
+point under load, every mesh line -> the gear bodies' FE modes -> the verdict (resonance,
+nonlinear response, bodies, consistency of the models) -> one report with every
+section. Each stage is cached by what it depends on (:mod:`.stages`, :mod:`.store`):
+a second run of an unchanged design reads every stage, and changing damping recomputes
+no finite-element model and no contact.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..design import Design
+from ..errors import ReducerlabError
+from .consistency import body_consistency, stiffness_consistency
+from .stages import (
+    ContactSettings,
+    Stage,
+    body_inputs,
+    body_stage,
+    compliance_stage,
+    contact_stage,
+    response_stage,
+)
+from .store import Store
+
+__all__ = ["RunResult", "run", "run_plan"]
+
+Progress = Callable[[str, float], None]
+"""``progress(description, fraction of the whole run)``."""
+
+#: Seconds each stage takes on the 2-core reference machine (benchmarks/RESULTS.md):
+#: the weights of the run's overall fraction (and so of its ETA).
+WEIGHTS = {
+    "compliance": 36.0,
+    "contact": 12.0,
+    "body": 32.0,
+    "response": 60.0,
+    "dynamics": 15.0,
+    "report": 25.0,
+}
+
+
+@dataclass
+class RunResult:
+    """Everything one run computed.
+
+    Attributes
+    ----------
+    design : Design
+        The design as given.
+    model_design : Design
+        The design the dynamics used: the given one with each contact's k(t) in its
+        mesh (``[meshN]`` mean, harmonics and phases of paper 000's Eq. 8).
+    flow : TorqueFlow or None
+        The operating point's torques at every mesh.
+    contacts, bodies : dict
+        Pair -> ContactResult; gear -> BodyModalResult.
+    responses : list of ResponseResult
+        One per mesh line, at the operating point.
+    verdict : Verdict
+    stages : list of Stage
+        What was computed, read from the cache or given, with the seconds it took.
+    report : Path or None
+        The report file.
+    built : Report or None
+        The report itself (its sections and their values).
+    files : list of Path
+        Every file written into the output folder.
+    seconds : float
+    """
+
+    design: Design
+    model_design: Design
+    flow: Any
+    contacts: dict[int, Any]
+    bodies: dict[int, Any]
+    responses: list[Any]
+    verdict: Any
+    stages: list[Stage]
+    report: Path | None = None
+    built: Any = None
+    files: list[Path] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def ok(self) -> bool:
+        """The verdict: no risk found."""
+        return bool(self.verdict.ok)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready record of the run: stages and verdict."""
+        return {
+            "design": self.design.source,
+            "ok": self.ok,
+            "seconds": round(self.seconds, 3),
+            "stages": [s.to_dict() for s in self.stages],
+            "verdict": self.verdict.to_dict(),
+        }
+
+
+def run_plan(design: Design, bodies: bool = True) -> list[tuple[str, str]]:
+    """``(stage kind, name)`` of every stage a run of ``design`` goes through, in order."""
+    from ..drives import has_model
+
+    plan: list[tuple[str, str]] = []
+    pairs = _pairs(design)
+    for p in pairs:
+        plan += [
+            ("compliance", f"compliance gear {2 * p}"),
+            ("compliance", f"compliance gear {2 * p - 1}"),
+            ("contact", f"contact pair {p}"),
+        ]
+    if has_model(design):
+        plan.append(("dynamics", "modes and Campbell diagram"))
+        plan += [("response", f"response line {j + 1}") for j in range(_lines(design))]
+    if bodies and pairs:
+        plan += [("body", f"body modes gear {g}") for g in range(1, design.gear_count + 1)]
+    plan.append(("report", "report"))
+    return plan
+
+
+def _pairs(design: Design) -> list[int]:
+    """Gear pairs whose loaded contact the run computes: every pair of a design with
+    tooth surfaces."""
+    if not design.has_tooth_surfaces:
+        return []
+    return list(range(1, design.gear_count // 2 + 1))
+
+
+def _lines(design: Design) -> int:
+    from ..drives import build_model
+
+    return int(build_model(design).nonlinear().G.shape[0])
+
+
+class _Tracker:
+    """The run's overall fraction from the stages' weights: stages read from the cache
+    count nothing, so the ETA is that of the work left."""
+
+    def __init__(self, plan: list[tuple[str, str]], sink: Progress | None) -> None:
+        self.weight = {name: WEIGHTS[kind] for kind, name in plan}
+        self.total = sum(self.weight.values()) or 1.0
+        self.done = 0.0
+        self.sink = sink
+
+    def skip(self, name: str) -> None:
+        """A stage that costs nothing (read from the cache)."""
+        self.total -= self.weight.pop(name, 0.0)
+        self.total = max(self.total, 1e-9)
+
+    def report(self, description: str, fraction: float) -> None:
+        if self.sink is None:
+            return
+        stage = description.split(":")[0]
+        w = self.weight.get(stage, 0.0)
+        self.sink(description, min(1.0, (self.done + w * fraction) / self.total))
+
+    def finish(self, name: str) -> None:
+        self.done += self.weight.pop(name, 0.0)
+        if self.sink is not None:
+            self.sink(name, min(1.0, self.done / self.total))
+
+
+def run(
+    target: Design | str | Path,
+    output: str | Path | None = None,
+    *,
+    overrides: Sequence[str] = (),
+    cache: str | Path | None = None,
+    contact: ContactSettings | None = None,
+    bodies: bool = True,
+    body_sizes: tuple[float | None, float | None] = (None, None),
+    response: dict[str, Any] | None = None,
+    scheduler: Any = None,
+    progress: Progress | None = None,
+    write_report: bool = True,
+) -> RunResult:
+    """Take a design at its operating point through the whole chain.
+
+    Parameters
+    ----------
+    target : Design or path
+        The design (or its TOML file, with ``overrides``).
+    output : path, optional
+        Folder for the report (``report.html``), the verdict (``verdict.json``), the
+        run record (``run.json``) and every stage's result (netCDF); none written
+        without it.
+    overrides : sequence of str
+        ``PATH=VALUE`` settings for a design file (as ``--set``).
+    cache : path, optional
+        The stage cache; default ``OUTPUT/cache`` (a run without output and cache caches
+        nothing between runs).
+    contact : ContactSettings, optional
+        The contact grid (default: ``contact_analysis``'s).
+    bodies : bool
+        Compute the gear bodies' FE modes (designs with tooth surfaces).
+    body_sizes : (float or None, float or None)
+        Element sizes ``(tooth, body)`` of the gear-body meshes (m); None: the default
+        (:func:`~reducerlab.analysis.gear_bodies.body_mesh_sizes`).
+    response : dict, optional
+        Keyword arguments of :func:`~reducerlab.analysis.response.response` (periods,
+        keep, history, accuracy...).
+    scheduler : str or dask.distributed.Client, optional
+        Run the independent finite-element work (tooth compliance, gear bodies) on a
+        Dask cluster; here, one after the other, without.
+    progress : callable, optional
+        ``progress(description, fraction)`` with the fraction of the whole run.
+    write_report : bool
+        Build the HTML report (needs ``output``).
+
+    Returns
+    -------
+    RunResult
+    """
+    import tempfile
+
+    from ..analysis.contact import design_with_contact
+    from ..analysis.torque_flow import torque_flow
+    from ..drives import has_model, load_design
+
+    t0 = time.perf_counter()
+    design = target if isinstance(target, Design) else load_design(target, overrides)
+    settings = contact or ContactSettings()
+    # response()'s defaults written out: the same run with or without them has one key
+    response = {"periods": 600, "keep": 100, "history": 20, **(response or {})}
+    out_dir = None if output is None else Path(output)
+    if cache is not None:
+        store = Store(cache)
+    elif out_dir is not None:
+        store = Store(out_dir / "cache")
+    else:
+        store = Store(tempfile.mkdtemp(prefix="reducerlab-run-"))
+    flow = torque_flow(design)
+    pairs = _pairs(design)
+    plan = run_plan(design, bodies)
+    track = _Tracker(plan, progress)
+    stages: list[Stage] = []
+
+    def record(st: Stage) -> None:
+        stages.append(st)
+        if st.status == "cached":
+            track.skip(st.name)
+        else:
+            track.finish(st.name)
+
+    with _client(scheduler) as client:
+        submit = None if client is None else client.submit
+        body_futures = {}
+        if bodies and pairs and client is not None:  # every body not stored, at once
+            from ..analysis.body_modal import body_modal
+            from ..analysis.gear_bodies import body_mesh_sizes
+
+            body_futures = {
+                g: client.submit(body_modal, design, g, convergence=False,
+                                 sizes=body_mesh_sizes(design, g, *body_sizes))
+                for g in range(1, design.gear_count + 1)
+                if not store.has("body", store.key("body", body_inputs(design, g, body_sizes)))
+            }  # fmt: skip
+        contacts: dict[int, Any] = {}
+        for p in pairs:
+            torque = _pair_torque(flow, p)
+            comp, sts = compliance_stage(store, design, p, settings, track.report, submit)
+            for st in sts:
+                record(st)
+            res, st = contact_stage(store, design, p, torque, settings, comp, track.report)
+            record(st)
+            contacts[p] = res
+        model_design = design_with_contact(design, contacts.values())
+        responses: list[Any] = []
+        if has_model(model_design):
+            track.finish("modes and Campbell diagram")  # computed by the verdict below
+            for j in range(_lines(model_design)):
+                res, st = response_stage(store, model_design, j, response, track.report)
+                record(st)
+                responses.append(res)
+        body_results: dict[int, Any] = {}
+        if bodies and pairs:
+            for g in range(1, design.gear_count + 1):
+                res, st = body_stage(
+                    store, design, g, track.report, body_futures.get(g), body_sizes
+                )
+                record(st)
+                body_results[g] = res
+    reasons = stiffness_consistency(design, contacts) + body_consistency(
+        design, body_results, model_design.thresholds.consistency
+    )
+    verdict = _verdict(model_design, responses, body_results, reasons)
+    result = RunResult(
+        design, model_design, flow, contacts, body_results, responses, verdict, stages
+    )
+    if out_dir is not None:
+        _write(result, out_dir, write_report, track.report, t0)
+    track.finish("report")
+    result.seconds = time.perf_counter() - t0
+    return result
+
+
+def _client(scheduler: Any) -> Any:
+    """The Dask client of ``scheduler`` (a context), or a context yielding None."""
+    import contextlib
+
+    if scheduler is None:
+        return contextlib.nullcontext(None)
+    from ..analysis.workers import dask_client
+
+    return dask_client(scheduler, "run")
+
+
+def _pair_torque(flow: Any, pair: int) -> float:
+    """The torque (N m) on pair ``pair``'s external gear at the operating point; the
+    loaded contact needs one."""
+    mesh = flow.meshes.get(f"mesh{pair}")
+    torque = None if mesh is None else mesh.external_torque
+    if not (torque is not None and torque > 0):
+        raise ReducerlabError(
+            "run: the design has no load at its operating point (give output_torque or "
+            "output_power): the loaded tooth contact of its gear pairs needs a torque"
+        )
+    return torque
+
+
+def _verdict(
+    design: Design, responses: list[Any], bodies: dict[int, Any], reasons: list[dict[str, Any]]
+) -> Any:
+    """The verdict from every piece of evidence of the run."""
+    from ..analysis.components import ComponentModes
+    from ..analysis.verdict import verdict
+
+    components = [ComponentModes.from_body_modal(r) for _, r in sorted(bodies.items())]
+    return verdict(design, responses=responses, components=components, extra_reasons=reasons)
+
+
+def _write(
+    result: RunResult, out_dir: Path, write_report: bool, report: Progress, t0: float
+) -> None:
+    """The run's files, moved into ``out_dir`` together: every stage's result, the
+    verdict, the run record and the report."""
+    from ..io import OutputSet, stamp
+
+    files = OutputSet(out_dir, "-o")
+    names = []
+    with files:
+        for p, r in result.contacts.items():
+            names.append(f"contact-pair{p}.nc")
+            r.save(files.path(names[-1]))
+        for g, r in result.bodies.items():
+            names.append(f"body-gear{g}.nc")
+            r.save(files.path(names[-1]))
+        for j, r in enumerate(result.responses):
+            names.append(f"response-line{j + 1}.nc")
+            r.save(files.path(names[-1]))
+        prov = stamp(result.model_design.provenance)
+        names.append("verdict.json")
+        files.path("verdict.json").write_text(
+            json.dumps({**result.verdict.to_dict(), **prov}, indent=2, default=str) + "\n"
+        )
+        if write_report:
+            from ..reporting import report as build_report
+
+            report("report", 0.0)
+            given = [*result.contacts.values(), *result.bodies.values(), *result.responses]
+            rep = build_report(
+                result.model_design,
+                results=given,
+                verdict=result.verdict,
+                progress=lambda d, k, n: report(f"report: {d}", k / max(n, 1)),
+            )
+            names.append("report.html")
+            rep.write(files.path("report.html"))
+            result.built = rep
+        result.seconds = time.perf_counter() - t0  # the whole run, its files but this one
+        names.append("run.json")
+        files.path("run.json").write_text(
+            json.dumps({**result.to_dict(), **prov}, indent=2, default=str) + "\n"
+        )
+    result.files = [out_dir / n for n in names]
+    result.report = out_dir / "report.html" if write_report else None
