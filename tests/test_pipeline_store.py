@@ -50,8 +50,12 @@ def test_tooth_geometry_changes_the_contact_and_body_keys(double):
     )
 
 
-class _Toy(Result):
-    kind = "toy-store"
+def _Toy(data: xr.Dataset) -> Result:
+    """A small stored result (an existing kind: a test must not add kinds to the
+    registry that other tests list)."""
+    from reducerlab.analysis.response import ResponseResult
+
+    return ResponseResult(data)
 
 
 def test_put_get_round_trip_and_damaged_entries(tmp_path):

@@ -128,7 +128,8 @@ def test_another_gears_inputs(tmp_path):
     g3 = Result.load(body_file(tmp_path / "g3.nc", d, 3))
     changed = d.with_values({"gear3.blank": {"bore": 0.03}})
     check_inputs(g1, changed, "g1.nc")  # accepted
-    with pytest.raises(ReducerlabError, match=r"gear 3 of .*gear3\.blank\.bore \(not set\) ≠"):
+    # the example's gear 3 sits on a 52 mm bore (its blank fitted to paper 000 Table 1)
+    with pytest.raises(ReducerlabError, match=r"gear 3 of .*gear3\.blank\.bore 0\.052 ≠ 0\.03"):
         check_inputs(g3, changed, "g3.nc")
     with pytest.raises(ReducerlabError, match=r"g4\.nc was computed for gear 4.*gear4\.blank"):
         check_inputs(g4, d.with_values({"gear4.blank": {"bore": 0.02}}), "g4.nc")
