@@ -38,12 +38,18 @@ def body_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str
         return None
     if design.get("type") != "nutation" or gear not in range(1, 5):
         return None
-    pair = (gear - 1) // 2
+    return [*_pair_generation(design, (gear + 1) // 2), f"gear{gear}.blank"]
+
+
+def _pair_generation(design: Mapping[str, Any], pair: int) -> list[str]:
+    """The fields that generate pair ``pair``'s teeth: type and sides, helix, pressure
+    and nutation angles, ``[surface]``, ``[material]``, and the teeth and mean radii of
+    both gears (of every gear where the nutation angle follows from them)."""
     free = design.get("nutation_angle") is None and design.get("sides") == "double"
-    gears = range(1, 5) if free else (2 * pair + 1, 2 * pair + 2)
+    gears = range(1, 5) if free else (2 * pair - 1, 2 * pair)
     return [
         "type", "sides", "helix_angle", "normal_pressure_angle", "nutation_angle",
-        "surface", "material", f"gear{gear}.blank",
+        "surface", "material",
         *(f"gear{k}.{f}" for k in gears for f in ("teeth", "mean_radius")),
     ]  # fmt: skip
 
@@ -71,13 +77,7 @@ def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[
         return None
     if design.get("type") != "nutation" or pair not in (1, 2):
         return None
-    free = design.get("nutation_angle") is None and design.get("sides") == "double"
-    gears = range(1, 5) if free else (2 * pair - 1, 2 * pair)
-    return [
-        "type", "sides", "helix_angle", "normal_pressure_angle", "nutation_angle",
-        "surface", "material",
-        *(f"gear{k}.{f}" for k in gears for f in ("teeth", "mean_radius")),
-    ]  # fmt: skip
+    return _pair_generation(design, pair)
 
 
 def body_mesh_sizes(
