@@ -113,6 +113,16 @@ def test_a_second_run_reads_every_stage(first):
     assert again.responses[0].attrs["dynamic_load_factor"] == pytest.approx(
         res.responses[0].attrs["dynamic_load_factor"], rel=0, abs=0
     )
+    # the verdict and every report section read from the cache (summary and provenance,
+    # which carry the run's date, are made again), with the numbers of the first run
+    assert [r["text"] for r in again.verdict.reasons] == [r["text"] for r in res.verdict.reasons]
+    built = {s.id: s for s in res.built.sections}
+    reused = {s.id for s in again.built.sections if s.reused}
+    assert reused == set(built) - {"summary", "provenance"}
+    for s in again.built.sections:
+        if s.reused:
+            assert s.values.keys() == built[s.id].values.keys()
+    assert 'data-reused="1"' in again.report.read_text(encoding="utf-8")
 
 
 def test_changed_damping_recomputes_only_the_dynamics(first):
@@ -121,6 +131,30 @@ def test_changed_damping_recomputes_only_the_dynamics(first):
     status = {s.name: s.status for s in res.stages}
     assert status.pop("response line 1") == "computed"
     assert set(status.values()) == {"cached"}
+    # the report: the gear-body section (its renders: the bodies alone) reused, every
+    # section that reads the dynamics built again
+    reused = {s.id for s in res.built.sections if s.reused}
+    assert "bodies" in reused
+    assert not reused & {"modal", "campbell", "response"}
+
+
+def test_a_mesh_stiffness_from_the_contact(first):
+    """``stiffness = "contact"``: the run fills the mesh from the loaded contact; the
+    contact's k(t) replaces a written stiffness anyway, so the model, its response and
+    its cache keys are those of the design as written, and the note says where k_m came
+    from."""
+    out, res = first
+    sets = ["mesh1.stiffness=contact", "mesh1.harmonics=[]"]
+    filled = run(EXAMPLE, out, overrides=sets, **KW)
+    assert filled.design.mesh1.stiffness == "contact"
+    assert filled.model_design.mesh1.stiffness == pytest.approx(
+        res.contacts[1].mean_stiffness, rel=1e-12
+    )
+    assert filled.model_design.hash == res.model_design.hash
+    assert {s.status for s in filled.stages} == {"cached"}
+    (note,) = [r for r in filled.verdict.reasons if r["rule"] == "mesh-stiffness"]
+    assert "k(t) from the loaded contact" in note["text"]
+    assert filled.ok == res.ok
 
 
 def test_the_cli_gives_the_same_verdict(first):

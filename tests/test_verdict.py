@@ -386,3 +386,24 @@ def test_body_modes_are_ranked_by_margin_and_unstable_modes_are_risks():
     v = verdict(bad, speed_range=(50.0, 100.0), run_response=False)
     (u,) = _by(v, "unstable")
     assert u["status"] == "risk" and u["value"] == pytest.approx(2.0) and "grows" in u["text"]
+
+
+def test_a_repeated_body_root_is_named_once():
+    """The two modes of a degenerate pair (an axisymmetric body's bending pair, split by
+    its mesh by 1e-5) that cross one excitation and come near one system mode are one
+    reason each, naming both modes; a distinct mode 0.5 % away stays apart."""
+    from reducerlab.analysis.components import ComponentModes
+
+    d = load_design(GEAR)
+    f = 25 * 1500 / 60  # 1x mesh at 1500 rpm (Hz)
+    body = ComponentModes("gear 1", [f, f * (1 + 1e-5), f * 1.005], ["bending"] * 3)
+    v = verdict(d, components=[body], run_response=False)
+    cross = [r for r in v.reasons if r["rule"] == "body-crossing" and r["excitation"] == "1x mesh"]
+    assert [r["modes"] for r in cross] == [[1, 2], [3]]
+    assert "gear 1 modes 1, 2 (bending)" in cross[0]["text"] and cross[0]["mode"] == 1
+    keys = [(r["rule"], tuple(r["modes"]), r.get("excitation"), r.get("system_mode"))
+            for r in v.reasons if r["rule"].startswith("body-")]  # fmt: skip
+    assert len(keys) == len(set(keys))  # no reason twice
+    for r in v.reasons:
+        if r["rule"] == "body-coincidence":
+            assert r["system_mode"] == r["system_modes"][0]

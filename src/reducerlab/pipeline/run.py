@@ -302,12 +302,25 @@ def run(
     reasons = stiffness_consistency(design, contacts) + body_consistency(
         design, body_results, model_design.thresholds.consistency
     )
-    verdict = _verdict(model_design, responses, body_results, reasons)
+    evidence = {
+        "design": model_design.hash,
+        "stages": [st.key for st in stages],
+        "reasons": reasons,
+    }
+    verdict_key = store.key("verdict", evidence)
+    stored = store.get("verdict", verdict_key, extra=True)
+    if stored is not None:
+        verdict = stored[1]
+    else:
+        verdict = _verdict(model_design, responses, body_results, reasons)
+        store.put("verdict", verdict_key, evidence, extra=verdict)
     result = RunResult(
         design, model_design, flow, contacts, body_results, responses, verdict, stages
     )
     if out_dir is not None:
-        _write(result, out_dir, write_report, track.report, t0)
+        body_keys = [st.key for st in stages if st.name.startswith("body modes")]
+        memo = _SectionMemo(store, verdict_key, body_keys)
+        _write(result, out_dir, write_report, track.report, t0, memo)
     track.finish("report")
     result.seconds = time.perf_counter() - t0
     return result
@@ -348,8 +361,46 @@ def _verdict(
     return verdict(design, responses=responses, components=components, extra_reasons=reasons)
 
 
+class _SectionMemo:
+    """The report's sections in the stage cache (:class:`~reducerlab.reporting.SectionMemo`).
+
+    A section's key is the report's context (design hash, file text, overrides), the
+    verdict's key (which covers the model design and every stage's key: what each given
+    result was computed from) and the section's id; the gear-body section reads nothing
+    but the body results given to the report (their tables and mode-shape renders), so
+    its key is the body stages' keys alone, and a run that changes only the dynamics
+    (damping) reuses its renders."""
+
+    #: Sections keyed on the body stages alone.
+    BODY_ONLY = ("bodies",)
+
+    def __init__(self, store: Store, verdict_key: str, body_keys: list[str]) -> None:
+        self.store, self.verdict_key, self.body_keys = store, verdict_key, body_keys
+
+    def _key(self, sid: str, context: str) -> tuple[str, dict[str, Any]]:
+        if sid in self.BODY_ONLY:
+            inputs: dict[str, Any] = {"section": sid, "bodies": self.body_keys}
+        else:
+            inputs = {"section": sid, "context": context, "evidence": self.verdict_key}
+        return self.store.key("section", inputs), inputs
+
+    def load(self, sid: str, context: str) -> Any:
+        key, _ = self._key(sid, context)
+        got = self.store.get("section", key, extra=True)
+        return None if got is None else got[1]
+
+    def save(self, sid: str, context: str, section: Any) -> None:
+        key, inputs = self._key(sid, context)
+        self.store.put("section", key, inputs, extra=section)
+
+
 def _write(
-    result: RunResult, out_dir: Path, write_report: bool, report: Progress, t0: float
+    result: RunResult,
+    out_dir: Path,
+    write_report: bool,
+    report: Progress,
+    t0: float,
+    memo: _SectionMemo | None = None,
 ) -> None:
     """The run's files, moved into ``out_dir`` together: every stage's result, the
     verdict, the run record and the report."""
@@ -382,6 +433,7 @@ def _write(
                 results=given,
                 verdict=result.verdict,
                 progress=lambda d, k, n: report(f"report: {d}", k / max(n, 1)),
+                memo=memo,
             )
             names.append("report.html")
             rep.write(files.path("report.html"))

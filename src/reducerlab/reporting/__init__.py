@@ -23,7 +23,7 @@ import traceback
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 from urllib.parse import quote
 
 from .. import __version__
@@ -33,7 +33,7 @@ from .blocks import Section, table
 from .context import Context, repo_assumptions
 from .sections import SECTIONS
 
-__all__ = ["Report", "report", "write_index"]
+__all__ = ["Report", "SectionMemo", "report", "write_index"]
 
 TEMPLATES = Path(__file__).with_name("templates")
 
@@ -46,6 +46,23 @@ def _environment() -> Any:
         autoescape=jinja2.select_autoescape(["html", "j2"]),
         undefined=jinja2.StrictUndefined,
     )
+
+
+class SectionMemo(Protocol):
+    """Sections built before, by section id, for a report of the same inputs.
+
+    The memo owns the keys: it answers a section only when everything that section
+    reads is what it was when the section was saved (``reducerlab run`` keys them on
+    its stages' cache keys, the design's hash and the verdict). A section that failed is
+    never saved."""
+
+    def load(self, sid: str, context: str) -> Section | None:
+        """The stored section ``sid`` built in ``context``, or None. ``context`` is the
+        report's digest of what it reads besides the given results and the verdict
+        (the design's hash, its file's text, the overrides, the assumptions shown)."""
+
+    def save(self, sid: str, context: str, section: Section) -> None:
+        """Store section ``sid`` built in ``context``."""
 
 
 @dataclass
@@ -104,6 +121,7 @@ def report(
     only: Sequence[str] | None = None,
     progress: Callable[[str, int, int], None] | None = None,
     verdict: Any = None,
+    memo: SectionMemo | None = None,
 ) -> Report:
     """Build the HTML design report of a design.
 
@@ -125,6 +143,9 @@ def report(
         The verdict to show, computed by the caller from more evidence than the report
         has (``reducerlab run``: with the consistency of its models); default the
         report's own (:meth:`.context.Context.verdict`).
+    memo : SectionMemo, optional
+        Sections built before for the same inputs (``reducerlab run``'s stage cache):
+        each one found there is reused, not built again; each one built is saved.
     progress : callable, optional
         ``progress(description, done, total)`` before each section (``done`` sections
         of ``total``); long sections (bifurcation, regime map) also call it as they go,
@@ -146,6 +167,7 @@ def report(
     if verdict is not None:
         ctx.cache["verdict"] = verdict
     todo = [(sid, title, build) for sid, title, build in SECTIONS if only is None or sid in only]
+    context = _context_digest(ctx) if memo is not None else ""
     sections: list[Section] = []
     for k, (sid, title, build) in enumerate(todo):
         if progress is not None:
@@ -155,6 +177,11 @@ def report(
                 progress(f"{title}: {done}/{total}", k, len(todo))  # type: ignore[misc]
 
             ctx.step = step
+        stored = None if memo is None else memo.load(sid, context)
+        if stored is not None:
+            stored.reused = True
+            sections.append(stored)
+            continue
         t0 = time.perf_counter()
         try:
             sec = build(ctx)
@@ -165,6 +192,8 @@ def report(
         if sec is None:
             continue
         sec.seconds = time.perf_counter() - t0
+        if memo is not None and not sec.error:
+            memo.save(sid, context, sec)
         sections.append(sec)
     if progress is not None:
         progress("provenance", len(todo), len(todo))
@@ -192,6 +221,17 @@ def report(
         )
     )
     return Report(html, design, sections, time.perf_counter() - start)
+
+
+def _context_digest(ctx: Context) -> str:
+    """What a section reads besides the given results and the verdict, as one digest."""
+    from ..io import digest
+
+    return digest(
+        "\n\x00".join(
+            [__version__, ctx.design.hash, ctx.text, *ctx.overrides, str(ctx.assumptions)]
+        )
+    )
 
 
 #: Kinds of results the report can take from a file.
@@ -301,7 +341,10 @@ def _provenance(
         ("machine", f"{platform.system()} {platform.machine()}"),
     ]
     s.blocks.append(table(["item", "value"], rows, name="provenance"))
-    times = [(x.title, x.seconds, "failed" if x.error else "ok") for x in sections]
+    times = [
+        (x.title, x.seconds, "failed" if x.error else "stored" if x.reused else "ok")
+        for x in sections
+    ]
     times.append(("total (analyses; rendering not included)", total, ""))
     s.blocks.append(table(["section", "run time (s)", "status"], times, digits=3, name="times"))
     s.values.update(hash=design.hash, created=created, seconds={x.id: x.seconds for x in sections})

@@ -143,3 +143,6 @@ class Section:
     seconds: float = 0.0
     error: str | None = None
     details: str | None = None
+    #: Read from a :class:`~reducerlab.reporting.SectionMemo` (built by an earlier
+    #: report of the same inputs); ``seconds`` is then the time it took to build.
+    reused: bool = False
