@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 from ..design import Design
 from ..errors import DesignError, ReducerlabError, names_source
 from ..results import Result, provenance
+from ..threads import with_compute_threads
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -428,6 +429,7 @@ def _coarser(sizes: Any, crown: Any, bevel: Any, rim: float) -> Any:
 
 
 @names_source
+@with_compute_threads
 def body_modal(
     design: Any,
     gear: int,

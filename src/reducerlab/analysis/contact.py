@@ -44,6 +44,7 @@ __all__ = [
 ]
 
 # the contact's k(t) into a design: its own module, importable from here as before
+from ..threads import with_compute_threads
 from .contact_mesh import design_with_contact, design_with_mesh
 
 Stage = Callable[[str], None]
@@ -317,6 +318,7 @@ def check_load(pair: Any, torque: float, radius: float, E_star: float, speed: fl
 
 
 @names_source
+@with_compute_threads
 def contact_analysis(
     design: Any,
     pair: int = 1,

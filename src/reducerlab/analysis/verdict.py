@@ -33,7 +33,9 @@ from ..design_files import validate_design
 from ..errors import DesignError, DivergenceError, ReducerlabError, names_source
 from ..model import Model
 from ..units import RPM
+from .body_reasons import body_reasons
 from .components import ComponentModes
+from .reasons import plain, reason
 from .resonance import ResonanceResult, format_check, percent, resonance_check
 
 if TYPE_CHECKING:
@@ -86,22 +88,6 @@ def as_thresholds(given: Thresholds | Mapping[str, Any] | None, base: Thresholds
     return validate_design(Thresholds, {**base.model_dump(), **given}, "thresholds")
 
 
-def _reason(rule: str, status: str, text: str, value: Any, threshold: Any, **more: Any) -> dict:
-    return {"rule": rule, "status": status, "text": text, "value": _plain(value),
-            "threshold": _plain(threshold), **{k: _plain(v) for k, v in more.items()}}  # fmt: skip
-
-
-def _plain(x: Any) -> Any:
-    """A JSON-ready value: numpy scalars as Python ones, NaN as None."""
-    if isinstance(x, np.generic):
-        x = x.item()
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    if isinstance(x, list | tuple):
-        return [_plain(v) for v in x]
-    return x
-
-
 def check_reasons(reasons: Sequence[Mapping[str, Any]], what: str = "extra_reasons") -> list[dict]:
     """Reasons in the verdict's format, checked (see :func:`verdict`): each a mapping with
     ``rule`` and ``text`` (strings, the text one line), ``status`` in :data:`STATUSES`,
@@ -125,7 +111,7 @@ def check_reasons(reasons: Sequence[Mapping[str, Any]], what: str = "extra_reaso
             )
         if not (isinstance(r["text"], str) and r["text"].strip() and "\n" not in r["text"]):
             raise ReducerlabError(f"{where} ({r['rule']}): text must be one non-empty line")
-        out.append({k: _plain(v) for k, v in r.items()})
+        out.append({k: plain(v) for k, v in r.items()})
     return out
 
 
@@ -179,7 +165,7 @@ class Verdict:
         out.update(
             ok=self.ok,
             title=self.title,
-            operating_speed_rpm=_plain(self.speed_rpm),
+            operating_speed_rpm=plain(self.speed_rpm),
             reasons=[dict(r) for r in self.reasons],
             thresholds=self.thresholds.model_dump(),
             responses=[_response_summary(r) for r in self.responses],
@@ -217,7 +203,7 @@ class Verdict:
 
 def _response_summary(res: ResponseResult) -> dict[str, Any]:
     a = res.data.attrs
-    return {k: _plain(a.get(k)) for k in (
+    return {k: plain(a.get(k)) for k in (
         "line", "dynamic_load_factor", "mean_mesh_force", "separation_fraction",
         "back_contact_fraction", "back_impacts_per_period", "impact_class", "forcing_hz",
     )} | {"motion": motion_class(res)}  # fmt: skip
@@ -256,9 +242,9 @@ def operating_responses(
     flat = model.nonlinear()
     if flat.G.shape[0] == 0:
         text = "no mesh line: no nonlinear response to judge (tooth load, separation, motion)"
-        return [], [_reason("response", "note", text, None, None)]
+        return [], [reason("response", "note", text, None, None)]
     if model.speed == 0:
-        return [], [_reason("response", "note", "the model is at rest: no response at an "
+        return [], [reason("response", "note", "the model is at rest: no response at an "
                             "operating speed to judge", None, None)]  # fmt: skip
     opts = dict(options or {})
     if "period" not in opts:
@@ -268,14 +254,14 @@ def operating_responses(
             text = ("nothing in the model varies periodically (constant mesh stiffness, no "
                     "transmission error or periodic load): the operating point is the static "
                     "equilibrium, its dynamic load is not judged")  # fmt: skip
-            return [], [_reason("response", "note", text, None, None)]
+            return [], [reason("response", "note", text, None, None)]
     out = []
     for line in range(flat.G.shape[0]):
         try:
             out.append(response(model, line=line, **opts))
         except DivergenceError as exc:
             name = flat.line_names[line]
-            return out, [_reason("response", "risk", f"mesh line '{name}': the response at the "
+            return out, [reason("response", "risk", f"mesh line '{name}': the response at the "
                                  f"operating speed diverges ({exc})", None, None,
                                  line=name)]  # fmt: skip
     return out, []
@@ -291,14 +277,14 @@ def _response_reasons(res: ResponseResult, t: Thresholds) -> list[dict[str, Any]
     motion = motion_class(res)
     dlf = float(a["dynamic_load_factor"])
     if not math.isfinite(dlf):
-        out.append(_reason("dynamic-load-factor", "note",
+        out.append(reason("dynamic-load-factor", "note",
                            f"{head}: no mean load (mean mesh force {a['mean_mesh_force']:.3g} N): "
                            "the dynamic load factor is undefined and the tooth load is not "
                            "judged; give the drive a load torque", None,
                            t.dynamic_load_factor, **more))  # fmt: skip
     else:
         bad = dlf > t.dynamic_load_factor
-        out.append(_reason("dynamic-load-factor", "risk" if bad else "ok",
+        out.append(reason("dynamic-load-factor", "risk" if bad else "ok",
                            f"{head}: dynamic load factor max|F|/mean F {dlf:.3g} "
                            f"{'above' if bad else 'within'} the limit {t.dynamic_load_factor:g}",
                            dlf, t.dynamic_load_factor, **more))  # fmt: skip
@@ -307,32 +293,32 @@ def _response_reasons(res: ResponseResult, t: Thresholds) -> list[dict[str, Any]
     text = (f"{head}: teeth apart {percent(sep)} % of the time ({a['impact_class']}), "
             f"{'above' if bad else 'within'} the limit {100 * t.separation:g} %"
             if sep > 0 else f"{head}: the teeth never separate")  # fmt: skip
-    out.append(_reason("separation", "risk" if bad else "ok", text, sep, t.separation, **more))
+    out.append(reason("separation", "risk" if bad else "ok", text, sep, t.separation, **more))
     back = float(a["back_impacts_per_period"])
     if back > 0:
-        out.append(_reason("back-impacts", "risk" if t.back_impacts_risk else "note",
+        out.append(reason("back-impacts", "risk" if t.back_impacts_risk else "note",
                            f"{head}: back-side impacts, {back:.3g} per forcing period (back "
                            f"flanks in contact {percent(float(a['back_contact_fraction']))} % "
                            "of the time: double-sided impact)", back, 0.0, **more))  # fmt: skip
     else:
-        out.append(_reason("back-impacts", "ok", f"{head}: no back-side impact", back, 0.0,
+        out.append(reason("back-impacts", "ok", f"{head}: no back-side impact", back, 0.0,
                            **more))  # fmt: skip
     keep = int(res.data.sizes["point"])
     if motion == "not excited":
-        out.append(_reason("motion", "note", f"{head}: not excited at the operating speed (the "
+        out.append(reason("motion", "note", f"{head}: not excited at the operating speed (the "
                            "mesh deflection varies by round-off only)", motion, None,
                            **more))  # fmt: skip
     elif motion.startswith("period-"):
         sub = motion != "period-1"
         text = (f"{head}: {motion} motion (a subharmonic response, {motion[7:]} forcing "
                 "periods)" if sub else f"{head}: period-1 motion")  # fmt: skip
-        out.append(_reason("motion", "note" if sub else "ok", text, motion, None, **more))
+        out.append(reason("motion", "note" if sub else "ok", text, motion, None, **more))
     elif motion == "unsettled":
-        out.append(_reason("motion", "note", f"{head}: still settling after the run (its "
+        out.append(reason("motion", "note", f"{head}: still settling after the run (its "
                            f"{keep} Poincaré points converge): run more periods to judge "
                            "the motion", motion, None, **more))  # fmt: skip
     else:
-        out.append(_reason("motion", "risk" if t.non_periodic_risk else "note",
+        out.append(reason("motion", "risk" if t.non_periodic_risk else "note",
                            f"{head}: non-periodic motion (no period <= 12 in its last {keep} "
                            "Poincaré points: quasi-periodic or chaotic)", motion, None,
                            **more))  # fmt: skip
@@ -377,14 +363,14 @@ def _resonance_reasons(res: ResonanceResult, t: Thresholds) -> list[dict[str, An
                        f"{100 * limit:g} %)")  # fmt: skip
             else:
                 value, limit, why = None, None, "counted"
-            out.append(_reason(f"resonance-{kind}", "risk" if r.get("excited", True) else "note",
+            out.append(reason(f"resonance-{kind}", "risk" if r.get("excited", True) else "note",
                                f"{head}: {why}", value, limit, frequency_hz=f,
                                **_row_more(r, keys)))  # fmt: skip
     if not seen:
-        out.append(_reason("resonance", "ok", f"no natural frequency crosses or comes within "
+        out.append(reason("resonance", "ok", f"no natural frequency crosses or comes within "
                            f"{100 * res['margin']:g} % of an excitation over {rng}", 0,
                            res["margin"]))  # fmt: skip
-    out += _body_reasons(res)
+    out += body_reasons(res)
     worst: dict[int, dict[str, Any]] = {}
     for u in res["stability"]["unstable"]:
         w = worst.setdefault(u["mode"], {**u, "lo": u["speed_rpm"], "hi": u["speed_rpm"], "n": 0})
@@ -395,109 +381,15 @@ def _resonance_reasons(res: ResonanceResult, t: Thresholds) -> list[dict[str, An
     for m, w in sorted(worst.items()):
         text = (f"mode {m} ({w['frequency_hz']:.5g} Hz) grows at {w['n']} speed(s) in "
                 f"{w['lo']:.5g}-{w['hi']:.5g} rpm, up to {w['growth_rate']:.4g} 1/s")  # fmt: skip
-        out.append(_reason("unstable", "risk", text, w["growth_rate"], 0.0, mode=m))
+        out.append(reason("unstable", "risk", text, w["growth_rate"], 0.0, mode=m))
     if not worst:
-        out.append(_reason("unstable", "ok", f"every mode is stable over {rng}", 0.0, 0.0))
-    return out
-
-
-#: Two roots within this relative distance are one repeated root (the degenerate
-#: pairs of an axisymmetric body, split by its mesh; the repeated modes of the nutating
-#: gear): the verdict names them together once.
-REPEATED = 1e-3
-
-
-def _repeated(a: float, b: float) -> bool:
-    return abs(a - b) <= REPEATED * max(abs(a), abs(b))
-
-
-def _merged(rows: Sequence[dict[str, Any]], freq: str, other: str | None) -> list[dict[str, Any]]:
-    """Rows of one body check with the repeated roots merged: rows of one component at
-    one speed whose body frequencies (``freq``) are one repeated root, and, for
-    coincidences, whose system frequencies (``other``) are too, become one row whose
-    ``modes`` (and ``system_modes``) list them all. Order kept (the first row's)."""
-    groups: list[dict[str, Any]] = []
-    for r in rows:
-        for g in groups:
-            if (
-                g["component"] == r["component"]
-                and g.get("excitation") == r.get("excitation")
-                and _repeated(g["speed_rpm"], r["speed_rpm"])
-                and _repeated(g[freq], r[freq])
-                and (other is None or _repeated(g[other], r[other]))
-            ):
-                if r["mode"] not in g["modes"]:
-                    g["modes"].append(r["mode"])
-                if other is not None and r["system_mode"] not in g["system_modes"]:
-                    g["system_modes"].append(r["system_mode"])
-                break
-        else:
-            g = {**r, "modes": [r["mode"]]}
-            if other is not None:
-                g["system_modes"] = [r["system_mode"]]
-            groups.append(g)
-    for g in groups:
-        g["modes"].sort()
-        if other is not None:
-            g["system_modes"].sort()
-    return groups
-
-
-def _numbers(word: str, ks: Sequence[int]) -> str:
-    """``"mode 3"``, ``"modes 1, 2"``."""
-    return f"{word}{'s' if len(ks) > 1 else ''} " + ", ".join(str(k) for k in ks)
-
-
-def _body_reasons(res: ResonanceResult) -> list[dict[str, Any]]:
-    """Body-mode crossings and near misses with the excitations, and coincidences with
-    system modes, ranked by margin (a crossing first: margin 0); a repeated root (body
-    or system) is named once, with all its mode numbers."""
-    rows = []
-    crossed = set()
-    for c in _merged(res.get("component_crossings", ()), "frequency_hz", None):
-        crossed.update((c["component"], m, c["excitation"]) for m in c["modes"])
-        rows.append((0.0, _reason(
-            "body-crossing", "risk", f"{_body(c)} ({c['frequency_hz']:.5g} Hz) crosses "
-            f"{c['excitation']} at {c['speed_rpm']:.5g} rpm", 0.0, res["margin"],
-            component=c["component"], mode=c["mode"], modes=c["modes"],
-            excitation=c["excitation"], speed_rpm=c["speed_rpm"],
-            frequency_hz=c["frequency_hz"])))  # fmt: skip
-    near = [r for r in res.get("component_near", ())
-            if (r["component"], r["mode"], r["excitation"]) not in crossed]  # fmt: skip
-    for r in _merged(near, "natural_hz", None):
-        rows.append((r["distance"], _reason(
-            "body-near", "risk", f"{_body(r)} ({r['natural_hz']:.5g} Hz) within "
-            f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) at "
-            f"{r['speed_rpm']:.5g} rpm", r["distance"], res["margin"],
-            component=r["component"], mode=r["mode"], modes=r["modes"],
-            excitation=r["excitation"], speed_rpm=r["speed_rpm"],
-            frequency_hz=r["natural_hz"])))  # fmt: skip
-    for r in _merged(res.get("coincidences", ()), "natural_hz", "system_hz"):
-        rows.append((r["distance"], _reason(
-            "body-coincidence", "risk", f"{_body(r)} ({r['natural_hz']:.5g} Hz) within "
-            f"{100 * r['distance']:.2f} % of {_numbers('system mode', r['system_modes'])} "
-            f"({r['system_hz']:.5g} Hz) at {r['speed_rpm']:.5g} rpm", r["distance"],
-            res["margin"], component=r["component"], mode=r["mode"], modes=r["modes"],
-            system_mode=r["system_mode"], system_modes=r["system_modes"],
-            speed_rpm=r["speed_rpm"])))  # fmt: skip
-    rows.sort(key=lambda x: x[0])
-    out = [r for _, r in rows]
-    if res.get("components") and not out:
-        labels = ", ".join(c["label"] for c in res["components"])
-        out.append(_reason("body", "ok", f"the gear-body modes ({labels}) keep more than "
-                           f"{100 * res['margin']:g} % from every excitation and system mode",
-                           None, res["margin"]))  # fmt: skip
+        out.append(reason("unstable", "ok", f"every mode is stable over {rng}", 0.0, 0.0))
     return out
 
 
 def _lines(names: Sequence[str]) -> str:
     """``"mesh line 'mesh'"``, ``"mesh lines 'a', 'b'"``."""
     return f"mesh line{'s' if len(names) > 1 else ''} " + ", ".join(f"'{n}'" for n in names)
-
-
-def _body(row: dict[str, Any]) -> str:
-    kind = f" ({row['type']})" if row.get("type") else ""
-    return f"{row['component']} {_numbers('mode', row.get('modes', [row['mode']]))}{kind}"
 
 
 @names_source
@@ -583,7 +475,7 @@ def verdict(
     elif resonance is not None:
         resonance = _rejudge(resonance, t)
     if resonance is None:
-        reasons.append(_reason("resonance", "note", "no operating speed: no resonance check "
+        reasons.append(reason("resonance", "note", "no operating speed: no resonance check "
                                "(give the design a speed or speed range)", None, None))  # fmt: skip
     else:
         reasons += _resonance_reasons(resonance, t)
@@ -592,7 +484,7 @@ def verdict(
         reasons += notes
     elif responses is None:
         responses = []
-        reasons.append(_reason("response", "note", "the nonlinear response at the operating "
+        reasons.append(reason("response", "note", "the nonlinear response at the operating "
                                "point was not computed: tooth load, separation and motion "
                                "not judged", None, None))  # fmt: skip
     responses = list(responses)

@@ -41,6 +41,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 from ..fe.elasticity import STEEL, Material
 from ..kinematics.rotations import rot_z
+from ..threads import with_compute_threads
 
 __all__ = [
     "FacetQuadrature",
@@ -175,6 +176,7 @@ def compliance_estimate(
     return worst
 
 
+@with_compute_threads
 def fe_tooth_compliance(
     flank,
     *,

@@ -206,7 +206,7 @@ class GearBodyMesh:
 
 def tet_options(gmsh: Any) -> None:
     """Meshing options of the gear sectors: sizes from the background field only,
-    Frontal-Delaunay surfaces, HXT tetrahedra (parallel), optimised."""
+    Frontal-Delaunay surfaces, HXT tetrahedra, optimised."""
     for name, value in (
         ("Mesh.MeshSizeExtendFromBoundary", 0),
         ("Mesh.MeshSizeFromPoints", 0),
@@ -286,8 +286,19 @@ def _corners_of(paths: Array) -> tuple[Array, list[int]]:
     return p, ends
 
 
-def _space_wires(occ: Any, crown: CrownGear, gear: BevelGear, rim: float, ext: float) -> list:
-    """Closed wires (mm) of one tooth space on the sections of the widened gear."""
+@dataclass(frozen=True)
+class _Section:
+    """One closed transverse section of the tooth space (mm): the flank-space-flank
+    path, the indices of its corners (spline ends) and the cap above the face cone."""
+
+    path: Array
+    ends: tuple[int, ...]
+    cap: Array
+
+
+def _space_sections(crown: CrownGear, gear: BevelGear, rim: float, ext: float) -> list[_Section]:
+    """The sections of one tooth space on the widened gear (the numbers the loft is
+    built from, and so the key of the solid)."""
     wide = dataclasses.replace(crown, face_width=crown.face_width + 2 * ext)
     n_face = max(7, math.ceil(wide.face_width / crown.profile.module * 2.5) | 1)
     solid = build_gear_solid(wide, gear, n_profile=21, n_face=n_face, n_land=2, n_space=9, rim=rim)
@@ -302,7 +313,7 @@ def _space_wires(occ: Any, crown: CrownGear, gear: BevelGear, rim: float, ext: f
         for j in range(solid.loop.shape[0])
     ])  # fmt: skip
     paths, ends = _corners_of(paths)
-    wires = []
+    out = []
     for path in paths:
         L, _, psi = cone_coordinates(path, delta)
         psi = np.unwrap(psi)
@@ -310,9 +321,17 @@ def _space_wires(occ: Any, crown: CrownGear, gear: BevelGear, rim: float, ext: f
         top = np.linspace(psi[-1], psi[0], 7)
         r, z = _rz(Lj, above, delta)
         cap = np.stack([r * np.cos(top), r * np.sin(top), np.full_like(top, z)], -1)
-        tags = [occ.addPoint(*q) for q in path * MM]
-        cap_tags = [occ.addPoint(*q) for q in cap * MM]
-        curves = [occ.addSpline(tags[a : b + 1]) for a, b in itertools.pairwise(ends)]
+        out.append(_Section(path * MM, tuple(int(e) for e in ends), cap * MM))
+    return out
+
+
+def _space_wires(occ: Any, sections: list[_Section]) -> list:
+    """Closed wires of the tooth-space sections in the gmsh model."""
+    wires = []
+    for sec in sections:
+        tags = [occ.addPoint(*q) for q in sec.path]
+        cap_tags = [occ.addPoint(*q) for q in sec.cap]
+        curves = [occ.addSpline(tags[a : b + 1]) for a, b in itertools.pairwise(sec.ends)]
         curves += [
             occ.addLine(tags[-1], cap_tags[0]),
             occ.addSpline(cap_tags),
@@ -576,7 +595,8 @@ def mesh_gear(
     stage : callable, optional
         ``stage(description)`` when a stage starts (progress display).
     threads : int
-        gmsh threads.
+        Threads of the CAD kernel's boolean operations (the sector is meshed on one:
+        the same mesh in every run).
     sectors : range, optional
         Only these consecutive tooth sectors (sector ``k`` is sector 0 turned by ``k``
         pitches; sector 0 spans the azimuths ``[phi0 - pitch, phi0]``, its walls through
@@ -625,41 +645,31 @@ def _mesh_gear(
     delta = gear.cone_angle
     say = stage or (lambda _s: None)
     polys, mount_z = _feature_polygons(gear, bl, features, m_n)
+    ext = min(1.0e-3, 0.1 * crown.face_width)
+    ring = [
+        (bl.front, bl.body), (bl.back, bl.body), (bl.back, bl.face), (bl.front, bl.face),
+    ]  # fmt: skip
+    ring_rz = [_rz(L, h, delta) for L, h in ring]
+    sections = _space_sections(crown, gear, rim, ext)
+    key = _solid_key(sections, ring_rz, polys, pitch)
+    stored = _SOLIDS.get(key)
+    if stored is None:
+        say("tooth space")
+        with gmsh_session() as gmsh:
+            gmsh.option.setNumber("Geometry.OCCParallel", 1)
+            gmsh.option.setNumber("General.NumThreads", threads)
+            stored = _sector_solid(gmsh, sections, ring_rz, polys, pitch, say)
+        _SOLIDS.put(key, stored)
+    else:
+        say("sector solid (built before)")
+    brep, phi0 = stored
+    # the solid is always meshed as read back, in a session of its own, on one thread
+    # (HXT on two threads meshes the same solid differently from run to run): the same
+    # mesh whether the solid was built now or before, in every run
     with gmsh_session() as gmsh:
         occ = gmsh.model.occ
-        gmsh.option.setNumber("Geometry.OCCParallel", 1)
-        gmsh.option.setNumber("General.NumThreads", threads)
-        say("tooth space")
-        ext = min(1.0e-3, 0.1 * crown.face_width)
-        try:
-            wires = _space_wires(occ, crown, gear, rim, ext)
-            space = occ.addThruSections(wires, makeSolid=True, makeRuled=False)
-        except Exception as exc:  # gmsh raises plain Exception
-            raise MeshError(f"gear body: the tooth space loft failed ({exc})") from None
-        occ.synchronize()
-        # the sector: one pitch of the ring, walls through the middle of the teeth
-        cm = np.array(occ.getCenterOfMass(3, space[0][1]))
-        phi0 = math.atan2(cm[1], cm[0]) + 0.5 * pitch
-        say("sector solid")
-        ring = [
-            (bl.front, bl.body), (bl.back, bl.body), (bl.back, bl.face), (bl.front, bl.face),
-        ]  # fmt: skip
-        sector = _revolve_polygon(occ, [_rz(L, h, delta) for L, h in ring], phi0 - pitch, pitch)
-        tools = list(space)
-        for k in (-1, 1):
-            c = occ.copy(space)
-            occ.rotate(c, 0, 0, 0, 0, 0, 1, k * pitch)
-            tools += c
-        try:
-            cut, _ = occ.cut(sector, tools)
-            if polys:
-                parts = [v for p in polys for v in _revolve_polygon(occ, p, phi0 - pitch, pitch)]
-                cut, _ = occ.fuse(cut, parts)
-            occ.synchronize()
-        except Exception as exc:
-            raise MeshError(
-                f"gear body: the CAD kernel could not build the sector ({exc})"
-            ) from None
+        gmsh.option.setNumber("General.NumThreads", 1)
+        _import_brep(gmsh, brep)
         vols = gmsh.model.getEntities(3)
         if len(vols) != 1:
             raise MeshError(
@@ -725,6 +735,115 @@ def _mesh_gear(
             "too coarse for the curved surfaces?)"
         )
     return mesh
+
+
+class _SolidCache:
+    """The last few sector solids built in this process, as BREP text by key (issue
+    28): the tooth compliance and the gear body of one gear (and any other mesh sizes
+    of it) cut the same solid once. Small: a solid is 0.1-2 MB of text."""
+
+    def __init__(self, size: int = 16) -> None:
+        self.size = size
+        self.items: dict[str, tuple[str, float]] = {}
+
+    def get(self, key: str) -> tuple[str, float] | None:
+        item = self.items.pop(key, None)
+        if item is not None:
+            self.items[key] = item  # most recent last
+        return item
+
+    def put(self, key: str, item: tuple[str, float]) -> None:
+        self.items.pop(key, None)
+        self.items[key] = item
+        while len(self.items) > self.size:
+            self.items.pop(next(iter(self.items)))
+
+    def clear(self) -> None:
+        self.items.clear()
+
+
+#: Sector solids of this process (:class:`_SolidCache`).
+_SOLIDS = _SolidCache()
+
+
+def _solid_key(
+    sections: list[_Section],
+    ring: list[tuple[float, float]],
+    polys: list[list[tuple[float, float]]],
+    pitch: float,
+) -> str:
+    """SHA-256 of everything the sector solid is built from: the tooth-space sections,
+    the ring and blank-feature polygons, the pitch, and the gmsh version."""
+    import hashlib
+
+    import gmsh
+
+    h = hashlib.sha256()
+    h.update(f"{gmsh.__version__}|{pitch!r}|{ring!r}|{polys!r}".encode())
+    for sec in sections:
+        h.update(np.ascontiguousarray(sec.path, dtype=np.float64).tobytes())
+        h.update(repr(sec.ends).encode())
+        h.update(np.ascontiguousarray(sec.cap, dtype=np.float64).tobytes())
+    return h.hexdigest()
+
+
+def _sector_solid(
+    gmsh: Any,
+    sections: list[_Section],
+    ring: list[tuple[float, float]],
+    polys: list[list[tuple[float, float]]],
+    pitch: float,
+    say: Stage,
+) -> tuple[str, float]:
+    """Build the sector solid in the (empty) gmsh model: the ring revolved over one
+    pitch, the three tooth spaces that can meet it cut away, the blank features fused
+    on. Returns its BREP text and ``phi0``, the azimuth of its second wall (rad)."""
+    import tempfile
+    from pathlib import Path
+
+    occ = gmsh.model.occ
+    try:
+        wires = _space_wires(occ, sections)
+        space = occ.addThruSections(wires, makeSolid=True, makeRuled=False)
+    except Exception as exc:  # gmsh raises plain Exception
+        raise MeshError(f"gear body: the tooth space loft failed ({exc})") from None
+    occ.synchronize()
+    # the sector: one pitch of the ring, walls through the middle of the teeth
+    cm = np.array(occ.getCenterOfMass(3, space[0][1]))
+    phi0 = math.atan2(cm[1], cm[0]) + 0.5 * pitch
+    say("sector solid")
+    sector = _revolve_polygon(occ, ring, phi0 - pitch, pitch)
+    tools = list(space)
+    for k in (-1, 1):
+        c = occ.copy(space)
+        occ.rotate(c, 0, 0, 0, 0, 0, 1, k * pitch)
+        tools += c
+    try:
+        cut, _ = occ.cut(sector, tools)
+        if polys:
+            parts = [v for p in polys for v in _revolve_polygon(occ, p, phi0 - pitch, pitch)]
+            cut, _ = occ.fuse(cut, parts)
+        occ.synchronize()
+    except Exception as exc:
+        raise MeshError(f"gear body: the CAD kernel could not build the sector ({exc})") from None
+    # OpenCASCADE's own text of the model (free construction curves included: the
+    # import takes the volumes alone)
+    with tempfile.TemporaryDirectory(prefix="reducerlab-solid-") as tmp:
+        path = Path(tmp) / "sector.brep"
+        gmsh.write(str(path))
+        return path.read_text(), phi0
+
+
+def _import_brep(gmsh: Any, brep: str) -> None:
+    """Read a sector solid's BREP text into the (empty) gmsh model."""
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory(prefix="reducerlab-solid-") as tmp:
+        path = Path(tmp) / "sector.brep"
+        path.write_text(brep)
+        gmsh.model.occ.importShapes(str(path), highestDimOnly=True)
+        gmsh.model.occ.synchronize()
 
 
 def _pattern(

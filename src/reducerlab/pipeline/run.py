@@ -23,6 +23,7 @@ from typing import Any
 
 from ..design import Design
 from ..errors import ReducerlabError
+from ..threads import with_compute_threads
 from .consistency import body_consistency, stiffness_consistency
 from .stages import (
     ContactSettings,
@@ -178,6 +179,7 @@ class _Tracker:
             self.sink(name, min(1.0, self.done / self.total))
 
 
+@with_compute_threads
 def run(
     target: Design | str | Path,
     output: str | Path | None = None,
