@@ -6,10 +6,20 @@ physical mode. A **crossing** is two tracks exchanging their frequency order (th
 frequencies coincide; the modes do not interact). A **veering** is two neighbouring
 sorted frequencies approaching to a local minimum of their gap without crossing while
 their shapes exchange (paper 003's "mode transition").
+
+Long sweeps run their steps in a compiled kernel (:func:`_steps`, numba) that takes
+every decision the Python step takes; a step whose decision is not clear-cut on the
+kernel's own arithmetic (a near tie in the assignment or in the modes a repeated
+eigenvalue is aligned onto, a MAC near or below the refinement threshold) is handed
+back to the Python step. The tracks are the Python step's and the shapes agree with
+its to round-off (the kernel's sums differ from NumPy's in the last bits, so a decision
+tied to within round-off, which round-off decides either way, is the only one that can
+differ).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -23,6 +33,16 @@ __all__ = ["Event", "Tracking", "find_events", "track_modes"]
 
 #: Relative eigenvalue gap below which modes form one repeated eigenvalue.
 DEGENERATE = 1e-8
+
+#: Margin (on MACs and squared overlaps, which lie in [0, 1]) below which the kernel
+#: leaves a decision to the Python step: far above the round-off by which its sums
+#: differ from NumPy's, far below any gap that decides a track.
+_CLEAR = 1e-9
+
+#: Steps from which a sweep is tracked by the compiled kernel: shorter sweeps take the
+#: Python steps (~0.1 ms a step with two repeated eigenvalues, 12 modes), cheaper than
+#: importing numba and loading the cached kernel in a fresh process (~0.5 s to 1 s).
+_COMPILED_FROM = 2_000
 
 
 @dataclass(frozen=True)
@@ -96,6 +116,147 @@ def _assign(ya: NDArray, yb: NDArray) -> tuple[NDArray[np.intp], float]:
     return perm, float(mac[rows, cols].min())
 
 
+def _steps(
+    lam: NDArray[np.float64],
+    y: NDArray[np.float64],
+    repeated: NDArray[np.bool_],
+    order: NDArray[np.intp],
+    min_mac: NDArray[np.float64],
+    start: int,
+    threshold: float,
+    refine: bool,
+) -> int:
+    """Steps ``start, start + 1, ...`` of :func:`track_modes` (compiled by
+    :func:`_kernel`).
+
+    Step ``i`` aligns the repeated eigenvalues of point ``i + 1`` onto point ``i``
+    (:func:`_align`, in place in ``y``), assigns its modes (:func:`_assign`) and writes
+    ``order[i + 1]`` and ``min_mac[i]``. The assignment is the one-to-one map of largest
+    total MAC: where every mode of ``i`` has a MAC above half its row's sum with one
+    distinct mode of ``i + 1``, that map is the unique optimum (any other loses on each
+    row it changes), so it is what the Hungarian algorithm returns.
+
+    Parameters
+    ----------
+    lam : ndarray, shape (n_points, n_mode)
+        Sorted eigenvalues (rad^2/s^2).
+    y : ndarray, shape (n_points, n_dof, n_mode)
+        Mass-weighted shapes, points before ``start + 1`` already aligned; updated.
+    repeated : ndarray of bool, shape (n_points,)
+        Whether a point has a repeated eigenvalue.
+    order, min_mac : ndarray
+        As in :class:`Tracking`; rows ``start + 1, ...`` and entries ``start, ...``
+        written.
+    start : int
+        First step.
+    threshold : float
+        MAC below which a step is refined.
+    refine : bool
+        Whether low-MAC steps are refined (an ``evaluate`` and a depth are available).
+
+    Returns
+    -------
+    int
+        The first step not taken (``n_points - 1`` when all are): its decision is not
+        clear-cut here, or it needs refinement. Nothing of it is written.
+    """
+    n_pts, n_dof, n_modes = y.shape
+    tiny = np.finfo(np.float64).tiny
+    mac = np.empty((n_modes, n_modes))
+    perm = np.empty(n_modes, dtype=np.intp)
+    taken = np.empty(n_modes, dtype=np.bool_)
+    norms = np.empty(n_modes)
+    for i in range(start, n_pts - 1):
+        ya = y[i]
+        yb = y[i + 1].copy()
+        if repeated[i + 1]:
+            lb = lam[i + 1]
+            scale = max(np.max(np.abs(lb)), tiny)
+            s = 0
+            for e in range(1, n_modes + 1):
+                if e < n_modes and not lb[e] - lb[e - 1] > DEGENERATE * scale:
+                    continue  # as in _clusters
+                size = e - s
+                if size > 1:  # cluster s:e; P: overlaps with every mode of a
+                    P = np.zeros((size, n_modes))
+                    for r in range(size):
+                        for j in range(n_modes):
+                            acc = 0.0
+                            for k in range(n_dof):
+                                acc += yb[k, s + r] * ya[k, j]
+                            P[r, j] = acc
+                    for j in range(n_modes):
+                        acc = 0.0
+                        for r in range(size):
+                            acc += P[r, j] * P[r, j]
+                        norms[j] = acc
+                    idx = np.argsort(-norms)
+                    if size < n_modes and not (norms[idx[size - 1]] - norms[idx[size]] > _CLEAR):
+                        return i  # the modes of a spanning the space are not clear
+                    J = np.sort(idx[:size])
+                    S = np.empty((size, size))
+                    for r in range(size):
+                        for c in range(size):
+                            S[r, c] = P[r, J[c]]
+                    if size == 2:  # closed form, as in _polar
+                        a, b, c, d = S[0, 0], S[0, 1], S[1, 0], S[1, 1]
+                        if a * d - b * c >= 0:
+                            p, q = a + d, c - b
+                            Q = np.array([[p, -q], [q, p]])
+                        else:
+                            p, q = a - d, c + b
+                            Q = np.array([[p, q], [q, -p]])
+                        nq = math.hypot(p, q)
+                        Q = Q / nq if nq > 0 else np.eye(2)
+                    else:
+                        U, _, Vt = np.linalg.svd(S)
+                        Q = U @ Vt
+                    block = yb[:, s:e].copy()
+                    for k in range(n_dof):
+                        for c in range(size):
+                            acc = 0.0
+                            for r in range(size):
+                                acc += block[k, r] * Q[r, c]
+                            yb[k, s + c] = acc
+                s = e
+        for r in range(n_modes):
+            for c in range(n_modes):
+                acc = 0.0
+                for k in range(n_dof):
+                    acc += ya[k, r] * yb[k, c]
+                mac[r, c] = acc * acc
+        taken[:] = False
+        m = math.inf
+        for r in range(n_modes):
+            best = 0
+            total = 0.0
+            for c in range(n_modes):
+                total += mac[r, c]
+                if mac[r, c] > mac[r, best]:
+                    best = c
+            if not (2.0 * mac[r, best] - total > _CLEAR) or taken[best]:
+                return i  # no clear one-to-one map: the Hungarian algorithm decides
+            taken[best] = True
+            perm[r] = best
+            m = min(m, mac[r, best])
+        if refine and m < threshold + _CLEAR:
+            return i  # refined, or too close to the threshold to tell here
+        y[i + 1] = yb
+        for j in range(n_modes):
+            order[i + 1, j] = perm[order[i, j]]
+        min_mac[i] = m
+    return n_pts - 1
+
+
+@functools.cache
+def _kernel() -> Callable[..., int]:
+    """:func:`_steps` compiled by numba, imported here so that only sweeps long enough
+    to gain from it pay for the import; numba caches the compiled kernel on disk."""
+    import numba as nb
+
+    return nb.njit(cache=True)(_steps)
+
+
 def track_modes(
     params: NDArray[np.float64],
     lam: NDArray[np.float64],
@@ -119,6 +280,17 @@ def track_modes(
         ``evaluate(p) -> (lam(p), y(p))`` for refinement: where the best assignment
         between two neighbours has a MAC below ``threshold``, the step is bisected (up
         to ``max_depth`` times) and the modes are tracked through the new points.
+    threshold : float
+        MAC below which a step is refined.
+    max_depth : int
+        Most bisections of one step.
+
+    Returns
+    -------
+    Tracking
+        The tracks. From ``_COMPILED_FROM`` steps on, the steps run in the compiled
+        :func:`_steps`; those it leaves (unclear decisions, refinement) and all steps of
+        shorter sweeps run in the Python step below, with the same decisions.
     """
     n_pts, _, n_modes = y.shape
     y = y.copy()
@@ -145,13 +317,22 @@ def track_modes(
         p2, m2, yb = step(pm, ym, pb, lb, yb, depth + 1, True)
         return p2[p1], min(m1, m2), yb
 
-    for i in range(n_pts - 1):
+    compiled = _kernel() if n_pts - 1 >= _COMPILED_FROM else None
+    lam_c = np.ascontiguousarray(lam, dtype=np.float64)
+    refine = evaluate is not None and max_depth > 0
+    i = 0
+    while i < n_pts - 1:
+        if compiled is not None:  # up to the first step it leaves to the Python step
+            i = compiled(lam_c, y, repeated, order, min_mac, i, float(threshold), refine)
+            if i == n_pts - 1:
+                break
         perm, m, y[i + 1] = step(
             float(params[i]), y[i], float(params[i + 1]), lam[i + 1], y[i + 1], 0,
             bool(repeated[i + 1]),
         )  # fmt: skip
         order[i + 1] = perm[order[i]]
         min_mac[i] = m
+        i += 1
     return Tracking(order, min_mac, refined, y)
 
 
