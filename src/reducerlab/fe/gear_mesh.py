@@ -7,9 +7,11 @@ tetrahedral mesher; nothing is tessellated by hand:
    wires on the transverse sections ``L = const``: flank ``B`` of tooth 0 (tip to root),
    the space bottom, flank ``A`` of tooth 1 (root to tip), each an interpolating spline
    through the enveloped points of :func:`~reducerlab.geometry.solid.build_gear_solid`,
-   closed above the face cone. The sections reach ``ext`` beyond the toe and the heel
-   (the crown gear is widened by ``2 ext``) so that the cut passes cleanly through the
-   end faces.
+   closed above the face cone; the loft is cubic across the sections. The sections
+   reach ``ext`` beyond the toe and the heel (the crown gear is widened by ``2 ext``)
+   so that the cut passes cleanly through the end faces. The sector solid built from
+   them is kept (BREP text, by a key of these numbers) for the next mesh of the same
+   gear in the process.
 2. **Sector.** The blank ring (front/back cones, face cone, body cone ``rim`` beyond the
    root, :func:`~reducerlab.geometry.solid.default_blank`) is revolved over one angular
    pitch ``2 pi / z``; the three tooth spaces that can meet it are cut away; the blank
@@ -804,7 +806,10 @@ def _sector_solid(
     occ = gmsh.model.occ
     try:
         wires = _space_wires(occ, sections)
-        space = occ.addThruSections(wires, makeSolid=True, makeRuled=False)
+        # cubic across the sections: as exact as OpenCASCADE's default (degree up to 8)
+        # between them (both within 1 nm of the enveloped surface at the mid-sections)
+        # and its booleans 5x faster (docs/assumptions.md, "Loft degree")
+        space = occ.addThruSections(wires, makeSolid=True, makeRuled=False, maxDegree=3)
     except Exception as exc:  # gmsh raises plain Exception
         raise MeshError(f"gear body: the tooth space loft failed ({exc})") from None
     occ.synchronize()
