@@ -228,7 +228,9 @@ def mesh_spur_sector(
     bore : float, optional
         Bore *diameter* (m): the sector reaches down to the bore instead of a rim.
     threads : int
-        gmsh threads.
+        gmsh threads for the CAD work; the mesh is made on one (gmsh's HXT on several
+        meshes the same solid differently from run to run: ``docs/assumptions.md``,
+        "One meshing thread").
 
     Raises
     ------
@@ -333,6 +335,7 @@ def mesh_spur_sector(
         field.setString(fid, "F", f"{st!r} + {sb - st!r}*{ramp}")
         field.setAsBackgroundMesh(fid)
         tet_options(gmsh)
+        gmsh.option.setNumber("General.NumThreads", 1)  # the same mesh in every run
         try:
             gmsh.model.mesh.generate(3)
             gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the curved surfaces
