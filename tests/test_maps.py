@@ -157,3 +157,31 @@ def test_method_is_checked_and_non_periodic_runs_use_rk4():
     )  # fmt: skip
     res = ensemble([m.nonlinear()], periods=40, keep=2, method="maps", period=2 * math.pi / W)
     assert not res.mapped[0]
+
+
+def test_auto_does_not_build_maps_for_teeth_that_separate_at_once(monkeypatch):
+    """Teeth that rattle from the first period (the Kahraman-Singh pair above its
+    no-impact boundary): ``auto`` runs RK4 alone, bit-identical to ``rk4``, without
+    building a map (which would fail in its first period after 2n + 1 periods of
+    work); teeth that stay in contact are still mapped; ``maps`` still tries."""
+    import reducerlab.dynamics.maps as maps_module
+
+    built = []
+    real = maps_module.affine_maps
+    monkeypatch.setattr(
+        maps_module, "affine_maps", lambda *a, **k: built.append(1) or real(*a, **k)
+    )
+    s = [rattle(1.3).nonlinear()]
+    kw = dict(periods=300, keep=10, history=3)
+    auto = ensemble(s, method="auto", **kw)
+    assert not built and not auto.mapped[0]
+    rk4 = ensemble(s, method="rk4", **kw)
+    assert np.array_equal(auto.poincare, rk4.poincare)
+    assert np.array_equal(auto.history, rk4.history)
+    ensemble(s, method="maps", **kw)
+    assert built  # forced: tried, and refused in the run
+    built.clear()
+    A, phi = 0.6 * 0.1, math.atan2(2 * 0.05 * W, 1 - W**2)
+    y0 = np.array([[1.1 + A * math.cos(phi), A * W * math.sin(phi)]])
+    quiet = ensemble([rattle(0.6).nonlinear()], method="auto", y0=y0, **kw)
+    assert built and quiet.mapped[0]

@@ -81,9 +81,10 @@ def _clusters(lam: NDArray) -> list[NDArray[np.intp]]:
 
 
 def _polar(S: NDArray) -> NDArray:
-    """Orthogonal factor of the polar decomposition (nearest orthogonal matrix)."""
-    if S.shape == (2, 2):  # closed form, the common case of a double eigenvalue
-        a, b, c, d = S.ravel()
+    """Orthogonal factor of the polar decomposition (nearest orthogonal matrix); plain
+    Python and numba alike (the kernel calls its compiled twin, :data:`_polar_compiled`)."""
+    if S.shape[0] == 2 and S.shape[1] == 2:  # closed form: a double eigenvalue
+        a, b, c, d = S[0, 0], S[0, 1], S[1, 0], S[1, 1]
         if a * d - b * c >= 0:
             p, q = a + d, c - b
             Q = np.array([[p, -q], [q, p]])
@@ -94,6 +95,11 @@ def _polar(S: NDArray) -> NDArray:
         return Q / n if n > 0 else np.eye(2)
     U, _, Vt = np.linalg.svd(S)
     return U @ Vt
+
+
+#: What :func:`_steps` calls for :func:`_polar`: the function itself until
+#: :func:`_kernel` compiles both.
+_polar_compiled: Callable[[NDArray], NDArray] = _polar
 
 
 def _align(clusters: list[NDArray[np.intp]], yb: NDArray, ya: NDArray) -> NDArray:
@@ -198,19 +204,7 @@ def _steps(
                     for r in range(size):
                         for c in range(size):
                             S[r, c] = P[r, J[c]]
-                    if size == 2:  # closed form, as in _polar
-                        a, b, c, d = S[0, 0], S[0, 1], S[1, 0], S[1, 1]
-                        if a * d - b * c >= 0:
-                            p, q = a + d, c - b
-                            Q = np.array([[p, -q], [q, p]])
-                        else:
-                            p, q = a - d, c + b
-                            Q = np.array([[p, q], [q, -p]])
-                        nq = math.hypot(p, q)
-                        Q = Q / nq if nq > 0 else np.eye(2)
-                    else:
-                        U, _, Vt = np.linalg.svd(S)
-                        Q = U @ Vt
+                    Q = _polar_compiled(S)
                     block = yb[:, s:e].copy()
                     for k in range(n_dof):
                         for c in range(size):
@@ -254,6 +248,8 @@ def _kernel() -> Callable[..., int]:
     to gain from it pay for the import; numba caches the compiled kernel on disk."""
     import numba as nb
 
+    global _polar_compiled
+    _polar_compiled = nb.njit(cache=True)(_polar)  # before _steps: it calls it
     return nb.njit(cache=True)(_steps)
 
 

@@ -107,7 +107,9 @@ def ensemble(
         period (members whose teeth would separate are integrated by RK4 from the
         start); the last ``history`` periods are always RK4's. ``"auto"`` (default)
         takes the map where it pays: every law repeats within the period, no cubic
-        line, and at least ``4 (2n + 1)`` periods.
+        line, at least ``4 (2n + 1)`` periods, and not every member's teeth separating
+        in the first period (one period of RK4 tells:
+        :func:`~reducerlab.dynamics.maps.separate_at_once`).
 
     Raises
     ------
@@ -119,7 +121,7 @@ def ensemble(
     """
     from .kernel import block_width, rk4_ensemble
     from .kernel_laws import law_values
-    from .maps import contact_sides, map_run, map_steps, maps_pay
+    from .maps import contact_sides, map_run, map_steps, maps_pay, separate_at_once
 
     if not systems:
         raise ReducerlabError("ensemble: no systems")
@@ -163,6 +165,10 @@ def ensemble(
         sides = contact_sides(prep.arrays, static_states(systems))
         if not np.any(prep.arrays.k3) and np.any(np.all(sides != 0, axis=1)):
             maps = sides
+            # "auto": not where every member's teeth separate in the first period (the
+            # maps would fail there after costing 2n + 1 periods each)
+            if method == "auto" and np.all(separate_at_once(prep, Y0, bounds, sides)):
+                maps = None
     if steps_per_period is None:
         if maps is not None:
             N = map_steps(prep, systems, Y0, bounds, accuracy, min(periods, PILOT_PERIODS),

@@ -340,6 +340,34 @@ def map_members(
     return poincare, failed, logs
 
 
+def separate_at_once(
+    prep: Prepared,
+    Y0: NDArray[np.float64],
+    bounds: NDArray[np.float64],
+    sides: NDArray[np.float64],
+) -> NDArray[np.bool_]:
+    """Members (E,) whose teeth leave their loaded flank within the first period from
+    ``Y0``: one period of the RK4 kernel with ``prep``'s steps, the deflection of every
+    line with backlash at every step end (``side (G q - e) < b/2``; a line with side 0
+    floats, a member that leaves its bounds counts too). The one-period map of such a
+    member fails in its first period and hands it to RK4 after costing ``2n + 1``
+    periods to build: ``ensemble(method="auto")`` does not try the maps when every
+    member separates at once (a rattling KHV drive), and costs one period where the
+    maps are tried."""
+    E, n2 = Y0.shape
+    n = n2 // 2
+    a = prep.arrays
+    _, H, status, _ = rk4_ensemble(
+        *a, Y0, np.zeros(E), prep.period, prep.offs, prep.dts, prep.periodic,
+        1, 1, 1, bounds, block_width(E), -1, 0.0,
+    )  # fmt: skip
+    e_val, _ = law_values(a.e_kind, a.e_par, prep.offs + prep.dts)  # (E, N, L)
+    d = np.einsum("eln,ekn->ekl", a.G, H[:, :, :n]) - e_val
+    hb = a.hb[:, None, :]
+    out = ((sides[:, None, :] * d - hb < 0.0) & (hb > 0.0)).any(axis=(1, 2))
+    return out | (status[:, 0] != 0) | ~np.isfinite(d).all(axis=(1, 2))
+
+
 def maps_pay(n: int, periods: int) -> bool:
     """Whether the one-period map is worth trying: it costs ``2n + 1`` periods."""
     return periods >= 4 * (2 * n + 1)

@@ -1,0 +1,71 @@
+"""Maps tried only where they can pay (issue 28): ``ensemble(method="auto")`` on the KHV
+drive, whose teeth separate in the first period at every value, against
+``method="rk4"``, side by side in one run, with and without the first-period check
+(:func:`reducerlab.dynamics.maps.separate_at_once`; "without" replaces it by one that
+says no member separates: the behaviour before the check).
+
+The KHV example over ``gears.x1`` (paper 004 Fig. 7 setting, as
+``benchmarks/bifurcation.py``), N values x 600 mesh periods, best of 3 each, and the
+12-DOF nutation drive (teeth in contact: the maps still taken) for the check's cost.
+
+Run: ``.venv/bin/python benchmarks/maps_pay.py [N_VALUES]``.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import os
+import platform
+import sys
+import time
+
+import numpy as np
+
+import reducerlab.dynamics.maps as maps_module
+from reducerlab.dynamics.ensemble import ensemble
+
+sys.path.insert(0, os.path.dirname(__file__))
+from bifurcation import systems_for
+
+PERIODS, KEEP = 600, 100
+KW = {"periods": PERIODS, "keep": KEEP}
+
+
+def best(fn, repeat: int = 3) -> tuple[float, object]:
+    out, t_best = None, np.inf
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        t_best = min(t_best, time.perf_counter() - t)
+    return t_best, out
+
+
+def main() -> None:
+    n_values = int(sys.argv[1]) if len(sys.argv) > 1 else 200
+    print(f"date: {dt.date.today()}, machine: {platform.machine()}, {os.cpu_count()} cores, "
+          f"Python {platform.python_version()}")  # fmt: skip
+    real = maps_module.separate_at_once
+    cases = [
+        ("KHV, gears.x1", "khv.toml", "gears.x1", np.linspace(0.2, 0.9, n_values)),
+        ("nutation drive, mesh1.damping", "nutation_double_sided.toml", "mesh1.damping",
+         np.linspace(1500.0, 2500.0, max(8, n_values // 25))),
+    ]  # fmt: skip
+    print("| case | values x periods | rk4 (s) | auto, no check (s) | auto (s) | mapped |")
+    print("|---|---|---|---|---|---|")
+    for label, file, path, values in cases:
+        systems = systems_for(file, path, values)
+        ensemble(systems[:2], method="auto", **KW)  # compile
+        t_rk4, _ = best(lambda s=systems: ensemble(s, method="rk4", **KW))
+        maps_module.separate_at_once = lambda prep, Y0, *a: np.zeros(len(Y0), bool)
+        try:
+            t_old, _ = best(lambda s=systems: ensemble(s, method="auto", **KW))
+        finally:
+            maps_module.separate_at_once = real
+        t_new, res = best(lambda s=systems: ensemble(s, method="auto", **KW))
+        print(f"| {label} | {len(values)} x {PERIODS} | {t_rk4:.2f} | {t_old:.2f} "
+              f"({t_old / t_rk4:.2f}x rk4) | {t_new:.2f} ({t_new / t_rk4:.2f}x rk4) | "
+              f"{int(res.mapped.sum())} of {len(values)} |")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
