@@ -68,5 +68,41 @@ def main() -> None:
               f"{int(res.mapped.sum())} of {len(values)} |")  # fmt: skip
 
 
+def map_cost(n_values: int) -> None:
+    """Seconds per trajectory-step of building the one-period maps (``2n + 1``
+    trajectories of one period per member, with every step's state kept) against the
+    plain kernel's per member-step over one period, same members, same steps."""
+    from reducerlab.dynamics.coordinates import static_states
+    from reducerlab.dynamics.kernel import block_width, rk4_ensemble
+    from reducerlab.dynamics.prepare import prepare
+
+    systems = systems_for(
+        "nutation_surface.toml", "mesh1.damping", np.linspace(1500.0, 2500.0, n_values)
+    )
+    prep = prepare(systems, None, None)
+    sides = maps_module.contact_sides(prep.arrays, static_states(systems))
+    E, N = prep.offs.shape
+    n2 = 2 * prep.arrays.G.shape[2]
+    Y0 = static_states(systems)
+    limit = np.full((E, n2), np.inf)
+
+    def plain():
+        return rk4_ensemble(
+            *prep.arrays, Y0, np.zeros(E), prep.period, prep.offs, prep.dts, prep.periodic,
+            20, 1, 0, limit, block_width(E), -1, 0.0,
+        )  # fmt: skip
+
+    maps_module.affine_maps(prep, sides)  # compile
+    plain()
+    t_map, _ = best(lambda: maps_module.affine_maps(prep, sides))
+    t_plain, _ = best(plain)
+    per_map = t_map / (E * (n2 + 1) * N)
+    per_plain = t_plain / (E * 20 * N)
+    print(f"map building ({E} members, {n2 + 1} trajectories x {N} steps): "
+          f"{1e6 * per_map:.2f} us per trajectory-step; plain kernel (20 periods): "
+          f"{1e6 * per_plain:.2f} us per member-step ({per_map / per_plain:.2f}x)")  # fmt: skip
+
+
 if __name__ == "__main__":
+    map_cost(16)
     main()
