@@ -32,7 +32,10 @@ from ..io import digest
 __all__ = ["SCHEMA", "Store", "canonical"]
 
 #: Bumped when a stage's stored form changes: older entries are then never matched.
-SCHEMA = 1
+#: Keys hold the package version, not the code: a change to a stage's or a report
+#: section's code within one version (development) needs this bumped, or a kept cache
+#: answers with the old result.
+SCHEMA = 2
 
 
 def _plain(value: Any) -> Any:
