@@ -73,9 +73,12 @@ Stage = Callable[[str], None]
 #: (``mesh_estimate``'s): the complex problem factorised as its real equivalent of twice
 #: the size (about four times the factor), with the reduced matrices beside it.
 SECTOR_FACTOR = 5.0
-#: Bytes per DOF of the whole mesh that a cyclic solution keeps besides a mode's shape:
-#: the points, the tetrahedra, the nodal masses and the patterning's temporaries.
-WHOLE_BYTES = 120.0
+#: Bytes per DOF of the whole mesh that a cyclic solution needs besides the modes'
+#: shapes: the points, the tetrahedra, the nodal masses, the patterning's and the mode
+#: classification's temporaries. With :data:`SECTOR_FACTOR`, calibrated on the default
+#: mesh of the double-sided example's gear 2 (164502 DOFs, 901 MB peak measured by
+#: ``benchmarks/bench_body_cyclic.py``; estimated 904 MiB for ten modes).
+WHOLE_BYTES = 3000.0
 #: Bytes per DOF of the whole mesh and mode: the expanded shape (8) and the copies the
 #: expansion and the mode classification make of it.
 MODE_BYTES = 40.0
