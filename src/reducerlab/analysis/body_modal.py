@@ -4,10 +4,11 @@
 table (:func:`reducerlab.fe.gear_mesh.mesh_gear`, blank from ``[gearN.blank]``),
 assembles quadratic tetrahedra of the design's ``[material]`` and solves for the first
 elastic modes, free-free (rigid modes removed) or with the bore or the mounting face
-fixed. Each mode is named by :mod:`reducerlab.fe.modetypes`, its shares weighted by the
-nodes' masses (the HRZ lumped mass: the diagonal of the consistent mass matrix the
-eigen-solution used, so a graded mesh does not count its fine teeth many times over).
-With ``convergence`` the
+fixed: by cyclic symmetry on one tooth sector (:mod:`reducerlab.fe.cyclic`, the default)
+or on the whole mesh at once (``method="full"``), the same discrete model. Each mode is
+named by :mod:`reducerlab.fe.modetypes`, its shares weighted by the nodes' masses (the
+HRZ lumped mass: the diagonal of the consistent mass matrix the eigen-solution used, so
+a graded mesh does not count its fine teeth many times over). With ``convergence`` the
 same gear is also solved on a mesh 1.5 times coarser and every mode states its
 frequency change from that mesh to the result's: an upper estimate of the result's own
 discretisation error (the error falls with the element size).
@@ -15,9 +16,10 @@ discretisation error (the error falls with the element size).
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
@@ -36,6 +38,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "BOUNDARIES",
+    "METHODS",
     "BodyModalResult",
     "body_estimate",
     "body_modal",
@@ -46,6 +49,10 @@ __all__ = [
 #: Boundary conditions of the gear body.
 BOUNDARIES = ("free", "bore", "face")
 Boundary = Literal["free", "bore", "face"]
+#: Solutions of the whole gear: by cyclic symmetry on one tooth sector (the default), or
+#: on the whole mesh at once (the same discrete model; ``docs/body_modes.md``).
+METHODS = ("cyclic", "full")
+Method = Literal["cyclic", "full"]
 #: Coarsening of the mesh the convergence estimate compares with.
 COARSER = 1.5
 Stage = Callable[[str], None]
@@ -110,8 +117,8 @@ class BodyModalResult(Result):
             ch = float(ds["change"].values[i])
             row["change_from_coarser"] = None if math.isnan(ch) else ch
             rows.append(row)
-        keys = ("gear", "teeth", "gear_kind", "boundary", "tooth_size_mm", "body_size_mm",
-                "tetrahedra", "dofs", "mass_kg", "seconds")  # fmt: skip
+        keys = ("gear", "teeth", "gear_kind", "boundary", "method", "tooth_size_mm",
+                "body_size_mm", "tetrahedra", "dofs", "mass_kg", "seconds")  # fmt: skip
         out = {k: _plain(ds.attrs[k]) for k in keys if k in ds.attrs}
         out["max_change_from_coarser"] = None if math.isnan(self.max_change) else self.max_change
         out["modes"] = rows
@@ -232,21 +239,29 @@ def _blank_field(design: Any, gear: int, rim: float, features: Any, message: str
     return f"{path} = {shown!r}: {rule}"
 
 
-def body_estimate(design: Any, gear: int, sizes: Any = None) -> Any:
+def body_estimate(
+    design: Any, gear: int, sizes: Any = None, method: Method = "cyclic", count: int = 10
+) -> Any:
     """The :class:`~reducerlab.budget.Estimate` of gear ``gear``'s body-modal mesh and
-    eigen-solution (tetrahedra, DOFs, memory) from the blank and the element sizes,
-    before any meshing; :meth:`~reducerlab.budget.Estimate.check` refuses it naming the
-    sizes and the blank fields."""
+    eigen-solution (tetrahedra, DOFs of the whole gear, memory of ``method`` for
+    ``count`` modes) from the blank and the element sizes, before any meshing;
+    :meth:`~reducerlab.budget.Estimate.check` refuses it naming the sizes and the blank
+    fields."""
+    from ..fe.cyclic import cyclic_estimate
     from ..fe.gear_mesh import MeshSizes, mesh_estimate
 
     crown, bevel = design.tooth_generation(gear)
     rim, features = gear_blank(design, gear)
     sizes = MeshSizes.default(crown.profile.module) if sizes is None else sizes
-    return mesh_estimate(
+    full = mesh_estimate(
         crown, bevel, rim, features, sizes, what=f"gear {gear} body",
         control=f"the element sizes (--tooth-size, --body-size; sizes=) or the blank "
         f"(gear{gear}.blank.rim, surface.rim, gear{gear}.blank.web/hub)",
     )  # fmt: skip
+    if method == "full":
+        return full
+    one = mesh_estimate(crown, bevel, rim, features, sizes, what="", control="", sectors=1)
+    return cyclic_estimate(full, one, count)
 
 
 def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[np.int64] | None:
@@ -278,45 +293,95 @@ def _fixed_dofs(basis: Any, mesh: GearBodyMesh, boundary: Boundary) -> NDArray[n
 
 
 def _solve(
-    mesh: GearBodyMesh, material: Any, count: int, boundary: Boundary, stage: Stage
+    mesh: GearBodyMesh, material: Any, count: int, boundary: Boundary, stage: Stage,
+    method: Method = "cyclic",
 ) -> tuple[
     NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, float,
     tuple[float, float, float],
 ]:  # fmt: skip
     """Frequencies (Hz), shapes at the mesh points (n, 3, count), the points' HRZ masses
     (n,) (kg), DOFs, mass (kg), moments of inertia ``(J_x, J_y, J_z)`` (kg m^2)."""
-    from ..errors import ModelError
     from ..fe import assemble, body_modes
 
+    if method == "cyclic":
+        return _solve_cyclic(mesh, material, count, boundary, stage)
     stage(f"assembling {len(mesh.tets)} quadratic tetrahedra")
     skm = mesh.skfem()
     K, M, basis = assemble(skm, material, order=2)
     fixed = _fixed_dofs(basis, mesh, boundary)
     stage(f"solving {K.shape[0]} DOFs (shift-invert Lanczos)")
-    try:
+    with _support(boundary, fixed):
         modes = body_modes(K, M, count, fixed=fixed)
+    _check_rigid(modes.rigid, boundary, fixed)
+    # displacement at the corner nodes and at the mid-edge nodes of the mesh points
+    shapes = _at_points(basis, mesh, modes.shapes)
+    mass = _translation_mass(basis, M)
+    weights = _at_points(basis, mesh, np.asarray(M.diagonal(), dtype=float)[:, None])[:, 0, 0]
+    inertia = _rigid_inertia(basis, M, mass)
+    return modes.frequencies, shapes, weights * (mass / weights.sum()), K.shape[0], mass, inertia
+
+
+def _solve_cyclic(
+    mesh: GearBodyMesh, material: Any, count: int, boundary: Boundary, stage: Stage
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, float,
+    tuple[float, float, float],
+]:  # fmt: skip
+    """:func:`_solve` by cyclic symmetry (:mod:`reducerlab.fe.cyclic`): one tooth sector
+    assembled, one Hermitian sector problem per harmonic, the modes expanded to the whole
+    mesh. The body's mass is ``z`` times the sector's, its polar moment too, and its
+    diametral moments ``J_x = J_y = z (J_x,s + J_y,s) / 2`` (the sum over the turned
+    sectors for ``z >= 3``); the HRZ masses of a wall node add both sectors'."""
+    from ..fe import assemble
+    from ..fe.cyclic import cyclic_modes, sector_of
+    from ..fe.elasticity import point_dofs
+
+    z = mesh.gear.teeth
+    sector = sector_of(mesh.points, mesh.tets, z, mesh.sector_tets)
+    stage(f"assembling one of {z} tooth sectors ({len(sector.tets)} quadratic tetrahedra)")
+    K, M, basis = assemble(sector.skfem(), material, order=2)
+    fixed = _fixed_dofs(basis, mesh, boundary)
+    dofs = point_dofs(basis, sector.tets, len(sector.points))
+    with _support(boundary, fixed):
+        modes = cyclic_modes(sector, K, M, dofs, count, fixed=fixed, stage=stage)
+    _check_rigid(modes.rigid, boundary, fixed)
+    mass = _translation_mass(basis, M)
+    J_x, J_y, J_z = _rigid_inertia(basis, M, mass)
+    weights = sector.tile(np.asarray(M.diagonal(), dtype=float)[dofs[:, 0]])
+    J_d = 0.5 * z * (J_x + J_y)
+    return (
+        modes.frequencies, modes.shapes, weights * (z * mass / weights.sum()),
+        3 * len(mesh.points), z * mass, (J_d, J_d, z * J_z),
+    )  # fmt: skip
+
+
+@contextlib.contextmanager
+def _support(boundary: Boundary, fixed: Any) -> Iterator[None]:
+    """An eigen-solver failure with a fixed set as the boundary's error."""
+    from ..errors import ModelError
+
+    try:
+        yield
     except ModelError as exc:
         if fixed is not None:
             raise ReducerlabError(
                 f"boundary {boundary!r}: the eigen-solution failed with this fixed set ({exc})"
             ) from None
         raise
-    if fixed is None and modes.rigid != 6:
+
+
+def _check_rigid(rigid: int, boundary: Boundary, fixed: Any) -> None:
+    """Refuse a free body without six rigid modes, or a held one with any."""
+    if fixed is None and rigid != 6:
         raise ReducerlabError(
-            f"free-free gear body: found {modes.rigid} rigid-body modes instead of 6 (a "
+            f"free-free gear body: found {rigid} rigid-body modes instead of 6 (a "
             "disconnected or badly shaped mesh)"
         )
-    if fixed is not None and modes.rigid:
+    if fixed is not None and rigid:
         raise ReducerlabError(
-            f"boundary {boundary!r}: the fixed set leaves {modes.rigid} rigid-body "
+            f"boundary {boundary!r}: the fixed set leaves {rigid} rigid-body "
             "mode(s) (a singular support)"
         )
-    # displacement at the corner nodes and at the mid-edge nodes of the mesh points
-    shapes = _at_points(basis, skm, mesh, modes.shapes)
-    mass = _translation_mass(basis, M)
-    weights = _point_masses(basis, skm, mesh, M, mass)
-    inertia = _rigid_inertia(basis, M, mass)
-    return modes.frequencies, shapes, weights, int(K.shape[0]), mass, inertia
 
 
 def _translation_mass(basis: Any, M: Any) -> float:
@@ -355,56 +420,27 @@ def _rigid_inertia(basis: Any, M: Any, mass: float) -> tuple[float, float, float
     return out[0], out[1], out[2]
 
 
-def _point_masses(
-    basis: Any, skm: Any, mesh: GearBodyMesh, M: Any, mass: float
-) -> NDArray[np.float64]:
-    """HRZ lumped masses (kg) of ``mesh.points``: the diagonal of ``M`` at each node's x
-    DOF, scaled to the body's ``mass`` (``fe.modetypes``, "Mass weights"). A point that
-    no tetrahedron uses gets 0."""
-    diag = _at_points(basis, skm, mesh, np.asarray(M.diagonal(), dtype=float)[:, None])[:, 0, 0]
-    return diag * (mass / diag.sum())
+def _at_points(basis: Any, mesh: GearBodyMesh, shapes: Any) -> NDArray[np.float64]:
+    """Mode shapes (n_points, 3, modes) at ``mesh.points`` from the P2 DOFs
+    (:func:`~reducerlab.fe.elasticity.point_dofs`); 0 at a point no tetrahedron uses."""
+    from ..fe.elasticity import point_dofs
 
-
-def _at_points(basis: Any, skm: Any, mesh: GearBodyMesh, shapes: Any) -> NDArray[np.float64]:
-    """Mode shapes (n_points, 3, modes) at ``mesh.points`` from the P2 DOFs.
-
-    scikit-fem numbers the tetrahedra's corners first, in ascending order of their
-    index in ``mesh.points``, and the mid-edge nodes by its own edge list
-    (``skm.edges``); each mid-edge node of ``mesh.tets`` is matched to its edge by the
-    edge's two corners.
-    """
-    n = len(mesh.points)
-    out = np.zeros((n, 3, shapes.shape[1]))
-    corners = np.unique(mesh.tets[:, :4])
-    for c in range(3):
-        out[corners, c] = shapes[basis.nodal_dofs[c]]
-    local = np.searchsorted(corners, mesh.tets[:, :4])  # scikit-fem vertex numbers
-    pairs = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))  # VTK order of columns 4..9
-    a = np.concatenate([local[:, i] for i, _ in pairs])
-    b = np.concatenate([local[:, j] for _, j in pairs])
-    node = np.concatenate([mesh.tets[:, 4 + k] for k in range(6)])
-    nv = len(corners)
-    key = np.minimum(a, b) * nv + np.maximum(a, b)
-    e = np.sort(skm.edges, axis=0)
-    ekey = e[0] * nv + e[1]
-    order = np.argsort(ekey)
-    pos = np.searchsorted(ekey[order], key)
-    if np.any(pos >= len(ekey)) or np.any(ekey[order][np.minimum(pos, len(ekey) - 1)] != key):
-        raise ReducerlabError("body modal: an edge of the mesh is missing from the FE basis")
-    edge = order[pos]
-    for c in range(3):
-        out[node, c] = shapes[basis.edge_dofs[c][edge]]
+    dofs = point_dofs(basis, mesh.tets, len(mesh.points))
+    out = np.zeros((len(mesh.points), 3, shapes.shape[1]))
+    used = dofs[:, 0] >= 0
+    out[used] = shapes[dofs[used]]
     return out
 
 
 def _mesh(design: Any, gear: int, crown: Any, bevel: Any, rim: float, features: Any,
-          sizes: Any, say: Stage) -> GearBodyMesh:  # fmt: skip
+          sizes: Any, say: Stage, budget: Any) -> GearBodyMesh:  # fmt: skip
     """:func:`~reducerlab.fe.gear_mesh.mesh_gear`, its failures naming the gear and its
     body fields."""
     from ..fe.gear_mesh import MeshError, mesh_gear
 
     try:
-        return mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say)
+        return mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say,
+                         budget=budget)  # fmt: skip
     except MeshError as exc:
         body = f"rim = {rim * 1e3:.4g} mm"
         if features.bore is not None:
@@ -438,6 +474,7 @@ def body_modal(
     boundary: Boundary = "free",
     sizes: Any = None,
     convergence: bool = True,
+    method: Method = "cyclic",
     stage: Stage | None = None,
 ) -> BodyModalResult:
     """Natural frequencies and mode types of gear ``gear`` of a nutation design.
@@ -457,6 +494,11 @@ def body_modal(
         Default :meth:`~reducerlab.fe.gear_mesh.MeshSizes.default`.
     convergence : bool
         Also solve on a mesh ``1.5`` times coarser and state the change per mode.
+    method : {"cyclic", "full"}
+        ``"cyclic"``: one tooth sector with complex periodic conditions per harmonic
+        index (:mod:`reducerlab.fe.cyclic`; Thomas 1979), the modes expanded to the
+        whole gear; ``"full"``: the whole mesh at once. The same discrete model: the
+        frequencies agree to 1e-6 (``docs/body_modes.md``, "Cyclic symmetry").
     stage : callable, optional
         ``stage(description)`` at each stage (progress display).
     """
@@ -469,6 +511,8 @@ def body_modal(
         raise ReducerlabError(f"count: must be an integer in [1, 50], got {count!r}")
     if boundary not in BOUNDARIES:
         raise ReducerlabError(f"boundary: must be one of {BOUNDARIES}, got {boundary!r}")
+    if method not in METHODS:
+        raise ReducerlabError(f"method: must be one of {METHODS}, got {method!r}")
     n_gears = design.gear_count
     if isinstance(gear, bool) or gear not in range(1, n_gears + 1):
         raise ReducerlabError(
@@ -482,16 +526,17 @@ def body_modal(
     material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
     sizes = MeshSizes.default(crown.profile.module) if sizes is None else sizes
     check_sizes(crown, bevel, rim, sizes)  # before the convergence run
-    body_estimate(design, gear, sizes).check()  # the finer mesh, before any meshing
+    # the finer mesh, before any meshing
+    budget = body_estimate(design, gear, sizes, method, count).check()
     coarse_f = np.full(count, math.nan)
     if convergence:
         say("coarser mesh (convergence check)")
         coarse = _mesh(design, gear, crown, bevel, rim, features,
-                       _coarser(sizes, crown, bevel, rim), say)  # fmt: skip
-        coarse_f = _solve(coarse, material, count, boundary, say)[0]
-    mesh = _mesh(design, gear, crown, bevel, rim, features, sizes, say)
+                       _coarser(sizes, crown, bevel, rim), say, budget)  # fmt: skip
+        coarse_f = _solve(coarse, material, count, boundary, say, method)[0]
+    mesh = _mesh(design, gear, crown, bevel, rim, features, sizes, say, budget)
     freq, shapes, weights, dofs, mass, (J_x, J_y, J_z) = _solve(
-        mesh, material, count, boundary, say
+        mesh, material, count, boundary, say, method
     )
     say("classifying the modes")
     types = classify_modes(mesh.points, shapes, freq, weights)
@@ -515,6 +560,7 @@ def body_modal(
     )
     ds.attrs.update(
         gear=int(gear), teeth=int(bevel.teeth), gear_kind=bevel.kind, boundary=boundary,
+        method=method,
         tooth_size_mm=sizes.tooth * 1e3, body_size_mm=sizes.body * 1e3,
         tetrahedra=len(mesh.tets), dofs=dofs, mass_kg=mass,
         J_x_kg_m2=J_x, J_y_kg_m2=J_y, J_z_kg_m2=J_z,

@@ -13,6 +13,13 @@ from .options import GearOption, SetOption, quantity_option
 from .output import output_set, progress_bar, savefig, user_errors, write_json
 
 
+class MethodChoice(StrEnum):
+    """Solutions of the whole gear (``--method``)."""
+
+    cyclic = "cyclic"
+    full = "full"
+
+
 class BoundaryChoice(StrEnum):
     """Boundary conditions of a gear body (``--boundary``)."""
 
@@ -42,6 +49,13 @@ def body_modal(
         str | None,
         typer.Option(help="Element size in the blank, e.g. '3 mm' (default 1.5 m_n)."),
     ] = None,
+    method: Annotated[
+        MethodChoice,
+        typer.Option(
+            help="cyclic: one tooth sector per harmonic index, expanded to the whole gear "
+            "(cyclic symmetry, the default); full: the whole mesh at once. Same modes."
+        ),
+    ] = MethodChoice.cyclic,
     convergence: Annotated[
         bool,
         typer.Option(help="Also solve a 1.5x coarser mesh and report each mode's change."),
@@ -79,7 +93,7 @@ def body_modal(
             task = progress.add_task("gear body", total=None)
             res = run_body_modal(
                 d, gear, count=modes, boundary=boundary.value, sizes=sizes,
-                convergence=convergence,
+                convergence=convergence, method=method.value,
                 stage=lambda s: progress.update(task, description=s),
             )  # fmt: skip
             progress.update(task, description="writing results")

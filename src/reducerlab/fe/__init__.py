@@ -1,6 +1,7 @@
 """Structural finite elements of solid bodies (gear bodies, issue 14): quadratic
-tetrahedra assembled with scikit-fem, free vibration by shift-invert Lanczos, gear
-meshes built with gmsh, mode-type names, VTU output."""
+tetrahedra assembled with scikit-fem, free vibration by shift-invert Lanczos (of the
+whole body, or by cyclic symmetry of one sector: ``fe.cyclic``), gear meshes built with
+gmsh, mode-type names, VTU output."""
 
 from .elasticity import STEEL, BodyModes, Material, assemble, body_modes
 from .gear_mesh import BlankFeatures, GearBodyMesh, MeshError, MeshSizes, mesh_gear

@@ -21,7 +21,15 @@ from numpy.typing import NDArray
 
 from ..errors import ModelError, ReducerlabError
 
-__all__ = ["STEEL", "BodyModes", "Material", "assemble", "body_modes", "pardiso_inverse"]
+__all__ = [
+    "STEEL",
+    "BodyModes",
+    "Material",
+    "assemble",
+    "body_modes",
+    "pardiso_inverse",
+    "point_dofs",
+]
 
 
 @dataclass(frozen=True)
@@ -228,3 +236,37 @@ def pardiso_inverse(A: Any) -> Any:
         return np.asarray(solver.solve(upper, np.asarray(b, dtype=float)), dtype=float)
 
     return spla.LinearOperator(A.shape, matvec=solve, matmat=solve, dtype=float)
+
+
+def point_dofs(basis: Any, tets: NDArray[np.int64], n_points: int) -> NDArray[np.int64]:
+    """The DOF numbers ``(n_points, 3)`` of ``x, y, z`` at each point of a 10-node
+    tetrahedral mesh (``tets``: corners, then the mid-edge nodes of edges 0-1, 1-2, 0-2,
+    0-3, 1-3, 2-3) in the vector P2 ``basis`` built on it by :func:`assemble`; -1 for a
+    point that no tetrahedron uses.
+
+    scikit-fem numbers the tetrahedra's corners first, in ascending order of their
+    index among the points, and the mid-edge nodes by its own edge list
+    (``basis.mesh.edges``); each mid-edge node is matched to its edge by the edge's two
+    corners.
+    """
+    out = np.full((n_points, 3), -1, dtype=np.int64)
+    corners = np.unique(tets[:, :4])
+    for c in range(3):
+        out[corners, c] = basis.nodal_dofs[c]
+    local = np.searchsorted(corners, tets[:, :4])  # scikit-fem vertex numbers
+    pairs = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))  # VTK order of columns 4..9
+    a = np.concatenate([local[:, i] for i, _ in pairs])
+    b = np.concatenate([local[:, j] for _, j in pairs])
+    node = np.concatenate([tets[:, 4 + k] for k in range(6)])
+    nv = len(corners)
+    key = np.minimum(a, b) * nv + np.maximum(a, b)
+    e = np.sort(basis.mesh.edges, axis=0)
+    ekey = e[0] * nv + e[1]
+    order = np.argsort(ekey)
+    pos = np.searchsorted(ekey[order], key)
+    if np.any(pos >= len(ekey)) or np.any(ekey[order][np.minimum(pos, len(ekey) - 1)] != key):
+        raise ReducerlabError("point_dofs: an edge of the mesh is missing from the FE basis")
+    edge = order[pos]
+    for c in range(3):
+        out[node, c] = basis.edge_dofs[c][edge]
+    return out

@@ -217,9 +217,10 @@ def body_inputs(
     design: Any, gear: int, sizes: tuple[float | None, float | None] = (None, None)
 ) -> dict[str, Any]:
     """The key inputs of gear ``gear``'s body modes: its body's design fields, the mesh
-    sizes, the mode count and the boundary."""
+    sizes, the mode count, the boundary and the method (``body_modal``'s default)."""
     base = design_inputs("body-modal", design, {"gear": gear})
-    return {"design": base, "gear": gear, "sizes": list(sizes), "count": 10, "boundary": "free"}
+    return {"design": base, "gear": gear, "sizes": list(sizes), "count": 10, "boundary": "free",
+            "method": "cyclic"}  # fmt: skip
 
 
 def body_stage(
