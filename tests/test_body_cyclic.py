@@ -10,6 +10,7 @@ error. Coarse meshes (the sizes of tests/test_body_modal.py) keep the full model
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -37,8 +38,7 @@ RTOL = 1e-6
 def coarse(design, gear: int) -> MeshSizes:
     """The coarsest mesh the gear takes: the tooth size at its limit (half the tooth
     depth), the blank at 5 m_n. The cups of the double-sided example (gears 1 and 3) are
-    still the slow cases (2-2.5 min each: their sector solid's CAD booleans alone take
-    about 30 s, and their full model is the large one)."""
+    still the slow cases (:data:`SLOW`: their full model is the large one)."""
     crown, bevel = design.tooth_generation(gear)
     rim, _ = gear_blank(design, gear)
     m_n = crown.profile.module
@@ -70,10 +70,25 @@ def assert_same(cyc, full) -> None:
         assert res.shapes.shape == (len(res.mesh.points), 3, len(res.frequencies))
 
 
+#: The flagship's nutating cups (gears 1 and 3: hub, heel web, the largest models) take
+#: 96 s and 124 s each on 2 cores alone (2026-11-26: both equal to 1e-6, like the
+#: others); they run with ``REDUCERLAB_SLOW_TESTS=1``, the CI runs the four others.
+SLOW = pytest.mark.skipif(
+    not os.environ.get("REDUCERLAB_SLOW_TESTS"),
+    reason="the cups take 2 min each: REDUCERLAB_SLOW_TESTS=1 runs them",
+)
+
+
 @pytest.mark.parametrize(
     ("design", "gear"),
-    [(DOUBLE, 1), (DOUBLE, 2), (DOUBLE, 3), (DOUBLE, 4), (SINGLE, 1), (SINGLE, 2)],
-    ids=["double-1", "double-2", "double-3", "double-4", "single-1", "single-2"],
+    [
+        pytest.param(DOUBLE, 1, marks=SLOW, id="double-1"),
+        pytest.param(DOUBLE, 2, id="double-2"),
+        pytest.param(DOUBLE, 3, marks=SLOW, id="double-3"),
+        pytest.param(DOUBLE, 4, id="double-4"),
+        pytest.param(SINGLE, 1, id="single-1"),
+        pytest.param(SINGLE, 2, id="single-2"),
+    ],
 )
 def test_cyclic_equals_full_on_the_bundled_gears(design, gear):
     """Free-free, ten modes: frequencies to 1e-6, names, n, circles and families equal;
