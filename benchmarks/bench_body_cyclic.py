@@ -29,6 +29,9 @@ import sys
 import time
 from datetime import date
 
+sys.path.insert(0, os.path.dirname(__file__))
+from bench_body_modal import spawned
+
 os.environ.setdefault("OMP_NUM_THREADS", "2")
 
 GEAR = 2
@@ -68,13 +71,7 @@ def case(method: str, gear: int, queue: mp.Queue) -> None:
 
 
 def run(method: str, gear: int) -> dict:
-    ctx = mp.get_context("spawn")
-    q: mp.Queue = ctx.Queue()
-    p = ctx.Process(target=case, args=(method, gear, q))
-    p.start()
-    out = q.get()
-    p.join()
-    return out
+    return spawned(case, method, gear)
 
 
 def main() -> None:

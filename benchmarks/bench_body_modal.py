@@ -78,14 +78,20 @@ def case(name: str, factor: float, order: int, gear: int, solver: str, queue: mp
     )
 
 
-def run(name: str, factor: float, order: int, gear: int, solver: str = "auto") -> dict:
-    q: mp.Queue = mp.get_context("spawn").Queue()
-    args = (name, factor, order, gear, solver, q)
-    p = mp.get_context("spawn").Process(target=case, args=args)
+def spawned(target, *args) -> dict:
+    """``target(*args, queue)`` in a fresh (spawned) process: its own peak memory and
+    thread pools; returns what it put on the queue."""
+    ctx = mp.get_context("spawn")
+    q: mp.Queue = ctx.Queue()
+    p = ctx.Process(target=target, args=(*args, q))
     p.start()
     out = q.get()
     p.join()
     return out
+
+
+def run(name: str, factor: float, order: int, gear: int, solver: str = "auto") -> dict:
+    return spawned(case, name, factor, order, gear, solver)
 
 
 def main() -> None:

@@ -767,9 +767,6 @@ class _SolidCache:
         while len(self.items) > self.size:
             self.items.pop(next(iter(self.items)))
 
-    def clear(self) -> None:
-        self.items.clear()
-
 
 #: Sector solids of this process (:class:`_SolidCache`).
 _SOLIDS = _SolidCache()
