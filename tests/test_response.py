@@ -4,6 +4,7 @@ energy balance, ensemble independence, divergence errors; bifurcation and spectr
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numba
 import numpy as np
@@ -428,8 +429,57 @@ def test_affinity_probe_is_element_by_element():
         ev = Evaluator(design, model, (resolve(design, model, path),))
         members = _Members(ev, rigid_reduction(model.nonlinear()))
         members.probe(lo, hi)
-        found[path] = members.affine is not None
-    assert found == {"mesh.half_backlash": True, "input_speed": False, "gears.x1": False}
+        found[path] = None if members.fit is None else members.fit.form
+    # the speed is not affine (periods ~ 1/speed) but in the speed form (FORMS);
+    # x1 changes the model itself (radii, masses in relative coordinates): rebuilt
+    assert found == {"mesh.half_backlash": "affine", "input_speed": "speed",
+                     "gears.x1": None}  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("example", "path", "lo", "hi", "form"),
+    [
+        ("khv.toml", "input_speed", 60.0, 400.0, "speed"),
+        ("nutation_double_sided.toml", "input_speed", 50.0, 300.0, "speed"),
+        ("khv.toml", "mesh.damping_ratio", 0.02, 0.2, "affine"),
+    ],
+)
+def test_fitted_members_equal_rebuilt_models(example, path, lo, hi, form):
+    # issue 28: law values that follow the value in a known form are evaluated, not
+    # rebuilt; at values between and off the probe points every flat array must equal the
+    # rebuilt model's to round-off (1e-12 of each element's size: the forms are exact)
+    from reducerlab.analysis.members import FLAT, target_members
+    from reducerlab.analysis.parameters import resolve
+    from reducerlab.drives import build_model
+
+    design = load_design(example_dir() / example)
+    model = build_model(design)
+    members, _ = target_members(design, model, [resolve(design, model, path)])
+    members.probe(lo, hi)
+    assert members.fit is not None and members.fit.form == form
+    values = np.array([lo, lo + 0.21 * (hi - lo), lo + 0.5 * (hi - lo), hi])
+    for v, got in zip(values, members(values), strict=True):
+        want = members.one(float(v))
+        for f in FLAT:
+            a, b = getattr(got, f), getattr(want, f)
+            assert np.all(np.abs(a - b) <= 1e-12 * np.maximum(np.abs(b), np.abs(b).max())), f
+        for f in ("k_kind", "e_kind", "f_kind"):
+            np.testing.assert_array_equal(getattr(got, f), getattr(want, f))
+
+
+def test_fit_refuses_a_square_law():
+    # a value entering as v^3 (outside the speed form) must be rebuilt, not fitted: the
+    # probe checks the form at points that did not fix it
+    from reducerlab.analysis.members import _fit
+
+    def system(v):
+        return replace(rattle(), line_damping=np.array([v**3]))
+
+    pts = [1.0, 2.0, 1.37, 1.61, 1.13, 1.83, 1.5]
+    assert _fit(pts, [system(p) for p in pts], "speed") is None
+    assert _fit(pts, [system(p) for p in pts], "affine") is None
+    lin = [replace(rattle(), line_damping=np.array([3.0 + 2.0 / p - p * p])) for p in pts]
+    assert _fit(pts, lin, "speed") is not None
 
 
 def test_bifurcation_takes_units_and_tied_paths():

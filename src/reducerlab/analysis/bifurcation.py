@@ -208,7 +208,7 @@ def bifurcation(
             for fut in as_completed(futures):
                 finish(futures[fut], fut.result())
     elif todo:
-        forked = workers > 1 and members.affine is None
+        forked = workers > 1 and members.fit is None
         # fork: the children only build models (no compiled parallel code runs in them)
         # and start without re-importing; they end with this process (see .workers), and
         # at once when this block raises (Ctrl-C, SIGTERM): the written chunks stay

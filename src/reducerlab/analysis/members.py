@@ -25,6 +25,8 @@ from .policies import Continuation
 
 __all__ = [
     "FLAT",
+    "FORMS",
+    "Fit",
     "Members",
     "axis_coord",
     "axis_label",
@@ -131,20 +133,94 @@ def fingerprint(s: NonlinearSystem) -> str:
     return h.hexdigest()[:16]
 
 
-#: The flat arrays of a system that :class:`Members` interpolates when they are affine in
-#: the value.
+#: The flat arrays of a system that :class:`Members` interpolates when they follow the
+#: value in a known form.
 FLAT = NonlinearSystem.ARRAYS
+
+#: Relative tolerance, element by element, of the probe that accepts a form: round-off
+#: of the few operations that build a system, far below any physical effect.
+FIT_TOL = 1e-11
+
+
+#: The forms a sweep's flat arrays may follow, as powers of ``u = v / ref``: affine
+#: (damping, backlash, error amplitudes, stiffness values...), and the forms a speed
+#: ``v`` enters in: law frequencies (``v``), periods and loads at constant power
+#: (``1 / v``), gyroscopic terms (``v``), centrifugal stiffening and drag (``v^2``).
+FORMS = {"affine": (0, 1), "speed": (0, 1, 2, -1)}
+
+
+@dataclass(frozen=True)
+class Fit:
+    """The flat arrays of a sweep's members as functions of the value ``v``:
+    ``X(v) = sum_p X_p u^p`` element by element over the powers ``p`` of
+    :data:`FORMS` ``[form]``, ``u = v / ref``; elements equal at every probe point are
+    kept as they are (law rows hold piece counts that must stay exact integers)."""
+
+    form: str
+    ref: float
+    base: NonlinearSystem
+    coef: dict[str, tuple[NDArray, NDArray]]  # varying mask, X_p (powers, elements)
+
+    def at(self, v: float) -> NonlinearSystem:
+        """The members' system at the value ``v``."""
+        u = float(v) / self.ref
+        powers = np.array([u**p for p in FORMS[self.form]])
+        out = {}
+        for f, (mask, c) in self.coef.items():
+            a = getattr(self.base, f).copy()
+            a[mask] = powers @ c
+            out[f] = a
+        return replace(self.base, **out)
+
+
+def _fit(points: list[float], systems: list[NonlinearSystem], form: str) -> Fit | None:
+    """The :class:`Fit` of ``form`` through the first probe systems (as many as the form
+    has powers), or None when any other probe point leaves it (beyond :data:`FIT_TOL`
+    of the element's own size) or the systems differ in shape or kind."""
+    base = systems[0]
+    for o in systems[1:]:
+        if o.dof_names != base.dof_names or any(
+            not np.array_equal(getattr(o, k), getattr(base, k))
+            for k in ("k_kind", "e_kind", "f_kind")
+        ):
+            return None
+        if any(getattr(o, f).shape != getattr(base, f).shape for f in FLAT):
+            return None
+    powers = FORMS[form]
+    n_fit = len(powers)
+    if len(points) <= n_fit:
+        raise ValueError("_fit: the form needs points beyond those that fix it")
+    ref = 0.5 * (abs(points[0]) + abs(points[1]))
+    u = np.asarray(points, float) / ref
+    basis = np.stack([u**p for p in powers], axis=1)
+    solve = np.linalg.inv(basis[:n_fit])
+    coef = {}
+    for f in FLAT:
+        stack = np.stack([getattr(s, f) for s in systems])
+        mask = np.any(stack != stack[0], axis=0)
+        if not mask.any():
+            continue
+        vals = stack[:, mask]  # (points, varying elements)
+        c = solve @ vals[:n_fit]
+        # element by element (a row may mix periods in ms with stiffness coefficients in
+        # 1e8 N/m): relative to the element's own size over the probe points
+        size = np.abs(vals).max(axis=0)
+        if np.any(np.abs(basis @ c - vals) > FIT_TOL * size):
+            return None
+        coef[f] = (mask, c)
+    return Fit(form, ref, base, coef)
 
 
 @dataclass
 class Members:
     """Flat systems (rigid motion removed) of parameter values: the model rebuilt per
-    value, or, when every flat array is affine in the value (checked at both ends and
-    two interior points), interpolated from the two ends: exact, and no rebuilds."""
+    value, or, when every flat array follows the value in a known form (checked element
+    by element at probe points beyond those that fix it: :data:`FORMS`), evaluated from
+    that form: exact to round-off, and no rebuilds."""
 
     ev: Evaluator
     T: NDArray | None  # rigid-motion reduction of the base model, shared by the members
-    affine: tuple[float, NonlinearSystem, dict[str, NDArray]] | None = None
+    fit: Fit | None = None
     fixed: tuple[float, ...] = ()  # values of the evaluator's further axes (regime maps)
 
     def one(self, v: float) -> NonlinearSystem:
@@ -163,42 +239,25 @@ class Members:
         return to_system(model, flat=s)
 
     def probe(self, lo: float, hi: float) -> None:
-        """Detect affine dependence on the value over [lo, hi]."""
+        """Find the form in which the flat arrays follow the value over [lo, hi]
+        (:data:`FORMS`): affine (built at four points: two fix it, two check it), else,
+        for a positive range, the speed form (three more points: four fix it, three
+        check it). Leaves :attr:`fit` None (one build per value) when neither holds."""
         if not hi > lo:
             return
-        pts = [lo, hi, lo + 0.37 * (hi - lo), lo + 0.61 * (hi - lo)]
+        at = [0.0, 1.0, 0.37, 0.61, 0.13, 0.83, 0.5]
+        pts = [lo + a * (hi - lo) for a in at]
         try:
-            ss = [self.one(p) for p in pts]
+            ss = [self.one(p) for p in pts[:4]]
+            self.fit = _fit(pts[:4], ss, "affine")
+            if self.fit is not None or lo <= 0.0:
+                return
+            ss += [self.one(p) for p in pts[4:]]
         except ReducerlabError:
             return  # let the per-value path report the failing value
-        base, top = ss[0], ss[1]
-        for o in ss[1:]:
-            if o.dof_names != base.dof_names or any(
-                not np.array_equal(getattr(o, k), getattr(base, k))
-                for k in ("k_kind", "e_kind", "f_kind")
-            ):
-                return
-            if any(getattr(o, f).shape != getattr(base, f).shape for f in FLAT):
-                return
-        d = {f: (getattr(top, f) - getattr(base, f)) / (hi - lo) for f in FLAT}
-        for p, o in zip(pts[2:], ss[2:], strict=True):
-            for f in FLAT:
-                # element by element (an array may mix periods in ms with stiffness
-                # coefficients in 1e8 N/m): relative to the element's own size
-                got = getattr(o, f)
-                want = getattr(base, f) + (p - lo) * d[f]
-                size = np.maximum.reduce(
-                    [np.abs(got), np.abs(want), np.abs(getattr(base, f)), np.abs(getattr(top, f))]
-                )
-                if np.any(np.abs(got - want) > 1e-11 * size):
-                    return
-        self.affine = (lo, base, d)
+        self.fit = _fit(pts, ss, "speed")
 
     def __call__(self, chunk: NDArray) -> list[NonlinearSystem]:
-        if self.affine is None:
+        if self.fit is None:
             return [self.one(float(v)) for v in chunk]
-        lo, base, d = self.affine
-        return [
-            replace(base, **{f: getattr(base, f) + (float(v) - lo) * d[f] for f in FLAT})
-            for v in chunk
-        ]
+        return [self.fit.at(float(v)) for v in chunk]

@@ -238,7 +238,7 @@ class _RegimeChunk:
         job = BifurcationChunk(self.members, self.x_path, self.periods, self.keep,
                                 self.steps, self.line, self.scale, True, self.period,
                                 self.accuracy)  # fmt: skip
-        row_members = [replace(self.members, fixed=(float(self.y[j]),), affine=None)
+        row_members = [replace(self.members, fixed=(float(self.y[j]),), fit=None)
                        for j in rows]  # fmt: skip
         nx = self.x.size
         if nx > 8:  # rows whose flat arrays are affine in x are interpolated, not rebuilt
