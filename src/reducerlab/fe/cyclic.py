@@ -350,7 +350,8 @@ def cyclic_modes(
             want = (math.ceil(count / 2) if pair else count) + (2 if free and k <= 1 else 0)
             if want >= Kk.shape[0] - 1:
                 raise ReducerlabError(
-                    f"cyclic_modes: the sector has {Kk.shape[0]} free DOFs, too few for {count} modes"
+                    f"cyclic_modes: the sector has {Kk.shape[0]} free DOFs, too few for "
+                    f"{count} modes"
                 )
             # once ``count`` modes are in hand, a harmonic is first asked for two modes (and
             # its rigid ones): more only when those lie below the count-th lowest so far
