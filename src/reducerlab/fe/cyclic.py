@@ -496,9 +496,10 @@ def _pardiso() -> Any:
         import ctypes
 
         import pypardiso
-    except ImportError:
+
+        lib = pypardiso.PyPardisoSolver()  # finds MKL's runtime library
+    except (ImportError, OSError):
         return False
-    lib = pypardiso.PyPardisoSolver()
     pt = np.zeros(64, dtype=np.int64)
     iparm = np.zeros(64, dtype=np.int32)  # iparm[0] = 0: PARDISO's defaults
     perm = np.zeros(1, dtype=np.int32)
