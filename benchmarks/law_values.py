@@ -1,7 +1,8 @@
 """Benchmark (issue 28): a bifurcation diagram over a value that changes only the laws
 (the input speed: law frequencies, periods, loads) with the members evaluated from
 their form (``analysis.members.FORMS``) against the same call with every value's model
-rebuilt (the probe switched off), and against the kernel alone on the same systems.
+rebuilt (the probe switched off), and against the same call with the members handed
+over ready-made (the kernel and the chunk bookkeeping alone: "kernel").
 
 Side by side in one process, best of 3 each, interleaved. Run:
 ``.venv/bin/python benchmarks/law_values.py [N_VALUES]``.
@@ -22,8 +23,6 @@ from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.members import Members, target_members
 from reducerlab.analysis.parameters import Axis, resolve
 from reducerlab.drives import build_model, load_design
-from reducerlab.dynamics.coordinates import static_states
-from reducerlab.dynamics.ensemble import ensemble
 from reducerlab.examples import example_dir
 
 PERIODS, KEEP = 600, 100
@@ -59,13 +58,15 @@ def main() -> None:
         values = np.linspace(lo, hi, n)
         members, _ = target_members(design, model, [resolve(design, model, "input_speed")])
         members.probe(lo, hi)
-        systems = members(values)
-        y0 = static_states(systems)
-        ensemble(systems[:2], periods=2, keep=1)  # compiled before timing
+        built = dict(zip(values.tolist(), members(values), strict=True))
         axis = Axis("input_speed", values)
 
-        def kernel(systems=systems, y0=y0):
-            ensemble(systems, periods=PERIODS, keep=KEEP, y0=y0)
+        def served(self, chunk, built=built):  # handed over ready-made: no build at all
+            return [built[float(v)] for v in chunk]
+
+        def kernel(design=design, axis=axis, served=served):
+            with mock.patch.object(Members, "__call__", served):
+                return bifurcation(design, axis, periods=PERIODS, keep=KEEP)
 
         def evaluated(design=design, axis=axis):
             return bifurcation(design, axis, periods=PERIODS, keep=KEEP)

@@ -500,6 +500,8 @@ def _pardiso() -> Any:
         lib = pypardiso.PyPardisoSolver()  # finds MKL's runtime library
     except (ImportError, OSError):
         return False
+    if not callable(getattr(lib, "_mkl_pardiso", None)):  # a pypardiso without the handle
+        return False
     pt = np.zeros(64, dtype=np.int64)
     iparm = np.zeros(64, dtype=np.int32)  # iparm[0] = 0: PARDISO's defaults
     perm = np.zeros(1, dtype=np.int32)
