@@ -186,6 +186,7 @@ def fe_tooth_compliance(
     body_size: float | None = None,
     rim: float | None = None,
     stage: Stage | None = None,
+    _legacy: bool = False,
 ) -> ToothCompliance:
     """Finite-element tooth compliance of a crown-generated bevel gear's flank.
 
@@ -202,6 +203,8 @@ def fe_tooth_compliance(
         Rim thickness below the root cone (m); its base is held. Default ``2 m_n``.
     stage : callable, optional
         ``stage(text)`` at each step (progress display).
+    _legacy : bool
+        Private: the finite-element path as before issue 28 (:func:`flank_influence`).
     """
     from ..fe.gear_mesh import MeshSizes, mesh_gear
     from ..geometry.solid import cone_coordinates
@@ -224,7 +227,7 @@ def fe_tooth_compliance(
     angles = [-2 * math.pi * k / gear.teeth for k in TEETH]
     Kb, dofs = flank_influence(
         skm, lambda basis: _held_dofs(basis, mesh, cone_coordinates), P0, N0, angles,
-        a, material, stage=say, name=f"{gear.kind} gear (z = {gear.teeth})",
+        a, material, stage=say, name=f"{gear.kind} gear (z = {gear.teeth})", _legacy=_legacy,
     )  # fmt: skip
     return ToothCompliance(u_nodes, v_nodes, TEETH, Kb, dofs, a)
 
@@ -240,6 +243,7 @@ def flank_influence(
     stage: Stage | None = None,
     *,
     name: str = "gear",
+    _legacy: bool = False,
 ) -> tuple[Array, int]:
     """Bending influence coefficients of load points on several teeth of one FE model.
 
@@ -260,6 +264,9 @@ def flank_influence(
         ``stage(text)`` at each step (progress display).
     name : str
         The gear in messages, e.g. ``"internal gear (z = 32)"``.
+    _legacy : bool
+        Private: scikit-fem's assembly and PARDISO's whole solve, as before issue 28
+        (``benchmarks/fe_compliance_speed.py`` times both in one run).
 
     Returns
     -------
@@ -279,7 +286,10 @@ def flank_influence(
 
     say = stage or (lambda _s: None)
     say(f"assembling {skm.t.shape[1]} quadratic tetrahedra")
-    K, _, basis = assemble(skm, material, order=2)
+    if _legacy:  # scikit-fem's assembly, the mass too, as before issue 28 (benchmarks)
+        K, _, basis = assemble(skm, material, order=2, _engine="skfem")
+    else:
+        K, _, basis = assemble(skm, material, order=2, mass=False)
     fixed = held(basis)
     centres = np.concatenate([points @ rot_z(t).T for t in angles])
     nrm = np.concatenate([normals @ rot_z(t).T for t in angles])
@@ -292,9 +302,7 @@ def flank_influence(
             "again with another tooth element size (tooth_size; reducerlab contact --tooth-size)"
         ) from None
     say(f"solving {K.shape[0]} DOFs for {F.shape[1]} loads")
-    U = _solve_many(K, F, fixed)
-    Kfe = F.T @ U
-    Kfe = 0.5 * (Kfe + Kfe.T)
+    Kfe = _influence(K, F, fixed, _legacy)
     L = len(points)
     E, nu = material.E, material.nu
     for t in range(len(angles)):
@@ -491,20 +499,26 @@ def _force_of(b: Array, basis, n: Array) -> float:
     return float(-f @ n)
 
 
-def _solve_many(K, F: Array, fixed: NDArray[np.int64]) -> Array:
-    """``U = K^-1 F`` with the DOFs ``fixed`` held at zero (one factorisation)."""
-    from ..fe.elasticity import pardiso_inverse
+def _influence(K, F: Array, fixed: NDArray[np.int64], legacy: bool = False) -> Array:
+    """``F^T K^-1 F`` (m/N) with the DOFs ``fixed`` held at zero (one factorisation):
+    the forward substitution of PARDISO's Cholesky factor alone (``fe.pardiso_gram``);
+    ``legacy``: the whole solve ``U = K^-1 F`` first, as before issue 28 (benchmarks)."""
+    from ..fe.elasticity import pardiso_gram, pardiso_inverse
 
     n = K.shape[0]
     free = np.setdiff1d(np.arange(n), fixed)
     Kff = K[free][:, free].tocsr()
+    Ff = F[free]
+    if not legacy:
+        G = pardiso_gram(Kff, Ff)
+        if G is not None:
+            return G
     inv = pardiso_inverse(Kff)
     if inv is not None:
-        Uf = inv.matmat(F[free])
+        Uf = inv.matmat(Ff)
     else:
         from scipy.sparse.linalg import splu
 
-        Uf = splu(Kff.tocsc()).solve(F[free])
-    U = np.zeros_like(F)
-    U[free] = Uf
-    return U
+        Uf = splu(Kff.tocsc()).solve(Ff)
+    G = Ff.T @ Uf
+    return 0.5 * (G + G.T)

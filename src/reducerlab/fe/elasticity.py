@@ -27,6 +27,7 @@ __all__ = [
     "Material",
     "assemble",
     "body_modes",
+    "pardiso_gram",
     "pardiso_inverse",
     "point_dofs",
 ]
@@ -80,34 +81,96 @@ SOLVERS = ("auto", "scipy", "pardiso")
 STEEL = Material(206e9, 0.29, 7850.0)
 
 
-def assemble(mesh: Any, material: Material = STEEL, order: int = 2) -> tuple[Any, Any, Any]:
+def assemble(
+    mesh: Any, material: Material = STEEL, order: int = 2, *, mass: bool = True,
+    _engine: str = "compiled",
+) -> tuple[Any, Any, Any]:  # fmt: skip
     """Stiffness and mass matrices of a tetrahedral mesh.
+
+    The integrals are computed by the compiled kernels of :mod:`reducerlab.fe.kernels`
+    with scikit-fem's elements, quadrature rules and DOF numbering (the matrices equal
+    scikit-fem's ``asm`` to rounding: ``tests/test_fe_kernels.py``; 5-10x faster on
+    the gear models, ``benchmarks/fe_compliance_speed.py``).
 
     Parameters
     ----------
-    mesh : skfem.MeshTet
-        The body (m).
+    mesh : skfem.MeshTet or skfem.MeshTet2
+        The body (m): straight (``MeshTet``) or curved, isoparametric (``MeshTet2``).
     material : Material
     order : {1, 2}
         Linear (4-node) or quadratic (10-node) tetrahedra.
+    mass : bool
+        Assemble the mass matrix too (``M`` is None otherwise: the tooth compliance
+        needs the stiffness only).
+    _engine : {"compiled", "skfem"}
+        Private: ``"skfem"`` assembles with scikit-fem's ``asm`` (the reference of the
+        tests and the benchmark).
 
     Returns
     -------
     K, M : scipy.sparse.csr_matrix
-        Stiffness (N/m) and consistent mass (kg), 3 DOFs per node.
+        Stiffness (N/m) and consistent mass (kg, or None), 3 DOFs per node.
     basis : skfem.Basis
-        The vector basis (DOF numbering, interpolation of shapes).
+        The vector basis (DOF numbering, element maps, interpolation of shapes); its
+        quadrature is one point a tetrahedron (the matrices are integrated with their
+        own rules), not meant for integrating.
     """
-    from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, asm
-    from skfem.helpers import ddot, dot, sym_grad, trace
+    from skfem import Basis, ElementTetP1, ElementTetP2, ElementVector
 
     if order not in (1, 2):
         raise ReducerlabError(f"assemble: order must be 1 or 2, got {order!r}")
-    element = ElementVector(ElementTetP2() if order == 2 else ElementTetP1())
+    if _engine not in ("compiled", "skfem"):
+        raise ReducerlabError(f"assemble: unknown engine {_engine!r}")
+    scalar = ElementTetP2() if order == 2 else ElementTetP1()
+    element = ElementVector(scalar)
+    if _engine == "skfem":
+        basis = Basis(mesh, element, intorder=2 * order)
+        K, M = _assemble_skfem(mesh, element, basis, material, order, mass)
+        return K, M, basis
+    from skfem.quadrature import get_quadrature
+
+    from .kernels import block_pattern, consistent_mass, elastic_stiffness
+
+    # the basis is for the DOF numbering, the element maps and interpolation: scikit-fem
+    # evaluates every shape function at every quadrature point of it when it is built,
+    # so it gets one point (the centroid; 1/11 of the work of the mass's rule)
+    centroid = (np.full((3, 1), 0.25), np.array([1.0 / 6.0]))
+    basis = Basis(mesh, element, quadrature=centroid)
+    vector = np.asarray(basis.element_dofs)
+    cells = vector[0::3] // 3  # ElementVector: DOF 3 s + c of scalar DOF s, component c
+    if not all(np.array_equal(vector[c::3], 3 * cells + c) for c in range(3)):
+        raise ReducerlabError("assemble: unexpected DOF numbering of the vector basis")
+    pattern = block_pattern(cells, basis.N // 3)
+    geo = np.asarray(mesh.dofs.element_dofs)
+    xyz = np.asarray(mesh.doflocs, dtype=float)
+    gelem = mesh.elem()  # the geometry's own Lagrange element (P1 straight, P2 curved)
+
+    def tables(intorder: int) -> tuple[Any, Any, Any, Any]:
+        X, W = get_quadrature(mesh.refdom, intorder)
+        dgeo = np.stack([gelem.lbasis(X, a)[1] for a in range(geo.shape[0])])
+        pairs = [scalar.lbasis(X, a) for a in range(cells.shape[0])]
+        return np.stack([v for v, _ in pairs]), np.stack([d for _, d in pairs]), dgeo, W
+
+    lam, mu = material.lame
     # mass: integrand of degree 2 order, exact on straight tets with intorder 2 order;
     # stiffness: products of gradients of degree order - 1, exact with 2 (order - 1) (the
-    # 4-point rule for P2 instead of the 11-point one: ~3x less work on the costly form)
-    basis = Basis(mesh, element, intorder=2 * order)
+    # 4-point rule for P2 instead of the 11-point one), and P1 with 2 as before
+    _, db, dgeo, W = tables(2 * max(order - 1, 1))
+    K = pattern.csr(elastic_stiffness(pattern, geo, xyz, dgeo, db, W, lam, mu))
+    M = None
+    if mass:
+        vb, _, dgeo, W = tables(2 * order)
+        M = pattern.csr(consistent_mass(pattern, geo, xyz, dgeo, vb, W, material.rho))
+    return K, M, basis
+
+
+def _assemble_skfem(
+    mesh: Any, element: Any, basis: Any, material: Material, order: int, mass: bool
+) -> tuple[Any, Any]:
+    """:func:`assemble` by scikit-fem's ``asm`` (the reference)."""
+    from skfem import Basis, BilinearForm, asm
+    from skfem.helpers import ddot, dot, sym_grad, trace
+
     basis_k = basis if order == 1 else Basis(mesh, element, intorder=2 * (order - 1))
     lam, mu = material.lame
     rho = material.rho
@@ -118,10 +181,10 @@ def assemble(mesh: Any, material: Material = STEEL, order: int = 2) -> tuple[Any
         return 2.0 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev)
 
     @BilinearForm
-    def mass(u, v, _):
+    def mass_form(u, v, _):
         return rho * dot(u, v)
 
-    return asm(stiffness, basis_k).tocsr(), asm(mass, basis).tocsr(), basis
+    return asm(stiffness, basis_k).tocsr(), asm(mass_form, basis).tocsr() if mass else None
 
 
 @dataclass(frozen=True)
@@ -236,6 +299,55 @@ def pardiso_inverse(A: Any) -> Any:
         return np.asarray(solver.solve(upper, np.asarray(b, dtype=float)), dtype=float)
 
     return spla.LinearOperator(A.shape, matvec=solve, matmat=solve, dtype=float)
+
+
+def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
+    """``B^T A^-1 B`` of a symmetric positive definite sparse ``A`` by MKL PARDISO's
+    Cholesky factor ``P A P^T = L L^T`` and its forward substitution alone, or None when
+    pypardiso is not installed.
+
+    With ``Y = L^-1 P B``, ``B^T A^-1 B = Y^T Y``: half the triangular solves of
+    ``A^-1 B``, and PARDISO's forward substitution of many right-hand sides at once is
+    far faster than its whole solve (phase 331 against 33: 2.4 s against 20 s for the
+    162 loads of a gear's tooth compliance, ``benchmarks/RESULTS.md``, "FE tooth
+    compliance"). The first column is checked against a whole solve (a factor that is
+    not ``L L^T`` would fail it: then every column is solved whole).
+
+    Parameters
+    ----------
+    A : sparse matrix (n, n)
+        Symmetric positive definite (e.g. a held stiffness, N/m).
+    B : ndarray (n, k)
+        Right-hand sides (e.g. loads, N).
+
+    Returns
+    -------
+    ndarray (k, k)
+        ``B^T A^-1 B`` (e.g. influence coefficients, m/N), symmetric.
+    """
+    try:
+        import pypardiso
+    except ImportError:
+        return None
+    import scipy.sparse as sp
+
+    upper = sp.triu(A, format="csr")
+    upper.sort_indices()
+    b = np.asfortranarray(B, dtype=float)
+    solver = pypardiso.PyPardisoSolver(mtype=2)  # real symmetric positive definite
+    try:
+        solver.factorize(upper)
+        solver.set_phase(331)  # forward substitution only
+        Y = np.asarray(solver._call_pardiso(upper, b), dtype=float)
+        G = Y.T @ Y
+        solver.set_phase(33)
+        x0 = np.asarray(solver._call_pardiso(upper, np.asfortranarray(b[:, :1])), dtype=float)
+        g0 = b.T @ x0[:, 0]
+        if not np.allclose(G[:, 0], g0, rtol=1e-8, atol=1e-10 * float(np.max(np.abs(g0)))):
+            G = b.T @ np.asarray(solver._call_pardiso(upper, b), dtype=float)
+    finally:
+        solver.free_memory(everything=True)  # PARDISO's own memory (the factor)
+    return 0.5 * (G + G.T)
 
 
 def point_dofs(basis: Any, tets: NDArray[np.int64], n_points: int) -> NDArray[np.int64]:
