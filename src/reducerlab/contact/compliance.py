@@ -10,8 +10,10 @@ a few teeth (quadratic tetrahedra, ``fe.gear_mesh`` and ``fe.elasticity``):
    At each, a unit normal force spread as a smooth bump ``(1 - r^2/a^2)^2`` over the
    flank (radius ``a``, a few element sizes, so that the mesh resolves it).
 2. One factorisation of the stiffness matrix (base of the rim and the sector's end walls
-   held), all loads solved at once; the influence coefficient ``K_FE[k, l]`` is the
-   work-conjugate normal displacement of bump ``k`` under bump ``l`` (symmetric).
+   held), all loads at once; the influence coefficient ``K_FE[k, l]`` is the
+   work-conjugate normal displacement of bump ``k`` under bump ``l`` (symmetric):
+   ``K_FE = F^T K^-1 F = Y^T Y`` with ``Y = L^-1 P F``, the forward substitution of the
+   Cholesky factor ``P K P^T = L L^T`` alone (``fe.elasticity.pardiso_gram``).
 3. The finite-element response still holds the local half-space deformation of the
    bumps, which the contact grid adds exactly: it is removed by subtracting, for two
    bumps on the same flank, their half-space interaction
