@@ -16,9 +16,13 @@ Pair 1 of ``examples/nutation_surface.toml`` (the profile gear, ``flank_a``):
    the 164 s measured before issue 28 (``benchmarks/RESULTS.md``, "Threads and the gear
    sector solid"; the policy off then, on now).
 
+With ``--reference SRC [SRC ...]`` only the contact command is timed, with this tree's
+package and with other checkouts' ``src`` (e.g. ``git archive`` of the commits before),
+interleaved, best of ``$REPEAT`` (default ``REPEAT``).
+
 The machine is shared: the load average is printed with each line. Run:
-``.venv/bin/python benchmarks/fe_compliance_speed.py``; prints a block for
-``benchmarks/RESULTS.md``.
+``.venv/bin/python benchmarks/fe_compliance_speed.py [--reference SRC ...]``; prints a block
+for ``benchmarks/RESULTS.md``.
 """
 
 from __future__ import annotations
@@ -104,7 +108,15 @@ def main() -> None:
           f"{t_old:.1f} s, now {t_new:.1f} s ({t_old / t_new:.2f}x); "
           f"max |dK_FE|/max|K_FE| {d:.1e}")  # fmt: skip
 
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), MPLBACKEND="Agg")
+    t_cmd = command(ROOT / "src")
+    print(f"reducerlab contact ... --pair 1 --power 3kW (fresh process): {t_cmd:.1f} s; "
+          f"before issue 28: {BEFORE:.0f} s: {BEFORE / t_cmd:.2f}x")  # fmt: skip
+
+
+def command(src: Path) -> float:
+    """Wall time (s) of ``reducerlab contact ... --pair 1 --power 3kW`` in a fresh
+    process with the package from ``src``; prints the load before and after."""
+    env = dict(os.environ, PYTHONPATH=str(src), MPLBACKEND="Agg")
     before = load()
     with tempfile.TemporaryDirectory() as out:
         cmd = [sys.executable, "-m", "reducerlab", "contact", str(EXAMPLE), "--pair", "1",
@@ -112,10 +124,26 @@ def main() -> None:
         t = time.perf_counter()
         subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL, cwd=out)
         t_cmd = time.perf_counter() - t
-    print(f"reducerlab contact ... --pair 1 --power 3kW (fresh process): {t_cmd:.1f} s, "
-          f"load {before} -> {load()}; before issue 28: {BEFORE:.0f} s: "
-          f"{BEFORE / t_cmd:.2f}x")  # fmt: skip
+    print(f"  contact command, {src}: {t_cmd:.1f} s, load {before} -> {load()}", flush=True)
+    return t_cmd
+
+
+def commands(references: list[Path], repeat: int) -> None:
+    """The contact command with each of ``references`` (other checkouts' ``src``, e.g.
+    ``git archive`` of older commits) and with this tree's package, interleaved, best of
+    ``repeat``."""
+    print(f"date: {date.today()}, machine: {platform.machine()}, {os.cpu_count()} cores")
+    trees = [*references, ROOT / "src"]
+    rows = [[command(src) for src in trees] for _ in range(repeat)]
+    t_new = min(r[-1] for r in rows)
+    for i, src in enumerate(references):
+        t_ref = min(r[i] for r in rows)
+        print(f"contact command, best of {repeat}: {src} {t_ref:.1f} s, this tree {t_new:.1f} s "
+              f"({t_ref / t_new:.2f}x)")  # fmt: skip
 
 
 if __name__ == "__main__":
-    main()
+    if len(sys.argv) >= 3 and sys.argv[1] == "--reference":
+        commands([Path(a) for a in sys.argv[2:]], int(os.environ.get("REPEAT", REPEAT)))
+    else:
+        main()
