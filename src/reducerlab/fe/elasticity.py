@@ -337,7 +337,9 @@ def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
     solver = pypardiso.PyPardisoSolver(mtype=2)  # real symmetric positive definite
     try:
         solver.factorize(upper)
-        solver.set_phase(331)  # forward substitution only
+        # pypardiso's solve() runs phase 33 (or 13) whatever is set; its _call_pardiso
+        # runs the phase set: 331, the forward substitution alone
+        solver.set_phase(331)
         Y = np.asarray(solver._call_pardiso(upper, b), dtype=float)
         G = Y.T @ Y
         solver.set_phase(33)
