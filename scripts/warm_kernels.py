@@ -13,11 +13,14 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from skfem import MeshTet
+
 import reducerlab as rl
 from reducerlab.analysis.bifurcation import bifurcation
 from reducerlab.analysis.parameters import parse_values
 from reducerlab.analysis.response import response
 from reducerlab.analysis.sweep import sweep
+from reducerlab.fe.elasticity import assemble
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -36,6 +39,9 @@ def main() -> None:
     # a sweep long enough to be tracked by the compiled kernel (analysis/tracking.py)
     sweep(rl.load_design(EXAMPLES / "gear_pair.toml"),
           parse_values("mesh.stiffness", "lin:1e8:1e9:3000"), workers=1)  # fmt: skip
+    # the finite-element assembly (fe/kernels.py, issue 28): ~40 s to compile on a busy
+    # machine, else paid by the first contact analysis or body-mode run
+    assemble(MeshTet().refined(1), order=2)
     print(f"numba kernels compiled and cached in {time.perf_counter() - t0:.0f} s")
 
 
