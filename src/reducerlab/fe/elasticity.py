@@ -304,7 +304,7 @@ def pardiso_inverse(A: Any) -> Any:
 def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
     """``B^T A^-1 B`` of a symmetric positive definite sparse ``A`` by MKL PARDISO's
     Cholesky factor ``P A P^T = L L^T`` and its forward substitution alone, or None when
-    pypardiso is not installed.
+    pypardiso is not installed (or finds no MKL runtime library).
 
     With ``Y = L^-1 P B``, ``B^T A^-1 B = Y^T Y``: half the triangular solves of
     ``A^-1 B``, and PARDISO's forward substitution of many right-hand sides at once is
@@ -327,14 +327,15 @@ def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
     """
     try:
         import pypardiso
-    except ImportError:
+
+        solver = pypardiso.PyPardisoSolver(mtype=2)  # finds MKL's runtime library
+    except (ImportError, OSError):
         return None
     import scipy.sparse as sp
 
     upper = sp.triu(A, format="csr")
     upper.sort_indices()
     b = np.asfortranarray(B, dtype=float)
-    solver = pypardiso.PyPardisoSolver(mtype=2)  # real symmetric positive definite
     try:
         solver.factorize(upper)
         # pypardiso's solve() runs phase 33 (or 13) whatever is set; its _call_pardiso
