@@ -331,6 +331,8 @@ def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
         solver = pypardiso.PyPardisoSolver(mtype=2)  # finds MKL's runtime library
     except (ImportError, OSError):
         return None
+    if not all(callable(getattr(solver, f, None)) for f in ("_call_pardiso", "set_phase")):
+        return None  # a pypardiso without the phase calls: the caller's plain solves
     import scipy.sparse as sp
 
     upper = sp.triu(A, format="csr")
