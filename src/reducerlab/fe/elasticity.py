@@ -217,12 +217,38 @@ def body_modes(
     return BodyModes(np.sqrt(lam) / (2 * math.pi), shapes, int(rigid.sum()))
 
 
+def import_pypardiso() -> Any:
+    """The pypardiso module, or None when it is not installed.
+
+    pypardiso looks for MKL's runtime library when it is imported: where
+    ``ctypes.util.find_library`` does not find it (a virtual environment), it globs the
+    whole ``sys.prefix`` tree recursively, 1.5-3 s in this project's environment (issue
+    28: more than a tooth sector's eigen-solution). The library is looked up first where
+    pip and conda put it (``lib/``, ``Library/bin``), without recursion, and named to
+    pypardiso by its ``PYPARDISO_MKL_RT`` variable (a value already set is kept)."""
+    import glob
+    import os
+    import sys
+
+    if "PYPARDISO_MKL_RT" not in os.environ:
+        for folder in ("lib", "Lib", "Library/bin"):
+            found = sorted(glob.glob(os.path.join(sys.prefix, folder, "*mkl_rt*")), key=len)
+            found = [f for f in found if not f.endswith((".a", ".lib"))]
+            if found:
+                os.environ["PYPARDISO_MKL_RT"] = found[0]
+                break
+    try:
+        import pypardiso
+    except (ImportError, OSError):
+        return None
+    return pypardiso
+
+
 def pardiso_inverse(A: Any) -> Any:
     """``A^-1`` as a LinearOperator by MKL PARDISO (symmetric positive definite ``A``,
     factorised once), or None when pypardiso is not installed."""
-    try:
-        import pypardiso
-    except ImportError:
+    pypardiso = import_pypardiso()
+    if pypardiso is None:
         return None
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
