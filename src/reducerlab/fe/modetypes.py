@@ -445,9 +445,7 @@ def _layout(p: Array, w: Array, kmax: int) -> _Layout:
     return _Layout(r, theta, np.cos(theta), np.sin(theta), off, rings, fits)
 
 
-def _classify(
-    p: Array, u: Array, w: Array, kmax: int, lay: _Layout | None = None
-) -> ModeType:
+def _classify(p: Array, u: Array, w: Array, kmax: int, lay: _Layout | None = None) -> ModeType:
     """Classify the family ``u`` (n, 3, members) at points ``p`` with weights ``w``
     (``lay``: their :class:`_Layout`, built here when omitted)."""
     lay = _layout(p, w, kmax) if lay is None else lay
