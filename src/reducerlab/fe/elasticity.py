@@ -289,9 +289,7 @@ def pardiso_inverse(A: Any, refinement: int | None = None) -> Any:
     n = A.shape[0]
 
     def direct(b: Any) -> Any:
-        rhs = np.asfortranarray(b, dtype=float)
-        if rhs.shape[0] != n:
-            raise ValueError(f"pardiso_inverse: right-hand side of {rhs.shape[0]} rows, not {n}")
+        rhs = np.asfortranarray(b, dtype=float)  # shape checked by the LinearOperator
         x = np.zeros_like(rhs)
         error = ctypes.c_int32(0)
         solver._mkl_pardiso(
