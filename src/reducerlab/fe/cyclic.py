@@ -495,8 +495,11 @@ def _pardiso() -> Any:
     try:
         import ctypes
 
-        import pypardiso
+        from .elasticity import import_pypardiso
 
+        pypardiso = import_pypardiso()
+        if pypardiso is None:
+            return False
         lib = pypardiso.PyPardisoSolver()  # finds MKL's runtime library
     except (ImportError, OSError):
         return False

@@ -259,11 +259,12 @@ def classify_modes(
         )
     w = _weights(weights, len(p))
     k = _kmax(kmax)
-    single = [_classify(p, s[:, :, j : j + 1], w, k) for j in range(s.shape[2])]
+    lay = _layout(p, w, k)  # the rings and their fits: the same for every mode
+    single = [_classify(p, s[:, :, j : j + 1], w, k, lay) for j in range(s.shape[2])]
     families = mode_families(f, [m.nodal_diameters for m in single], pair_tol)
     out: list[ModeType | None] = [None] * s.shape[2]
     for index, members in enumerate(families):
-        joint = _classify(p, s[:, :, list(members)], w, k) if len(members) > 1 else None
+        joint = _classify(p, s[:, :, list(members)], w, k, lay) if len(members) > 1 else None
         for j in members:
             m = single[j] if joint is None else joint
             out[j] = dataclasses.replace(m, shares=dict(m.shares), family=index)
@@ -419,11 +420,36 @@ def node_shapes(basis: Any, shapes: ArrayLike, mass: Any) -> tuple[Array, Array,
 # -- the analysis ------------------------------------------------------------------------
 
 
-def _classify(p: Array, u: Array, w: Array, kmax: int) -> ModeType:
-    """Classify the family ``u`` (n, 3, members) at points ``p`` with weights ``w``."""
+@dataclass(frozen=True)
+class _Layout:
+    """What the analysis of a mode takes from the points and weights alone: the polar
+    coordinates, the off-axis nodes, the rings and each ring's weighted least-squares
+    matrix (built once for all the modes of :func:`classify_modes`)."""
+
+    r: Array
+    theta: Array
+    cos: Array
+    sin: Array
+    off: NDArray[np.bool_]
+    rings: list[_Ring]
+    fits: list[tuple[Array, Array]]
+
+
+def _layout(p: Array, w: Array, kmax: int) -> _Layout:
+    """:class:`_Layout` of the points ``p`` with weights ``w``."""
     r = np.hypot(p[:, 0], p[:, 1])
     theta = np.arctan2(p[:, 1], p[:, 0])
-    c, s = np.cos(theta), np.sin(theta)
+    off = r > 1e-9 * r.max()  # nodes on the axis have no angle
+    rings = _rings(r[off], p[off, 2], theta[off], w[off], kmax)
+    fits = [_fit(theta[off][g.index], w[off][g.index], g.kmax) for g in rings]
+    return _Layout(r, theta, np.cos(theta), np.sin(theta), off, rings, fits)
+
+
+def _classify(p: Array, u: Array, w: Array, kmax: int, lay: _Layout | None = None) -> ModeType:
+    """Classify the family ``u`` (n, 3, members) at points ``p`` with weights ``w``
+    (``lay``: their :class:`_Layout`, built here when omitted)."""
+    lay = _layout(p, w, kmax) if lay is None else lay
+    r, theta, c, s = lay.r, lay.theta, lay.cos, lay.sin
     cyl = np.stack(
         [
             c[:, None] * u[:, 0] + s[:, None] * u[:, 1],
@@ -439,9 +465,9 @@ def _classify(p: Array, u: Array, w: Array, kmax: int) -> ModeType:
         )
     shares = energy / energy.sum()
 
-    off = r > 1e-9 * r.max()  # nodes on the axis have no angle
-    r, theta, values, w_off = r[off], theta[off], cyl[off], w[off]
-    rings = _rings(r, p[off, 2], theta, w_off, kmax)
+    off = lay.off
+    r, theta, values = r[off], theta[off], cyl[off]
+    rings = lay.rings
     if not rings:
         raise ReducerlabError(
             f"classify_mode: points must cover the circumference: no ring of >= 5 nodes "
@@ -454,7 +480,7 @@ def _classify(p: Array, u: Array, w: Array, kmax: int) -> ModeType:
     coef = np.zeros((len(rings), kmax + 1, 3, u.shape[2]), dtype=complex)
     for a, g in enumerate(rings):
         i = g.index
-        coef[a, : g.kmax + 1] = _fourier(theta[i], values[i], w_off[i], g.kmax)
+        coef[a, : g.kmax + 1] = _fourier(lay.fits[a], values[i], g.kmax)
     power = np.abs(coef) ** 2
     power[:, 1:] *= 0.5
     total = np.einsum("a,akcm->kc", weight, power)  # (harmonic, component)
@@ -556,15 +582,23 @@ def _rings(r: Array, z: Array, theta: Array, w: Array, kmax: int) -> list[_Ring]
     return rings
 
 
-def _fourier(theta: Array, values: Array, w: Array, k: int) -> NDArray[np.complex128]:
-    """Weighted least-squares harmonics ``c_0 .. c_k`` (k+1, 3, members) of a ring."""
+def _fit(theta: Array, w: Array, k: int) -> tuple[Array, Array]:
+    """A ring's weighted least-squares matrix ``sqrt(w) [1, cos(j theta), sin(j theta)]``
+    (``j = 1..k``) and ``sqrt(w)`` (column)."""
     cols = [np.ones_like(theta)]
     for j in range(1, k + 1):
         cols += [np.cos(j * theta), np.sin(j * theta)]
     A = np.stack(cols, axis=1)
     sw = np.sqrt(w)[:, None]
-    rhs = values.reshape(len(theta), -1)
-    x = np.linalg.lstsq(A * sw, rhs * sw, rcond=None)[0].reshape(2 * k + 1, *values.shape[1:])
+    return A * sw, sw
+
+
+def _fourier(fit: tuple[Array, Array], values: Array, k: int) -> NDArray[np.complex128]:
+    """Weighted least-squares harmonics ``c_0 .. c_k`` (k+1, 3, members) of a ring from
+    its :func:`_fit` and the values at its nodes."""
+    Aw, sw = fit
+    rhs = values.reshape(len(sw), -1)
+    x = np.linalg.lstsq(Aw, rhs * sw, rcond=None)[0].reshape(2 * k + 1, *values.shape[1:])
     out = np.empty((k + 1, *values.shape[1:]), dtype=complex)
     out[0] = x[0]
     out[1:] = x[1::2] - 1j * x[2::2]
