@@ -396,11 +396,12 @@ def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
     ndarray (k, k)
         ``B^T A^-1 B`` (e.g. influence coefficients, m/N), symmetric.
     """
+    pypardiso = import_pypardiso()
+    if pypardiso is None:
+        return None
     try:
-        import pypardiso
-
-        solver = pypardiso.PyPardisoSolver(mtype=2)  # finds MKL's runtime library
-    except (ImportError, OSError):
+        solver = pypardiso.PyPardisoSolver(mtype=2)
+    except OSError:  # no MKL runtime library
         return None
     if not all(callable(getattr(solver, f, None)) for f in ("_call_pardiso", "set_phase")):
         return None  # a pypardiso without the phase calls: the caller's plain solves
