@@ -15,6 +15,7 @@ import os
 import platform
 import sys
 import time
+from dataclasses import replace
 from unittest import mock
 
 import numpy as np
@@ -51,6 +52,7 @@ def main() -> None:
             "form")  # fmt: skip
     print("| " + " | ".join(head) + " |")
     print("|---|---|---|---|---|---|---|---|")
+    builds = []
     for name, (lo, hi), n in CASES:
         n = max(9, int(n * scale))
         design = load_design(example_dir() / name)
@@ -75,6 +77,11 @@ def main() -> None:
             with mock.patch.object(Members, "probe", lambda self, lo, hi: None):
                 return bifurcation(design, axis, periods=PERIODS, keep=KEEP)
 
+        plain = replace(members, fit=None)  # the same members, built value by value
+        t_fit = best(lambda m=members, v=values: m(v))
+        t_one = best(lambda m=plain, v=values: m(v))
+        builds.append(f"{name}: members of {n} values built {t_one:.2f} s, evaluated from "
+                      f"their form {t_fit:.3f} s ({t_one / t_fit:.0f}x)")  # fmt: skip
         a, b = evaluated(), rebuilt()  # same diagram both ways
         diff = np.nanmax(np.abs(a.data["poincare"].values - b.data["poincare"].values))
         size = np.nanmax(np.abs(b.data["poincare"].values))
@@ -88,6 +95,8 @@ def main() -> None:
         print(f"| {name} | {n} x {PERIODS} | {k:.2f} | {r:.2f} | {e:.2f} | {r / k:.2f}x | "
               f"{e / k:.2f}x | {form} (largest difference {diff / size:.1e} of the "
               f"largest point) |")  # fmt: skip
+
+    print("\n".join(builds))
 
 
 if __name__ == "__main__":
