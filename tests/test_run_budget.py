@@ -70,12 +70,14 @@ def test_a_bifurcation_beyond_the_work_bound_is_refused_before_it_starts(design)
 def test_a_regime_map_and_a_frequency_response_beyond_the_bound_are_refused(design):
     x = Axis("mesh.stiffness", np.linspace(0.9e8, 1.1e8, 400))
     y = Axis("mesh.damping", np.linspace(100.0, 200.0, 400))
-    _refused_fast(lambda: regime_map(design, x, y, periods=1_000_000), "regime-map", "RK4")
-    _refused_fast(
+    maps = _refused_fast(lambda: regime_map(design, x, y, periods=1_000_000), "regime-map", "RK4")
+    response_msg = _refused_fast(
         lambda: frequency_response(design, x, periods=10_000_000, history=1),
         "frequency-response",
         "RK4",
     )
+    for msg in (maps, response_msg):  # each names the bound it exceeds
+        assert f"{MAX_WORK:.3g}" in msg
 
 
 def test_a_history_beyond_the_free_memory_is_refused(design, monkeypatch):

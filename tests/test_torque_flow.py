@@ -165,7 +165,8 @@ def test_khv_balances(zv, dz):
 @HYP
 @given(zc=teeth, output=st.sampled_from(["centre", "planetary"]))
 def test_cycloid_ball_balances(zc, output):
-    _balances(_train("cycloid_ball", {"centre": zc, "planetary": zc + 2}, output=output))
+    f = _balances(_train("cycloid_ball", {"centre": zc, "planetary": zc + 2}, output=output))
+    assert abs(f.output_torque) == pytest.approx(100.0, rel=1e-12)  # the torque asked for
 
 
 @HYP
