@@ -53,7 +53,7 @@ from numpy.typing import NDArray
 
 from ..budget import Estimate
 from ..errors import ModelError, ReducerlabError
-from .elasticity import RIGID_SCALE, SHIFT
+from .elasticity import RIGID_SCALE, SHIFT, import_pypardiso, mkl_pardiso
 
 __all__ = [
     "CyclicModes",
@@ -493,10 +493,6 @@ def _pardiso() -> Any:
     (one-based CSR of the upper triangle, defaults of ``iparm``), or False without
     pypardiso."""
     try:
-        import ctypes
-
-        from .elasticity import import_pypardiso
-
         pypardiso = import_pypardiso()
         if pypardiso is None:
             return False
@@ -509,28 +505,14 @@ def _pardiso() -> Any:
     iparm = np.zeros(64, dtype=np.int32)  # iparm[0] = 0: PARDISO's defaults
     perm = np.zeros(1, dtype=np.int32)
     n_now = [0]
-    i32 = ctypes.POINTER(ctypes.c_int32)
-    c_int = ctypes.c_int32
 
-    def call(mtype: int, phase: int, data: Any, ia: Any, ja: Any) -> int:
+    def call(mtype: int, phase: int, data: Any, ia: Any, ja: Any) -> tuple[int, Any]:
         if data is not None:
             n_now[0] = len(ia) - 1
         b = np.zeros(2 * max(n_now[0], 1))
-        x = np.zeros_like(b)
-        error = c_int(0)
-        none = ctypes.c_void_p(0)
-        lib._mkl_pardiso(
-            pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)), ctypes.byref(c_int(1)),
-            ctypes.byref(c_int(1)), ctypes.byref(c_int(mtype)), ctypes.byref(c_int(phase)),
-            ctypes.byref(c_int(n_now[0])),
-            none if data is None else data.ctypes.data_as(ctypes.c_void_p),
-            i32() if ia is None else ia.ctypes.data_as(i32),
-            i32() if ja is None else ja.ctypes.data_as(i32),
-            perm.ctypes.data_as(i32), ctypes.byref(c_int(1)), iparm.ctypes.data_as(i32),
-            ctypes.byref(c_int(0)), b.ctypes.data_as(ctypes.c_void_p),
-            x.ctypes.data_as(ctypes.c_void_p), ctypes.byref(error),
-        )  # fmt: skip
-        return int(error.value), iparm
+        error = mkl_pardiso(lib, pt, mtype, phase, n_now[0], data, ia, ja, perm, iparm, b,
+                            np.zeros_like(b))  # fmt: skip
+        return error, iparm
 
     return call
 

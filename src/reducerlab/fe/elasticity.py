@@ -309,6 +309,38 @@ def import_pypardiso() -> Any:
     return pypardiso
 
 
+def mkl_pardiso(
+    solver: Any, pt: Any, mtype: int, phase: int, n: int, data: Any, ia: Any, ja: Any,
+    perm: Any, iparm: Any, b: Any, x: Any, nrhs: int = 1,
+) -> int:  # fmt: skip
+    """One call of MKL PARDISO through the library handle of a pypardiso solver
+    (``solver._mkl_pardiso``), for the phases and matrix types pypardiso's own methods do
+    not offer (a solve without refinement, complex Hermitian factorisations); one-based
+    CSR ``ia, ja`` of the upper triangle; None for an array PARDISO does not read in
+    ``phase``. Returns PARDISO's error code (0: success)."""
+    import ctypes
+
+    i32 = ctypes.POINTER(ctypes.c_int32)
+    pt_type = ctypes.c_int64 if pt.dtype == np.int64 else ctypes.c_int32
+
+    def ref(v: int) -> Any:
+        return ctypes.byref(ctypes.c_int32(v))
+
+    def vp(a: Any) -> Any:
+        return ctypes.c_void_p(0) if a is None else a.ctypes.data_as(ctypes.c_void_p)
+
+    def ip(a: Any) -> Any:
+        return i32() if a is None else a.ctypes.data_as(i32)
+
+    error = ctypes.c_int32(0)
+    solver._mkl_pardiso(
+        pt.ctypes.data_as(ctypes.POINTER(pt_type)), ref(1), ref(1), ref(mtype), ref(phase),
+        ref(n), vp(data), ip(ia), ip(ja), ip(perm), ref(nrhs), ip(iparm), ref(0), vp(b),
+        vp(x), ctypes.byref(error),
+    )  # fmt: skip
+    return int(error.value)
+
+
 def pardiso_inverse(A: Any, refinement: int | None = None) -> Any:
     """``A^-1`` as a LinearOperator by MKL PARDISO (symmetric positive definite ``A``,
     factorised once), or None when pypardiso is not installed.
@@ -323,8 +355,6 @@ def pardiso_inverse(A: Any, refinement: int | None = None) -> Any:
     pypardiso = import_pypardiso()
     if pypardiso is None:
         return None
-    import ctypes
-
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
@@ -344,29 +374,17 @@ def pardiso_inverse(A: Any, refinement: int | None = None) -> Any:
     # back); iparm[0] = 1 makes it read them, iparm[7] the refinement steps
     solver.set_iparm(1, 1)
     solver.set_iparm(8, int(refinement))
-    data = upper.data
     ia = upper.indptr.astype(np.int32) + 1  # one-based, made once for every solve
     ja = upper.indices.astype(np.int32) + 1
-    i32 = ctypes.POINTER(ctypes.c_int32)
-    f64 = ctypes.POINTER(ctypes.c_double)
-    n = A.shape[0]
 
     def direct(b: Any) -> Any:
         rhs = np.asfortranarray(b, dtype=float)  # shape checked by the LinearOperator
         x = np.zeros_like(rhs)
-        error = ctypes.c_int32(0)
-        solver._mkl_pardiso(
-            solver.pt.ctypes.data_as(ctypes.POINTER(solver._pt_type[0])),
-            ctypes.byref(ctypes.c_int32(1)), ctypes.byref(ctypes.c_int32(1)),
-            ctypes.byref(ctypes.c_int32(solver.mtype)), ctypes.byref(ctypes.c_int32(33)),
-            ctypes.byref(ctypes.c_int32(n)), data.ctypes.data_as(f64), ia.ctypes.data_as(i32),
-            ja.ctypes.data_as(i32), solver.perm.ctypes.data_as(i32),
-            ctypes.byref(ctypes.c_int32(1 if rhs.ndim == 1 else rhs.shape[1])),
-            solver.iparm.ctypes.data_as(i32), ctypes.byref(ctypes.c_int32(0)),
-            rhs.ctypes.data_as(f64), x.ctypes.data_as(f64), ctypes.byref(error),
-        )  # fmt: skip
-        if error.value != 0:
-            raise ModelError(f"pardiso_inverse: PARDISO's solve failed (error {error.value})")
+        nrhs = 1 if rhs.ndim == 1 else rhs.shape[1]
+        error = mkl_pardiso(solver, solver.pt, solver.mtype, 33, A.shape[0], upper.data, ia,
+                            ja, solver.perm, solver.iparm, rhs, x, nrhs)  # fmt: skip
+        if error != 0:
+            raise ModelError(f"pardiso_inverse: PARDISO's solve failed (error {error})")
         return np.ascontiguousarray(x)
 
     return spla.LinearOperator(A.shape, matvec=direct, matmat=direct, dtype=float)
