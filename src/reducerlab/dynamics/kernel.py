@@ -299,11 +299,10 @@ def _block(
         if p == 0 or not periodic:
             for e in range(lo, hi):
                 t_base[e] = t_start[e] + p * period[e]
+            # slots past width repeat the last member
             tabulate(
                 tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par
             )
-            for b in range(width, nb_):
-                tab[:, :, b] = tab[:, :, width - 1]
         if p >= n_periods - n_keep:
             for b in range(width):
                 if not failed[b]:

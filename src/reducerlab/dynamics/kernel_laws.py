@@ -150,16 +150,56 @@ def law_row(tab, row, b, e, mb, ts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_
         tab[row, 3 * L + i, b] = acc
 
 
+@nb.njit(cache=True, inline="always")
+def _rows_equal(par, e, p) -> bool:
+    """Whether the law rows ``par[e]`` and ``par[p]`` (L, width) are equal."""
+    for m in range(par.shape[1]):
+        for j in range(par.shape[2]):
+            if par[e, m, j] != par[p, m, j]:
+                return False
+    return True
+
+
+@nb.njit(cache=True)
+def _same_laws(e, lo, t_base, offs, dts, k_par, e_par, MB, f_par) -> bool:
+    """Whether member ``e``'s law table equals member ``e - 1``'s: the same period
+    start, steps, law rows and load matrix ``M^-1 B`` (the table is a function of these
+    alone; the trajectories of one member in :func:`.maps.affine_maps` share it)."""
+    p = e - 1
+    if t_base[e] != t_base[p]:
+        return False
+    for q in range(offs.shape[1]):
+        if offs[e, q] != offs[p, q] or dts[e, q] != dts[p, q]:
+            return False
+    if not (_rows_equal(k_par, e, p) and _rows_equal(e_par, e, p) and _rows_equal(f_par, e, p)):
+        return False
+    for i in range(MB.shape[1]):
+        for j in range(MB.shape[2]):
+            if MB[e - lo, i, j] != MB[p - lo, i, j]:
+                return False
+    return True
+
+
 @nb.njit(cache=True)
 def tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par):
     """Fill ``tab[3 N, W, B]`` for members ``lo:hi``: rows ``3q, 3q+1, 3q+2`` are the
     RK4 sample times of step ``q`` (just inside its start, its middle, just inside its
     end, so that a jump at a step boundary is seen from the correct side); columns are
-    ``k`` (L), ``e`` (L), ``de/dt`` (L), then the load acceleration ``M^-1 B f`` (n)."""
+    ``k`` (L), ``e`` (L), ``de/dt`` (L), then the load acceleration ``M^-1 B f`` (n).
+    Slots past ``hi - lo`` repeat the last member. A member whose laws, steps and period
+    start equal the previous member's (:func:`_same_laws`) takes its column: the same
+    numbers, without evaluating the laws again (copied in one pass over the rows, slots
+    innermost)."""
     N = offs.shape[1]
+    W = tab.shape[2]
     fv = np.empty(f_kind.shape[0])
+    src = np.empty(W, np.int64)  # the slot whose column each slot takes
     for e in range(lo, hi):
         b = e - lo
+        if e > lo and _same_laws(e, lo, t_base, offs, dts, k_par, e_par, MB, f_par):
+            src[b] = src[b - 1]
+            continue
+        src[b] = b
         for q in range(N):
             dt = dts[e, q]
             t = t_base[e] + offs[e, q]
@@ -170,6 +210,17 @@ def tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f
                 ts = t + inside if s == 0 else (t + 0.5 * dt if s == 1 else t + dt - inside)
                 law_row(tab, 3 * q + s, b, e, b, ts, k_kind, k_par, e_kind, e_par, MB,
                          f_kind, f_par, fv)  # fmt: skip
+    for b in range(hi - lo, W):
+        src[b] = src[hi - lo - 1]
+    copies = False
+    for b in range(W):
+        if src[b] != b:
+            copies = True
+    if copies:
+        for r in range(tab.shape[0]):
+            for c in range(tab.shape[1]):
+                for b in range(W):
+                    tab[r, c, b] = tab[r, c, src[b]]
 
 
 @nb.njit(cache=True)
