@@ -68,13 +68,16 @@ def main() -> None:
               f"{int(res.mapped.sum())} of {len(values)} |")  # fmt: skip
 
 
-def map_cost(n_values: int) -> None:
+def map_cost(n_values: int, repeat: int = 7) -> None:
     """Seconds per trajectory-step of building the one-period maps (``2n + 1``
     trajectories of one period per member, with every step's state kept) against the
-    plain kernel's per member-step over one period, same members, same steps."""
+    plain kernel's per member-step over 20 periods, same members, same steps; the two
+    timed alternately, best of ``repeat`` each. Also the kernel alone on the maps' own
+    trajectories (the contact system) over 20 periods without history: what one period
+    with every step kept costs more per step."""
     from reducerlab.dynamics.coordinates import static_states
     from reducerlab.dynamics.kernel import block_width, rk4_ensemble
-    from reducerlab.dynamics.prepare import prepare
+    from reducerlab.dynamics.prepare import prepare, subset
 
     systems = systems_for(
         "nutation_surface.toml", "mesh1.damping", np.linspace(1500.0, 2500.0, n_values)
@@ -83,6 +86,7 @@ def map_cost(n_values: int) -> None:
     sides = maps_module.contact_sides(prep.arrays, static_states(systems))
     E, N = prep.offs.shape
     n2 = 2 * prep.arrays.G.shape[2]
+    C = n2 + 1
     Y0 = static_states(systems)
     limit = np.full((E, n2), np.inf)
 
@@ -92,15 +96,45 @@ def map_cost(n_values: int) -> None:
             20, 1, 0, limit, block_width(E), -1, 0.0,
         )  # fmt: skip
 
+    contact = maps_module.contact_arrays(prep.arrays, sides)
+    reps = tuple(a if a.ndim == 1 else np.repeat(a, C, axis=0) for a in contact)
+    Yc = np.zeros((E, C, n2))
+    Yc[:, 1:, :] = np.eye(n2)
+    # the code before issue 28's map work has no trajectory_width (for comparisons)
+    width = getattr(maps_module, "trajectory_width", block_width)(E * C)
+
+    def trajectories():
+        return rk4_ensemble(
+            *reps, Yc.reshape(E * C, n2), np.zeros(E * C), np.repeat(prep.period, C),
+            np.repeat(prep.offs, C, axis=0), np.repeat(prep.dts, C, axis=0), prep.periodic,
+            20, 1, 0, np.full((E * C, n2), np.inf), width, -1, 0.0,
+        )  # fmt: skip
+
+    def in_blocks():  # as map_members builds them: MAP_BLOCK members at a time
+        for lo in range(0, E, maps_module.MAP_BLOCK):
+            idx = np.arange(lo, min(E, lo + maps_module.MAP_BLOCK))
+            maps_module.affine_maps(subset(prep, idx), sides[idx])
+
     maps_module.affine_maps(prep, sides)  # compile
     plain()
-    t_map, _ = best(lambda: maps_module.affine_maps(prep, sides))
-    t_plain, _ = best(plain)
-    per_map = t_map / (E * (n2 + 1) * N)
+    trajectories()
+    t_map = t_plain = t_traj = t_blocks = np.inf
+    for _ in range(repeat):
+        t_map = min(t_map, best(lambda: maps_module.affine_maps(prep, sides), 1)[0])
+        t_plain = min(t_plain, best(plain, 1)[0])
+        t_traj = min(t_traj, best(trajectories, 1)[0])
+        t_blocks = min(t_blocks, best(in_blocks, 1)[0])
+    per_map = t_map / (E * C * N)
     per_plain = t_plain / (E * 20 * N)
-    print(f"map building ({E} members, {n2 + 1} trajectories x {N} steps): "
+    per_traj = t_traj / (E * C * 20 * N)
+    per_blocks = t_blocks / (E * C * N)
+    print(f"map building ({E} members, {C} trajectories x {N} steps): "
           f"{1e6 * per_map:.2f} us per trajectory-step; plain kernel (20 periods): "
-          f"{1e6 * per_plain:.2f} us per member-step ({per_map / per_plain:.2f}x)")  # fmt: skip
+          f"{1e6 * per_plain:.2f} us per member-step ({per_map / per_plain:.2f}x); "
+          f"the maps' trajectories over 20 periods, no history: {1e6 * per_traj:.2f} us "
+          f"per trajectory-step; built {maps_module.MAP_BLOCK} members at a time (as "
+          f"map_members): {1e6 * per_blocks:.2f} us per trajectory-step "
+          f"({per_blocks / per_plain:.2f}x); load average {os.getloadavg()[0]:.2f}")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -185,3 +185,23 @@ def test_auto_does_not_build_maps_for_teeth_that_separate_at_once(monkeypatch):
     y0 = np.array([[1.1 + A * math.cos(phi), A * W * math.sin(phi)]])
     quiet = ensemble([rattle(0.6).nonlinear()], method="auto", y0=y0, **kw)
     assert built and quiet.mapped[0]
+
+
+def test_members_with_the_same_laws_run_as_alone():
+    """Members whose laws, steps and period are the same share one law table in the
+    kernel (``kernel_laws.tabulate``; the ``2n + 1`` trajectories of a map too): each
+    member's run, RK4 or mapped, is bit-identical to its run alone, where the damping
+    (not a law) differs, where a law differs, and with backlash events."""
+    kw = dict(periods=60, keep=4, history=1, steps_per_period=256)
+    groups = [
+        [forced(0.1).nonlinear(), forced(0.2).nonlinear(), forced(0.2, 0.3).nonlinear(),
+         forced(0.2, 0.3).nonlinear(), forced(0.1, 0.3).nonlinear()],
+        [rattle(1.3).nonlinear(), rattle(1.3).nonlinear(), rattle(0.6).nonlinear()],
+    ]  # fmt: skip
+    for systems, methods in zip(groups, (("rk4", "maps"), ("rk4",)), strict=True):
+        for method in methods:
+            together = ensemble(systems, method=method, **kw)
+            for e, s in enumerate(systems):
+                alone = ensemble([s], method=method, **kw)
+                assert np.array_equal(together.poincare[e], alone.poincare[0])
+                assert np.array_equal(together.history[e], alone.history[0])

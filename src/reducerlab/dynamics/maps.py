@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from ..model import NonlinearSystem
 from ..model.layout import constant_terms
 from .accuracy import pilot_keep, pilot_run, refine_steps
-from .kernel import block_width, rk4_ensemble
+from .kernel import BLOCK, block_width, rk4_ensemble
 from .kernel_laws import eval_law, law_values
 from .lyapunov import LYAPUNOV_D0
 from .prepare import KernelArrays, Prepared, subset
@@ -49,6 +49,7 @@ __all__ = [
     "maps_pay",
     "margin",
     "run_maps",
+    "trajectory_width",
 ]
 
 
@@ -92,6 +93,22 @@ def contact_arrays(arrays: KernelArrays, sides: NDArray[np.float64]) -> KernelAr
     return arrays._replace(hb=np.zeros_like(hb), e_par=e_par)
 
 
+def trajectory_width(count: int) -> int:
+    """Block width for the ``count`` one-period trajectories of :func:`affine_maps`.
+
+    A wide block (:data:`.kernel.BLOCK` members) costs about half a narrow one (8) per
+    member-step on these linear runs (the per-step work outside the member loops is
+    shared by 64 members instead of 8): the wide width is taken where its rounds of
+    blocks over the threads take less than half the narrow width's, counted at that
+    cost (120 trajectories, 8 members of a 7-DOF drive, on two threads: two wide blocks,
+    not fifteen narrow ones; :func:`.kernel.block_width` keeps narrow blocks below 128).
+    The results are the same (every member's arithmetic is its own)."""
+    threads = nb.get_num_threads()
+    wide = math.ceil(math.ceil(count / BLOCK) / threads)  # rounds of wide blocks
+    narrow = math.ceil(math.ceil(count / 8) / threads)
+    return BLOCK if wide * BLOCK < 2 * 8 * narrow else 8
+
+
 def affine_maps(prep: Prepared, sides: NDArray[np.float64]) -> tuple[NDArray, ...]:
     """One-period maps of every member of ``prep`` (:class:`~.prepare.Prepared`).
 
@@ -120,7 +137,7 @@ def affine_maps(prep: Prepared, sides: NDArray[np.float64]) -> tuple[NDArray, ..
     limit = np.full((E * C, n2), np.inf)
     _, H, _, _ = rk4_ensemble(
         *reps, Y0.reshape(E * C, n2), np.zeros(E * C), T, np.repeat(prep.offs, C, axis=0),
-        np.repeat(prep.dts, C, axis=0), prep.periodic, 1, 1, 1, limit, block_width(E * C),
+        np.repeat(prep.dts, C, axis=0), prep.periodic, 1, 1, 1, limit, trajectory_width(E * C),
         -1, 0.0,
     )  # fmt: skip
     N = prep.offs.shape[1]
