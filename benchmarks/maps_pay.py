@@ -110,9 +110,12 @@ def map_cost(n_values: int, repeat: int = 7) -> None:
             20, 1, 0, np.full((E * C, n2), np.inf), width, -1, 0.0,
         )  # fmt: skip
 
-    def in_blocks():  # as map_members builds them: MAP_BLOCK members at a time
-        for lo in range(0, E, maps_module.MAP_BLOCK):
-            idx = np.arange(lo, min(E, lo + maps_module.MAP_BLOCK))
+    # members built at once by map_members (8 in the code before issue 28's map work)
+    size = getattr(maps_module, "map_block", lambda p: maps_module.MAP_BLOCK)(prep)
+
+    def in_blocks():  # as map_members builds them
+        for lo in range(0, E, size):
+            idx = np.arange(lo, min(E, lo + size))
             maps_module.affine_maps(subset(prep, idx), sides[idx])
 
     maps_module.affine_maps(prep, sides)  # compile
@@ -132,7 +135,7 @@ def map_cost(n_values: int, repeat: int = 7) -> None:
           f"{1e6 * per_map:.2f} us per trajectory-step; plain kernel (20 periods): "
           f"{1e6 * per_plain:.2f} us per member-step ({per_map / per_plain:.2f}x); "
           f"the maps' trajectories over 20 periods, no history: {1e6 * per_traj:.2f} us "
-          f"per trajectory-step; built {maps_module.MAP_BLOCK} members at a time (as "
+          f"per trajectory-step; built {size} members at a time (as "
           f"map_members): {1e6 * per_blocks:.2f} us per trajectory-step "
           f"({per_blocks / per_plain:.2f}x); load average {os.getloadavg()[0]:.2f}")  # fmt: skip
 

@@ -43,6 +43,7 @@ __all__ = [
     "affine_maps",
     "contact_arrays",
     "contact_sides",
+    "map_block",
     "map_members",
     "map_run",
     "map_steps",
@@ -53,9 +54,13 @@ __all__ = [
 ]
 
 
-#: Members whose maps are built at once (the per-step states of 2n + 1 runs of each are
-#: held in memory: 8 members of a 12-DOF drive at 3000 steps take ~100 MB).
+#: Fewest members whose maps are built at once (the per-step states of 2n + 1 runs of
+#: each are held in memory: 8 members of a 12-DOF drive at 3000 steps take ~100 MB).
 MAP_BLOCK = 8
+
+#: Bytes of per-step states (and a copy of them) up to which more members than
+#: :data:`MAP_BLOCK` are built at once (:func:`map_block`).
+MAP_BYTES = 64 * 2**20
 
 #: Most bytes of maps kept between the pilot and the main run of :func:`map_members`.
 CACHE_BYTES = 256 * 2**20
@@ -316,6 +321,16 @@ def _fixed_point(Phi: NDArray, p: NDArray, D, Dv, d, dv, dts, sides, hb) -> tupl
     return ystar, safe, bound
 
 
+def map_block(prep: Prepared) -> int:
+    """Members whose maps :func:`map_members` builds at once: :data:`MAP_BLOCK`, or more
+    while their per-step states (``2n + 1`` runs of ``N`` steps, and a copy for the
+    projections) take at most :data:`MAP_BYTES` (16 members of a 7-DOF drive at 624
+    steps take 34 MB: one kernel call for all, not two)."""
+    n2 = 2 * prep.arrays.G.shape[2]
+    per_member = 2 * (n2 + 1) * prep.steps * n2 * 8
+    return max(MAP_BLOCK, MAP_BYTES // per_member)
+
+
 def map_members(
     prep: Prepared,
     sides: NDArray[np.float64],
@@ -328,7 +343,7 @@ def map_members(
     cache: dict | None = None,
 ) -> tuple[NDArray, NDArray, NDArray]:
     """:func:`run_maps` for every member of ``prep``, the maps built and run in blocks
-    of :data:`MAP_BLOCK` members (memory). With ``cache`` (a dict), the maps of a block
+    of :func:`map_block` members (memory). With ``cache`` (a dict), the maps of a block
     are kept there for a later call with the same step count, while the cache holds
     less than :data:`CACHE_BYTES`."""
     E, n2 = y0.shape
@@ -336,8 +351,9 @@ def map_members(
     failed = np.zeros(E, np.int64)
     logs = np.zeros(E)
     hb = prep.arrays.hb
-    for lo in range(0, E, MAP_BLOCK):
-        idx = np.arange(lo, min(E, lo + MAP_BLOCK))
+    size = map_block(prep)
+    for lo in range(0, E, size):
+        idx = np.arange(lo, min(E, lo + size))
         sub = subset(prep, idx)
         key = (lo, prep.steps)
         if cache is not None and key in cache:
