@@ -111,7 +111,7 @@ def map_cost(n_values: int, repeat: int = 7) -> None:
         )  # fmt: skip
 
     # members built at once by map_members (8 in the code before issue 28's map work)
-    size = getattr(maps_module, "map_block", lambda p: maps_module.MAP_BLOCK)(prep)
+    size = min(E, getattr(maps_module, "map_block", lambda p: maps_module.MAP_BLOCK)(prep))
 
     def in_blocks():  # as map_members builds them
         for lo in range(0, E, size):
