@@ -436,11 +436,13 @@ def _mesh(design: Any, gear: int, crown: Any, bevel: Any, rim: float, features: 
           sizes: Any, say: Stage, budget: Any) -> GearBodyMesh:  # fmt: skip
     """:func:`~reducerlab.fe.gear_mesh.mesh_gear`, its failures naming the gear and its
     body fields."""
+    from ..fe.elasticity import warm_assembly
     from ..fe.gear_mesh import MeshError, mesh_gear
 
     try:
+        # the solver's libraries load in a thread while the CAD kernel cuts the solid
         return mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say,
-                         budget=budget)  # fmt: skip
+                         budget=budget, on_cad=warm_assembly)  # fmt: skip
     except MeshError as exc:
         body = f"rim = {rim * 1e3:.4g} mm"
         if features.bore is not None:
