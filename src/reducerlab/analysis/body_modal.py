@@ -440,9 +440,10 @@ def _mesh(design: Any, gear: int, crown: Any, bevel: Any, rim: float, features: 
     from ..fe.gear_mesh import MeshError, mesh_gear
 
     try:
-        # the solver's libraries load in a thread while the CAD kernel cuts the solid
+        # the solver's libraries load in a thread while the CAD kernel cuts the solid,
+        # and xarray's first Dataset (it imports dask to check for its arrays: 0.5 s)
         return mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say,
-                         budget=budget, on_cad=warm_assembly)  # fmt: skip
+                         budget=budget, on_cad=lambda: warm_assembly(_first_dataset))  # fmt: skip
     except MeshError as exc:
         body = f"rim = {rim * 1e3:.4g} mm"
         if features.bore is not None:
@@ -454,6 +455,11 @@ def _mesh(design: Any, gear: int, crown: Any, bevel: Any, rim: float, features: 
         raise MeshError(
             f"gear {gear} body ({body}; fields gear{gear}.blank.*, surface.rim): {exc}"
         ) from None
+
+
+def _first_dataset() -> None:
+    """Build a small :class:`xarray.Dataset` (xarray's first one loads its array types)."""
+    xr.Dataset({"x": ("i", np.zeros(1))})
 
 
 def _coarser(sizes: Any, crown: Any, bevel: Any, rim: float) -> Any:

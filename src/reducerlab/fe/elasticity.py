@@ -165,11 +165,12 @@ def assemble(
     return K, M, basis
 
 
-def warm_assembly() -> Any:
+def warm_assembly(then: Any = None) -> Any:
     """Start a daemon thread that loads what :func:`assemble` and the eigen-solvers need
     on their first use in a process: scikit-fem and meshio, the compiled kernels of
     :mod:`reducerlab.fe.kernels` (numba's import and its cache of them), scipy's ARPACK
-    and MKL PARDISO's library. Called before a gear is meshed, it runs while the CAD
+    and MKL PARDISO's library; then calls ``then()`` (optional, the caller's own
+    warm-up). Called before a gear is meshed, it runs while the CAD
     kernel builds the solid (gmsh's calls leave Python's interpreter free): on a cold
     process 1-1.5 s that the solution no longer waits for (issue 28,
     ``benchmarks/RESULTS.md``). A failure here is ignored: the first real use raises it.
@@ -194,6 +195,8 @@ def warm_assembly() -> Any:
             mesh = from_meshio(meshio.Mesh(points, [("tetra10", np.arange(10)[None])]))
             assemble(mesh, STEEL, order=2)
             import_pypardiso()
+            if then is not None:
+                then()
         except Exception:  # a warm-up only: the first real use raises it
             pass
 
