@@ -174,9 +174,13 @@ def warm_assembly(then: Any = None) -> Any:
     kernel builds the solid (gmsh's calls leave Python's interpreter free): on a cold
     process 1-1.5 s that the solution no longer waits for (issue 28,
     ``benchmarks/RESULTS.md``). A failure here is ignored: the first real use raises it.
-    Started once per process; returns the thread (``join`` to wait for it)."""
+    Started once per process; returns the thread (``join`` to wait for it), or None
+    where ``REDUCERLAB_WARM=off`` (nothing is started: the comparison of the benchmark)."""
+    import os
     import threading
 
+    if os.environ.get("REDUCERLAB_WARM", "").strip().lower() in ("off", "0", "no", "false"):
+        return None
     if _WARM:
         return _WARM[0]
 
