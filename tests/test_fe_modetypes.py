@@ -368,3 +368,24 @@ def test_node_shapes_bad_input():
         node_shapes(basis, np.zeros(basis.N), M[:-1])
     with pytest.raises(ReducerlabError, match="diagonal entry"):
         node_shapes(basis, np.zeros(basis.N), -M)
+
+
+def test_ring_fit_is_the_least_squares_solution():
+    """A ring's fit (one pseudo-inverse for all modes) gives ``numpy.linalg.lstsq``'s
+    weighted least-squares harmonics."""
+    from reducerlab.fe.modetypes import _fit, _fourier
+
+    rng = np.random.default_rng(3)
+    theta = np.sort(rng.uniform(-np.pi, np.pi, 60))
+    w = rng.uniform(0.5, 2.0, 60)
+    values = rng.standard_normal((60, 3, 2))
+    k = 5
+    got = _fourier(_fit(theta, w, k), values, k)
+    cols = [np.ones_like(theta)]
+    for j in range(1, k + 1):
+        cols += [np.cos(j * theta), np.sin(j * theta)]
+    sw = np.sqrt(w)[:, None]
+    x = np.linalg.lstsq(np.stack(cols, 1) * sw, values.reshape(60, -1) * sw, rcond=None)[0]
+    x = x.reshape(2 * k + 1, 3, 2)
+    np.testing.assert_allclose(got[0].real, x[0], atol=1e-12)
+    np.testing.assert_allclose(got[1:], x[1::2] - 1j * x[2::2], atol=1e-12)

@@ -583,22 +583,25 @@ def _rings(r: Array, z: Array, theta: Array, w: Array, kmax: int) -> list[_Ring]
 
 
 def _fit(theta: Array, w: Array, k: int) -> tuple[Array, Array]:
-    """A ring's weighted least-squares matrix ``sqrt(w) [1, cos(j theta), sin(j theta)]``
-    (``j = 1..k``) and ``sqrt(w)`` (column)."""
+    """A ring's weighted least-squares solution operator: the pseudo-inverse of
+    ``sqrt(w) [1, cos(j theta), sin(j theta)]`` (``j = 1..k``; full column rank: a ring
+    has at least ``4 k + 1`` nodes and no gap of a half wave), and ``sqrt(w)``
+    (column). Made once per ring for all the modes (one SVD, as ``numpy.linalg.lstsq``
+    makes for each right-hand side)."""
     cols = [np.ones_like(theta)]
     for j in range(1, k + 1):
         cols += [np.cos(j * theta), np.sin(j * theta)]
     A = np.stack(cols, axis=1)
     sw = np.sqrt(w)[:, None]
-    return A * sw, sw
+    return np.linalg.pinv(A * sw), sw
 
 
 def _fourier(fit: tuple[Array, Array], values: Array, k: int) -> NDArray[np.complex128]:
     """Weighted least-squares harmonics ``c_0 .. c_k`` (k+1, 3, members) of a ring from
     its :func:`_fit` and the values at its nodes."""
-    Aw, sw = fit
+    pinv, sw = fit
     rhs = values.reshape(len(sw), -1)
-    x = np.linalg.lstsq(Aw, rhs * sw, rcond=None)[0].reshape(2 * k + 1, *values.shape[1:])
+    x = (pinv @ (rhs * sw)).reshape(2 * k + 1, *values.shape[1:])
     out = np.empty((k + 1, *values.shape[1:]), dtype=complex)
     out[0] = x[0]
     out[1:] = x[1::2] - 1j * x[2::2]
