@@ -17,8 +17,9 @@ period. :func:`reducerlab.model.laws.evaluate_flat` is the reference for the law
 evaluation here.
 
 numba's cache (``cache=True``) is checked against this file only: after a change to
-:mod:`.kernel_laws` or :mod:`reducerlab.model.layout`, run ``scripts/warm_kernels.py``
-(``make`` does), which removes the old caches before compiling.
+:mod:`.kernel_laws`, :mod:`.kernel_step` or :mod:`reducerlab.model.layout`, run
+``scripts/warm_kernels.py`` (``make`` does), which removes the old caches before
+compiling.
 """
 
 from __future__ import annotations
@@ -28,7 +29,8 @@ import math
 import numba as nb
 import numpy as np
 
-from .kernel_laws import tabulate, tabulate_at
+from .kernel_laws import tabulate
+from .kernel_step import event_times, restep, rk4, workspace
 
 __all__ = ["BLOCK", "block_width", "rk4_ensemble"]
 
@@ -44,147 +46,6 @@ def block_width(members: int) -> int:
     threads = nb.get_num_threads()
     per_thread = -(-members // threads)
     return BLOCK if per_thread >= BLOCK else 8
-
-
-@nb.njit(cache=True, fastmath=_FM)
-def _rhs(tab, row, y, out, MK, MC, pi, pj, MG, G, hb, cm, k3, d, dv, fm):
-    """State derivative of every member of a block: ``out[2n, B]`` from ``y[2n, B]``;
-    ``(pi, pj)`` are the entries of ``M^-1 K`` and ``M^-1 C`` that are nonzero for some
-    member (in modal coordinates after rigid-motion removal ``M^-1 K`` is diagonal)."""
-    n = MK.shape[0]
-    L = G.shape[0]
-    B = y.shape[1]
-    for i in range(n):
-        for b in range(B):
-            out[i, b] = y[n + i, b]
-            out[n + i, b] = tab[row, 3 * L + i, b]
-    for p in range(pi.shape[0]):
-        i = pi[p]
-        j = pj[p]
-        for b in range(B):
-            out[n + i, b] -= MK[i, j, b] * y[j, b] + MC[i, j, b] * y[n + j, b]
-    for m in range(L):
-        for b in range(B):
-            d[b] = -tab[row, L + m, b]
-            dv[b] = -tab[row, 2 * L + m, b]
-        for i in range(n):
-            for b in range(B):
-                d[b] += G[m, i, b] * y[i, b]
-                dv[b] += G[m, i, b] * y[n + i, b]
-        for b in range(B):
-            x = d[b]
-            h = hb[m, b]
-            f = x - min(max(x, -h), h)
-            # the cubic term only where k3 != 0: no 0 * inf when f^3 overflows
-            c3 = k3[m, b] * (f * f * f) if k3[m, b] != 0.0 else 0.0
-            fm[b] = tab[row, m, b] * f + c3 + cm[m, b] * dv[b]
-        for i in range(n):
-            for b in range(B):
-                out[n + i, b] -= MG[i, m, b] * fm[b]
-
-
-@nb.njit(cache=True, fastmath=_FM)
-def _rk4(tab, r0, y, dtv, k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm):
-    """One RK4 step of every member of a block, in place: member ``b`` advances by
-    ``dtv[b]`` (0: unchanged) with the law rows ``r0`` (start), ``r0 + 1`` (middle) and
-    ``r0 + 2`` (end) of ``tab``."""
-    n2 = y.shape[0]
-    nb_ = y.shape[1]
-    _rhs(tab, r0, y, k1, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
-    for i in range(n2):
-        for b in range(nb_):
-            tmp[i, b] = y[i, b] + 0.5 * dtv[b] * k1[i, b]
-    _rhs(tab, r0 + 1, tmp, k2, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
-    for i in range(n2):
-        for b in range(nb_):
-            tmp[i, b] = y[i, b] + 0.5 * dtv[b] * k2[i, b]
-    _rhs(tab, r0 + 1, tmp, k3s, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
-    for i in range(n2):
-        for b in range(nb_):
-            tmp[i, b] = y[i, b] + dtv[b] * k3s[i, b]
-    _rhs(tab, r0 + 2, tmp, k4, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
-    for i in range(n2):
-        for b in range(nb_):
-            y[i, b] += (dtv[b] / 6.0) * (k1[i, b] + 2.0 * k2[i, b] + 2.0 * k3s[i, b] + k4[i, b])
-
-
-@nb.njit(cache=True, inline="always")
-def _region(x: float, h: float) -> int:
-    """Contact state of a deflection: 1 drive side, -1 back side, 0 apart."""
-    if x > h:
-        return 1
-    if x < -h:
-        return -1
-    return 0
-
-
-@nb.njit(cache=True)
-def _event_times(tab, r0, y0, y1, dtv, Gb, hbb, tau) -> bool:
-    """First backlash-boundary crossing of each member within its step (``tau[b]``, s
-    from the step start; ``dtv[b]`` when none): the deflection ``G q - e`` of every line
-    with backlash is interpolated by the cubic Hermite polynomial of its values and
-    rates at both ends of the step (error O(h^4)) and the crossing found by bisection.
-    Returns whether any member crosses."""
-    L = Gb.shape[0]
-    n = Gb.shape[1]
-    nb_ = y0.shape[1]
-    anyx = False
-    for b in range(nb_):
-        tau[b] = dtv[b]
-        dt = dtv[b]
-        if dt <= 0.0:
-            continue
-        best = 1.0
-        for m in range(L):
-            h = hbb[m, b]
-            if h <= 0.0:
-                continue
-            d0 = -tab[r0, L + m, b]
-            d1 = -tab[r0 + 2, L + m, b]
-            v0 = -tab[r0, 2 * L + m, b]
-            v1 = -tab[r0 + 2, 2 * L + m, b]
-            for i in range(n):
-                g = Gb[m, i, b]
-                d0 += g * y0[i, b]
-                d1 += g * y1[i, b]
-                v0 += g * y0[n + i, b]
-                v1 += g * y1[n + i, b]
-            a = _region(d0, h)
-            c = _region(d1, h)
-            if a == c:
-                continue
-            if a == 1:
-                edge = h
-            elif a == -1:
-                edge = -h
-            else:
-                edge = h if c == 1 else -h
-            p0 = d0 - edge
-            p1 = d1 - edge
-            m0 = v0 * dt
-            m1 = v1 * dt
-            lo, hi = 0.0, 1.0
-            for _ in range(40):
-                th = 0.5 * (lo + hi)
-                t2 = th * th
-                t3 = t2 * th
-                val = (
-                    (2 * t3 - 3 * t2 + 1) * p0
-                    + (t3 - 2 * t2 + th) * m0
-                    + (-2 * t3 + 3 * t2) * p1
-                    + (t3 - t2) * m1
-                )
-                if (val > 0.0) == (p0 > 0.0):
-                    lo = th
-                else:
-                    hi = th
-            th = 0.5 * (lo + hi)
-            if th < best:
-                best = th
-        if 1e-9 < best < 1.0 - 1e-9:
-            tau[b] = best * dt
-            anyx = True
-    return anyx
 
 
 @nb.njit(cache=True, fastmath=_FM, inline="always")
@@ -279,10 +140,7 @@ def _block(
     tot = np.empty(nb_)
     yprev = np.empty((n2, nb_))
     tau = np.empty(nb_)
-    dt1 = np.empty(nb_)
-    dt2 = np.empty(nb_)
-    times = np.empty((6, nb_))
-    sub = np.zeros((6, 3 * L + n, nb_))
+    ws = workspace(n, L, 3 * L + n, nb_)
     events = False
     for m in range(L):
         for b in range(nb_):
@@ -313,40 +171,14 @@ def _block(
             for i in range(n2):
                 for b in range(nb_):
                     yprev[i, b] = y[i, b]
-            _rk4(tab, r0, y, dtb[q], k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb,
-                 k3b, d, dv, fm)  # fmt: skip
-            if events and _event_times(tab, r0, yprev, y, dtb[q], Gb, hbb, tau):
+            rk4(tab, r0, y, dtb[q], k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb,
+                k3b, d, dv, fm)  # fmt: skip
+            if events and event_times(tab, r0, yprev, y, dtb[q], Gb, hbb, tau, ws[2], ws[3]):
                 # a member crossed a backlash boundary inside the step, where the force
-                # has a kink that RK4 steps over at first order: that member steps to
-                # the crossing and from it (two RK4 steps; the others stand still)
-                for b in range(nb_):
-                    e = lo + min(b, width - 1)
-                    t0 = t_base[e] + offs[e, q]
-                    full = dtb[q, b]
-                    if tau[b] < full:
-                        for i in range(n2):
-                            y[i, b] = yprev[i, b]
-                        dt1[b] = tau[b]
-                        dt2[b] = full - tau[b]
-                    else:
-                        dt1[b] = 0.0
-                        dt2[b] = 0.0
-                    eps1 = 1e-9 * max(dt1[b], 1e-300)
-                    eps2 = 1e-9 * max(dt2[b], 1e-300)
-                    times[0, b] = t0 + eps1
-                    times[1, b] = t0 + 0.5 * dt1[b]
-                    times[2, b] = t0 + dt1[b] - eps1
-                    times[3, b] = t0 + dt1[b] + eps2
-                    times[4, b] = t0 + dt1[b] + 0.5 * dt2[b]
-                    times[5, b] = t0 + full - eps2
-                tabulate_at(sub, times[:3], lo, width, k_kind, k_par, e_kind, e_par, MB,
-                             f_kind, f_par)  # fmt: skip
-                tabulate_at(sub[3:], times[3:], lo, width, k_kind, k_par, e_kind, e_par, MB,
-                             f_kind, f_par)  # fmt: skip
-                _rk4(sub, 0, y, dt1, k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb,
-                     k3b, d, dv, fm)  # fmt: skip
-                _rk4(sub, 3, y, dt2, k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb,
-                     k3b, d, dv, fm)  # fmt: skip
+                # has a kink that RK4 steps over at first order: the crossing members
+                # step again, to the crossing and from it (kernel_step.restep)
+                restep(tab, r0, y, yprev, dtb[q], tau, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b,
+                       ws, k1, k2, k3s, k4, tmp, d, dv, fm)  # fmt: skip
             for b in range(nb_):
                 tot[b] = 0.0
             for i in range(n2):

@@ -31,7 +31,6 @@ __all__ = [
     "law_values",
     "step_grid",
     "tabulate",
-    "tabulate_at",
 ]
 
 
@@ -221,16 +220,3 @@ def tabulate(tab, lo, hi, t_base, offs, dts, k_kind, k_par, e_kind, e_par, MB, f
             for c in range(tab.shape[1]):
                 for b in range(W):
                     tab[r, c, b] = tab[r, c, src[b]]
-
-
-@nb.njit(cache=True)
-def tabulate_at(sub, times, lo, width, k_kind, k_par, e_kind, e_par, MB, f_kind, f_par):
-    """Law rows ``sub[s, :, b]`` at the member times ``times[s, b]`` (s = 0, 1, 2), as
-    :func:`tabulate` does for the fixed sample times; slots past ``width`` repeat the
-    last member."""
-    fv = np.empty(f_kind.shape[0])
-    for b in range(times.shape[1]):
-        mb = min(b, width - 1)
-        for s in range(3):
-            law_row(sub, s, b, lo + mb, mb, times[s, b], k_kind, k_par, e_kind, e_par, MB,
-                     f_kind, f_par, fv)  # fmt: skip
