@@ -16,6 +16,7 @@ the input shaft at 1500 rpm, 1 kW and 3 kW).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -333,6 +334,7 @@ def contact_analysis(
     tooth_size: float | None = None,
     rigid: bool = False,
     compliance: tuple[Any, Any] | None = None,
+    workers: int | None = None,
     stage: Stage | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> ContactResult:
@@ -368,14 +370,20 @@ def contact_analysis(
         The external and internal gears' tooth compliance from an earlier run
         (``result.compliance``) of the same pair and profile: skips the finite-element
         models when only the load changes.
+    workers : int, optional
+        Processes (this one included): the two gears' compliances at once and the
+        positions in chunks (``analysis.contact_workers``); default 2 on a machine with
+        two cores or more and elastic teeth, 1 when ``rigid``. The results are those of
+        one process, to rounding.
     stage, progress : callable, optional
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
     """
-    from ..contact.compliance import compliance_estimate, fe_tooth_compliance
+    from ..contact.compliance import compliance_estimate
     from ..contact.halfspace import combined_modulus
     from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
     from ..fe import Material
+    from .contact_workers import contact_pool, contact_processes, tooth_compliances
 
     t0 = time.perf_counter()
     say = stage or (lambda _s: None)
@@ -404,36 +412,38 @@ def contact_analysis(
     check_load(mp, T_a, external.mean_radius, E_star, design.operating_speed, power is not None)
     if cell is not None:
         grid_estimate(mp, ContactGrid(float(cell))).check()
-    if compliance is None and not rigid:
+    n = contact_processes(workers, rigid=rigid, positions=positions)
+    fe = compliance is None and not rigid
+    if fe:
         compliance_estimate(mp, tooth_size).check()
-    comp_a = comp_b = None
-    if compliance is not None and not rigid:
-        comp_a, comp_b = compliance
-    elif not rigid:
-        say("finite-element compliance of the external gear's teeth")
-        comp_a = fe_tooth_compliance(mp.flank_a, material=material, tooth_size=tooth_size,
-                                     stage=say)  # fmt: skip
-        say("finite-element compliance of the internal gear's teeth")
-        comp_b = fe_tooth_compliance(mp.flank_b, material=material, tooth_size=tooth_size,
-                                     stage=say)  # fmt: skip
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
-    s0 = ContactGrid.s_max
-    if cell is None and rigid:
-        h = PILOT * m_n  # the quick pattern: the pilot's grid
-    elif cell is None:
-        say("pilot contact (grid size)")
-        pilot = loaded_contact(mp, T_a, phis[:1], ContactGrid(PILOT * m_n),
-                               compliance_a=comp_a, compliance_b=comp_b, E_star=E_star)  # fmt: skip
-        h = auto_cell(pilot[0], m_n)
-        s0 = pilot[0].s_max  # the separation the pilot needed: the first guess
-    else:
-        h = float(cell)
-    say(f"loaded contact at {positions} positions")
-    runs = loaded_contact(
-        mp, T_a, phis, ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n), compliance_a=comp_a,
-        compliance_b=comp_b, E_star=E_star, progress=progress,
-    )  # fmt: skip
+    with contact_pool(n) as pool:
+        comp_a, comp_b = None, None
+        if compliance is not None and not rigid:
+            comp_a, comp_b = compliance
+        elif fe:
+            comp_a, comp_b = tooth_compliances(mp, material, tooth_size, say, pool)
+        kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": E_star}
+        s0 = ContactGrid.s_max
+        if cell is None and rigid:
+            h = PILOT * m_n  # the quick pattern: the pilot's grid
+        elif cell is None:
+            say("pilot contact (grid size)")
+            pilot = loaded_contact(mp, T_a, phis[:1], ContactGrid(PILOT * m_n), **kw)
+            h = auto_cell(pilot[0], m_n)
+            s0 = pilot[0].s_max  # the separation the pilot needed: the first guess
+        else:
+            h = float(cell)
+        say(f"loaded contact at {positions} positions" + (f" ({n} processes)" if pool else ""))
+        grid = ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n)
+        if pool is None:
+            runs = loaded_contact(mp, T_a, phis, grid, **kw, progress=progress)
+            vm, depth = _stresses(runs, nu, h)
+        else:  # each process the stresses of its positions too
+            post = functools.partial(_stresses, nu=nu, cell=h)
+            runs, (vm, depth) = pool.positions((mp, T_a), phis, {"grid": grid, **kw}, progress,
+                                               post)  # fmt: skip
     # lever of the lumped model's mesh on the internal gear (paper 000 Eq. 2-4)
     internal_gear = getattr(design, f"gear{2 * pair - 1}")
     a_y = math.cos(design.helix_angle) * math.cos(design.normal_pressure_angle)
@@ -442,7 +452,6 @@ def contact_analysis(
     approach = np.array([r.loaded_te for r in runs])
     k = T_b / (arm**2 * approach)
     fit = fit_fourier(k, order)
-    vm, depth = _stresses(runs, nu, h)
     kin = design.kinematics()
     f_mesh = list(kin.mesh_frequencies(design.operating_speed).values())[pair - 1]
     force = np.array([r.force_vector for r in runs])

@@ -20,7 +20,7 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ReducerlabError
@@ -78,12 +78,15 @@ def _watch_parent(parent: int) -> None:
             os._exit(1)
 
 
-def _guard_worker(parent: int, direct: bool) -> None:
+def _guard_worker(
+    parent: int, direct: bool, then: Callable[..., None] | None = None, args: tuple = ()
+) -> None:
     """Initializer of every worker process (see the module docstring).
 
     ``parent`` is the pid of the process that made the pool; ``direct`` tells whether
     it is also the worker's parent process (not so under a fork server, which then is
-    the process watched: it exits when the pool's process does).
+    the process watched: it exits when the pool's process does). ``then(*args)`` runs
+    last, when given (the pool's own initializer).
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -92,6 +95,8 @@ def _guard_worker(parent: int, direct: bool) -> None:
     if ppid == 1 or (direct and ppid != parent):  # gone before the signal was armed
         os._exit(1)
     threading.Thread(target=_watch_parent, args=(ppid,), daemon=True).start()
+    if then is not None:
+        then(*args)
 
 
 def _terminate(pool: ProcessPoolExecutor) -> None:
@@ -117,7 +122,12 @@ def _terminate(pool: ProcessPoolExecutor) -> None:
 
 
 @contextlib.contextmanager
-def worker_pool(workers: int, context: str | None = None) -> Iterator[ProcessPoolExecutor]:
+def worker_pool(
+    workers: int,
+    context: str | None = None,
+    initializer: Callable[..., None] | None = None,
+    initargs: tuple = (),
+) -> Iterator[ProcessPoolExecutor]:
     """A process pool whose workers cannot outlive this process.
 
     Create it from the thread that runs the computation (normally the main thread):
@@ -131,6 +141,9 @@ def worker_pool(workers: int, context: str | None = None) -> Iterator[ProcessPoo
     context : str, optional
         Multiprocessing start method (``"fork"``, ``"spawn"``, ...); default: the
         platform's.
+    initializer, initargs : optional
+        ``initializer(*initargs)`` in each worker after its guards (objects a process
+        may only inherit, such as a ``multiprocessing`` queue, travel in ``initargs``).
 
     Yields
     ------
@@ -144,7 +157,10 @@ def worker_pool(workers: int, context: str | None = None) -> Iterator[ProcessPoo
     ctx = multiprocessing.get_context(context)
     direct = ctx.get_start_method() != "forkserver"
     pool = ProcessPoolExecutor(
-        workers, mp_context=ctx, initializer=_guard_worker, initargs=(os.getpid(), direct)
+        workers,
+        mp_context=ctx,
+        initializer=_guard_worker,
+        initargs=(os.getpid(), direct, initializer, initargs),
     )
     try:
         yield pool

@@ -69,6 +69,15 @@ def contact(
             "the mesh stiffness is then far too high."
         ),
     ] = False,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            help="Processes: the two gears' tooth models at once and the positions in "
+            "chunks (default 2 on two cores or more, 1 with --rigid; 1: one process).",
+            min=1,
+            max=64,
+        ),
+    ] = None,
     write_design: Annotated[
         Path | None,
         typer.Option(
@@ -115,7 +124,8 @@ def contact(
                 d, pair, power=P, torque=T, positions=positions, order=order, cell=h,
                 profile=None if profile is None else profile.value,
                 misalignment=Misalignment(**mis) if mis else None, tooth_size=ts,
-                rigid=rigid, stage=lambda text: progress.update(task, description=text),
+                rigid=rigid, workers=workers,
+                stage=lambda text: progress.update(task, description=text),
                 progress=lambda done, total: progress.update(
                     task, completed=done, total=total,
                     description=f"loaded contact, position {done}/{total}",

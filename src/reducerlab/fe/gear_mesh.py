@@ -31,6 +31,8 @@ import contextlib
 import dataclasses
 import itertools
 import math
+import signal
+import threading
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
@@ -234,7 +236,13 @@ def gmsh_session() -> Iterator[Any]:
 
     if gmsh.isInitialized():  # pragma: no cover - a caller's own gmsh session
         raise MeshError("gmsh is already initialised by the caller: finalise it first")
+    pipe = signal.getsignal(signal.SIGPIPE) if hasattr(signal, "SIGPIPE") else None
     gmsh.initialize(readConfigFiles=False, interruptible=False)
+    if pipe is not None and threading.current_thread() is threading.main_thread():
+        # gmsh sets SIGPIPE back to its default action (end the process): Python ignores
+        # it and raises BrokenPipeError instead, which the worker pools rely on (a pipe
+        # to a worker that died, analysis/contact_workers.py)
+        signal.signal(signal.SIGPIPE, pipe)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.Verbosity", 1)
