@@ -436,14 +436,11 @@ def _mesh(design: Any, gear: int, crown: Any, bevel: Any, rim: float, features: 
           sizes: Any, say: Stage, budget: Any) -> GearBodyMesh:  # fmt: skip
     """:func:`~reducerlab.fe.gear_mesh.mesh_gear`, its failures naming the gear and its
     body fields."""
-    from ..fe.elasticity import warm_assembly
     from ..fe.gear_mesh import MeshError, mesh_gear
 
     try:
-        # the solver's libraries load in a thread while the CAD kernel cuts the solid,
-        # and xarray's first Dataset (it imports dask to check for its arrays: 0.5 s)
         return mesh_gear(crown, bevel, rim=rim, features=features, sizes=sizes, stage=say,
-                         budget=budget, on_cad=lambda: warm_assembly(_first_dataset))  # fmt: skip
+                         budget=budget)  # fmt: skip
     except MeshError as exc:
         body = f"rim = {rim * 1e3:.4g} mm"
         if features.bore is not None:
@@ -455,11 +452,6 @@ def _mesh(design: Any, gear: int, crown: Any, bevel: Any, rim: float, features: 
         raise MeshError(
             f"gear {gear} body ({body}; fields gear{gear}.blank.*, surface.rim): {exc}"
         ) from None
-
-
-def _first_dataset() -> None:
-    """Build a small :class:`xarray.Dataset` (xarray's first one loads its array types)."""
-    xr.Dataset({"x": ("i", np.zeros(1))})
 
 
 def _coarser(sizes: Any, crown: Any, bevel: Any, rim: float) -> Any:

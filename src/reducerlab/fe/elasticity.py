@@ -30,7 +30,6 @@ __all__ = [
     "pardiso_gram",
     "pardiso_inverse",
     "point_dofs",
-    "warm_assembly",
 ]
 
 
@@ -163,55 +162,6 @@ def assemble(
         vb, _, dgeo, W = tables(2 * order)
         M = pattern.csr(consistent_mass(pattern, geo, xyz, dgeo, vb, W, material.rho))
     return K, M, basis
-
-
-def warm_assembly(then: Any = None) -> Any:
-    """Start a daemon thread that loads what :func:`assemble` and the eigen-solvers need
-    on their first use in a process: scikit-fem and meshio, the compiled kernels of
-    :mod:`reducerlab.fe.kernels` (numba's import and its cache of them), scipy's ARPACK
-    and MKL PARDISO's library; then calls ``then()`` (optional, the caller's own
-    warm-up). Called before a gear is meshed, it runs while the CAD
-    kernel builds the solid (gmsh's calls leave Python's interpreter free): on a cold
-    process 1-1.5 s that the solution no longer waits for (issue 28,
-    ``benchmarks/RESULTS.md``). A failure here is ignored: the first real use raises it.
-    Started once per process; returns the thread (``join`` to wait for it), or None
-    where ``REDUCERLAB_WARM=off`` (nothing is started: the comparison of the benchmark)."""
-    import os
-    import threading
-
-    if os.environ.get("REDUCERLAB_WARM", "").strip().lower() in ("off", "0", "no", "false"):
-        return None
-    if _WARM:
-        return _WARM[0]
-
-    def warm() -> None:
-        try:
-            import meshio
-            import scipy.sparse.linalg  # noqa: F401  (ARPACK)
-            from skfem.io.meshio import from_meshio
-
-            # one curved 10-node tetrahedron, built as the gear sectors are (meshio's
-            # tetra10 into a MeshTet2): the kernels' argument types are those of a gear
-            corners = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
-            edges = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
-            mids = [0.5 * (corners[a] + corners[b]) for a, b in edges]
-            points = np.concatenate([corners, mids])
-            mesh = from_meshio(meshio.Mesh(points, [("tetra10", np.arange(10)[None])]))
-            assemble(mesh, STEEL, order=2)
-            import_pypardiso()
-            if then is not None:
-                then()
-        except Exception:  # a warm-up only: the first real use raises it
-            pass
-
-    thread = threading.Thread(target=warm, name="reducerlab-warm-assembly", daemon=True)
-    _WARM.append(thread)
-    thread.start()
-    return thread
-
-
-#: The thread of :func:`warm_assembly`, once started.
-_WARM: list[Any] = []
 
 
 def _assemble_skfem(
