@@ -10,7 +10,7 @@ with ``spawn``: gmsh's global state and the OpenMP runtimes are not fork-safe):
   in a worker, when the memory estimate of both models together fits
   (``compliance_estimate(..., concurrent=True)``), otherwise one after the other here;
   the sector solids built by the worker join this process's cache
-  (``fe.gear_mesh._SOLIDS``) and the worker starts with that cache;
+  (``fe.gear_mesh.stored_solids``) and the worker starts with that cache;
 * **the positions in contiguous chunks**: the first here, the others in the workers.
   A chunk first recomputes the position before it (its *lead*, dropped) so that it
   starts from that position's contact grid (``s_max``) and active set as the run in one
@@ -144,13 +144,12 @@ def _compliance_task(
 ) -> tuple[Any, dict]:
     """One gear's tooth compliance in a worker; also the sector solids it built."""
     from ..contact.compliance import fe_tooth_compliance
-    from ..fe.gear_mesh import _SOLIDS
+    from ..fe.gear_mesh import store_solids, stored_solids
 
-    for key, item in solids.items():
-        _SOLIDS.put(key, item)
+    store_solids(solids)
     with share_threads(threads):
         comp = fe_tooth_compliance(flank, material=material, tooth_size=tooth_size)
-    return comp, {k: v for k, v in _SOLIDS.items.items() if k not in solids}
+    return comp, {k: v for k, v in stored_solids().items() if k not in solids}
 
 
 def _positions_task(
@@ -218,11 +217,11 @@ class ContactPool:
         """Both gears' tooth compliances at once: ``flanks[0]`` here, ``flanks[1]`` in a
         worker (``contact.compliance.fe_tooth_compliance``)."""
         from ..contact.compliance import fe_tooth_compliance
-        from ..fe.gear_mesh import _SOLIDS
+        from ..fe.gear_mesh import store_solids, stored_solids
 
         what = "the internal gear's tooth compliance"
         future = self.pool.submit(_compliance_task, flanks[1], material, tooth_size,
-                                  dict(_SOLIDS.items), self.threads)  # fmt: skip
+                                  stored_solids(), self.threads)  # fmt: skip
         futures = {**dict.fromkeys(self.warm, "its start"), future: what}
 
         def stage(text: str) -> None:
@@ -235,8 +234,7 @@ class ContactPool:
                                          stage=stage)  # fmt: skip
         say("finite-element compliance of the internal gear's teeth (worker process)")
         comp_b, solids = self._result(future, what)
-        for key, item in solids.items():
-            _SOLIDS.put(key, item)
+        store_solids(solids)
         return comp_a, comp_b
 
     def positions(self, args: tuple, phis: Any, kwargs: dict, progress: Progress | None,

@@ -57,6 +57,8 @@ __all__ = [
     "gmsh_session",
     "mesh_estimate",
     "mesh_gear",
+    "store_solids",
+    "stored_solids",
     "tet_options",
 ]
 
@@ -778,6 +780,20 @@ class _SolidCache:
 
 #: Sector solids of this process (:class:`_SolidCache`).
 _SOLIDS = _SolidCache()
+
+
+def stored_solids() -> dict[str, tuple[str, float]]:
+    """The sector solids built in this process, by key: BREP text and the azimuth
+    ``phi0`` (rad) at which sector 0 ends; a copy (picklable: another process adds them
+    to its own with :func:`store_solids`)."""
+    return dict(_SOLIDS.items)
+
+
+def store_solids(items: dict[str, tuple[str, float]]) -> None:
+    """Add sector solids built elsewhere (:func:`stored_solids` of another process) to
+    this process's cache."""
+    for key, item in items.items():
+        _SOLIDS.put(key, item)
 
 
 def _solid_key(
