@@ -26,7 +26,15 @@ import os
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
-__all__ = ["THREADS_ENV", "compute_threads", "policy_active", "pools", "with_compute_threads"]
+__all__ = [
+    "THREADS_ENV",
+    "compute_threads",
+    "cores",
+    "policy_active",
+    "pools",
+    "share_threads",
+    "with_compute_threads",
+]
 
 #: Environment variable: ``off`` leaves every thread pool as loaded.
 THREADS_ENV = "REDUCERLAB_THREADS"
@@ -80,3 +88,38 @@ def with_compute_threads(func: F) -> F:
 
     wrapper.compute_threads = True  # type: ignore[attr-defined]
     return wrapper  # type: ignore[return-value]
+
+
+def cores() -> int:
+    """Cores this process may run on (its affinity mask where the system has one)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def share_threads(threads: int) -> Iterator[None]:
+    """Within: at most ``threads`` threads in every thread pool of this process
+    (OpenMP, MKL, OpenBLAS through threadpoolctl; numba's), restored on exit.
+
+    MKL (PARDISO) and numba's OpenMP pool are loaded first, so that the limit reaches
+    them too."""
+    from threadpoolctl import threadpool_limits
+
+    from .fe.elasticity import import_pypardiso
+
+    import_pypardiso()
+    try:
+        import numba
+    except ImportError:  # pragma: no cover - numba is a dependency
+        numba = None
+    old = numba.get_num_threads() if numba is not None else None
+    if numba is not None:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        with threadpool_limits(limits=threads):
+            yield
+    finally:
+        if numba is not None:
+            numba.set_num_threads(old)

@@ -37,15 +37,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import ReducerlabError
+from ..threads import cores, share_threads
 
-__all__ = [
-    "ContactPool",
-    "contact_pool",
-    "contact_processes",
-    "cores",
-    "share_threads",
-    "tooth_compliances",
-]
+__all__ = ["ContactPool", "contact_pool", "contact_processes", "tooth_compliances"]
 
 Stage = Callable[[str], None]
 Progress = Callable[[int, int], None]
@@ -56,14 +50,6 @@ Post = Callable[[list], tuple]
 _QUEUE: Any = None
 #: seconds between looks at the workers while waiting for them
 _POLL = 0.2
-
-
-def cores() -> int:
-    """Cores this process may run on (its affinity mask where the system has one)."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):  # pragma: no cover - not Linux
-        return os.cpu_count() or 1
 
 
 def contact_processes(workers: int | None, *, rigid: bool, positions: int) -> int:
@@ -91,33 +77,6 @@ def contact_processes(workers: int | None, *, rigid: bool, positions: int) -> in
     else:
         n = workers
     return max(1, min(n, positions))
-
-
-@contextlib.contextmanager
-def share_threads(threads: int) -> Iterator[None]:
-    """Within: at most ``threads`` threads in every thread pool of this process
-    (OpenMP, MKL, OpenBLAS through threadpoolctl; numba's), restored on exit.
-
-    MKL (PARDISO) and numba's OpenMP pool are loaded first, so that the limit reaches
-    them too."""
-    from threadpoolctl import threadpool_limits
-
-    from ..fe.elasticity import import_pypardiso
-
-    import_pypardiso()
-    try:
-        import numba
-    except ImportError:  # pragma: no cover - numba is a dependency
-        numba = None
-    old = numba.get_num_threads() if numba is not None else None
-    if numba is not None:
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    try:
-        with threadpool_limits(limits=threads):
-            yield
-    finally:
-        if numba is not None:
-            numba.set_num_threads(old)
 
 
 def _init_worker(progress: Any, threads: int) -> None:
@@ -180,11 +139,11 @@ class ContactPool:
         Threads of each process while they run at once.
     """
 
-    def __init__(self, pool: Any, progress: Any, processes: int) -> None:
+    def __init__(self, pool: Any, progress: Any, processes: int, threads: int) -> None:
         self.pool = pool
         self.queue = progress
         self.processes = processes
-        self.threads = max(1, cores() // processes)
+        self.threads = threads
         with _main_not_imported():  # the workers start now
             self.warm = [pool.submit(_warm) for _ in range(processes - 1)]
 
@@ -326,7 +285,7 @@ def contact_pool(processes: int) -> Iterator[ContactPool | None]:
     threads = max(1, cores() // processes)
     try:
         with worker_pool(processes - 1, "spawn", _init_worker, (progress, threads)) as pool:
-            yield ContactPool(pool, progress, processes)
+            yield ContactPool(pool, progress, processes, threads)
     finally:
         progress.close()
         progress.cancel_join_thread()
