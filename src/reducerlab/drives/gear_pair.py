@@ -14,7 +14,7 @@ mode is torsional with ``omega^2 = k (r_bp^2 / J_p + r_bg^2 / J_g)``.
 from __future__ import annotations
 
 import math
-from typing import ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -28,6 +28,7 @@ from ..design import (
     NonNegativeStiffness,
     PositiveInt,
     Power,
+    Real,
     Spec,
     SpeedRange,
     Stiffness,
@@ -36,9 +37,13 @@ from ..design import (
     quantity,
 )
 from ..design_files import field_rules
+from ..errors import DesignError, ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 from ..model.laws import TimeLaw
+
+if TYPE_CHECKING:
+    from ..geometry.spur import SpurPair
 
 __all__ = ["Bearing", "Gear", "GearMesh", "GearPairDesign", "Operating", "build_model"]
 
@@ -52,13 +57,18 @@ class Bearing(Spec):
     damping_y: Damping = 0.0
 
 
+#: Profile shift coefficient x (ISO 21771), the range a spur gear can be cut with.
+Shift = Annotated[Real, Field(ge=-1.0, le=2.0)]
+
+
 class Gear(Spec):
-    """One gear body."""
+    """One gear body; ``shift`` is its profile shift coefficient ``x`` (ISO 21771)."""
 
     teeth: PositiveInt
     mass: Mass
     moment_of_inertia: MomentOfInertia
     bearing: Bearing
+    shift: Shift = 0.0
 
 
 class GearMesh(Spec):
@@ -67,10 +77,19 @@ class GearMesh(Spec):
     ``stiffness`` is the mean mesh stiffness; ``stiffness_harmonics`` and
     ``stiffness_phases`` are the amplitudes and phases of paper 000 Eq. 8 at the mesh
     frequency. ``backlash`` is the full clearance (dead zone ``|delta| <= b/2``).
+
+    The tooth geometry (needed by the contact analysis and the load-capacity rating, not
+    by the lumped model): ``face_width`` ``b``, and the basic rack of ISO 53 in units of
+    the module, ``addendum`` ``h_aP*`` (1.0), ``dedendum`` ``h_fP*`` (1.25) and
+    ``root_fillet`` ``rho_fP*`` (0.38, profile A).
     """
 
     module: Length
     pressure_angle: angle_between(0, 45)  # type: ignore[valid-type]
+    face_width: Length | None = None
+    addendum: Annotated[Real, Field(gt=0, le=1.5)] = 1.0
+    dedendum: Annotated[Real, Field(gt=0, le=2.0)] = 1.25
+    root_fillet: Annotated[Real, Field(ge=0, le=0.6)] = 0.38
     stiffness: Stiffness
     damping: Damping = 0.0
     backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
@@ -142,6 +161,36 @@ class GearPairDesign(Design):
     def kinematics(self) -> DriveKinematics:
         """Kinematics of the pair (pinion input): the ``gear_pair`` train."""
         return TRAINS["gear_pair"].build({"pinion": self.pinion.teeth, "gear": self.gear.teeth})
+
+    def spur_pair(self) -> SpurPair:
+        """The involute geometry of the pair (:class:`~reducerlab.geometry.spur.SpurPair`)
+        at its zero-backlash centre distance; needs ``mesh.face_width``.
+
+        Raises
+        ------
+        DesignError
+            ``mesh.face_width`` not given, or teeth that the rack cannot cut (undercut,
+            pointed), named by field.
+        """
+        from ..geometry.spur import SpurGear, SpurPair
+
+        m = self.mesh
+        if m.face_width is None:
+            raise DesignError(
+                "mesh.face_width: is needed for the tooth geometry (contact analysis, "
+                'load capacity); give e.g. face_width = "20 mm"'
+            )
+        gears = []
+        for name in ("pinion", "gear"):
+            g = getattr(self, name)
+            try:
+                gears.append(SpurGear(
+                    g.teeth, m.module, m.face_width, m.pressure_angle, g.shift,
+                    addendum=m.addendum, dedendum=m.dedendum, root_fillet=m.root_fillet,
+                ))  # fmt: skip
+            except ReducerlabError as e:
+                raise DesignError(f"{name}.shift (with [mesh]'s rack): {e}") from None
+        return SpurPair(*gears)
 
     def pitch_radii(self) -> dict[str, float]:
         """Reference pitch radii ``m z / 2`` (m)."""
