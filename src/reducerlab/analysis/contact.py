@@ -17,6 +17,7 @@ the input shaft at 1500 rpm, 1 kW and 3 kW).
 from __future__ import annotations
 
 import functools
+import json
 import math
 import time
 from collections.abc import Callable
@@ -208,10 +209,14 @@ def _plain(v: Any) -> Any:
 
 
 def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
-                 misalignment: Any = None, flank: int = 1) -> Any:  # fmt: skip
+                 misalignment: Any = None, flank: int = 1,
+                 modifications: Any = None) -> Any:  # fmt: skip
     """The :class:`~reducerlab.contact.flanks.NutationPair` of pair ``pair`` (1 or 2):
-    its external gear (2 or 4) and its nutating internal gear (1 or 3)."""
+    its external gear (2 or 4) and its nutating internal gear (1 or 3), with the flank
+    modifications ``modifications`` (``contact.modifications.PairModifications``;
+    default the design's, ``analysis.flank_modifications.design_modifications``)."""
     from ..contact.flanks import Misalignment, NutationPair
+    from .flank_modifications import checked, design_modifications
 
     if not (isinstance(design, Design) and design.has_tooth_surfaces):
         raise ReducerlabError(
@@ -227,7 +232,13 @@ def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
     check_misalignment(misalignment, design.surface_module(2 * pair))
     crown, ext = design.tooth_generation(2 * pair, profile)
     _, internal = design.tooth_generation(2 * pair - 1, profile)
-    return NutationPair(crown, ext, internal, flank, misalignment)
+    plain = NutationPair(crown, ext, internal, flank, misalignment)
+    if modifications is None:
+        modifications = design_modifications(design, pair, plain.flank_a, plain.flank_b)
+    if modifications.none:
+        return plain
+    return checked(NutationPair(crown, ext, internal, flank, misalignment, None, modifications),
+                   design, pair)  # fmt: skip
 
 
 #: the command-line option of each length of a misalignment
@@ -337,6 +348,7 @@ def contact_analysis(
     workers: int | None = None,
     stage: Stage | None = None,
     progress: Callable[[int, int], None] | None = None,
+    modifications: Any = None,
 ) -> ContactResult:
     """Loaded tooth contact analysis of one gear pair over a mesh cycle.
 
@@ -377,6 +389,11 @@ def contact_analysis(
         one process, to rounding.
     stage, progress : callable, optional
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
+    modifications : contact.modifications.PairModifications, optional
+        Flank modifications of the external (``a``) and internal (``b``) gear; default
+        the design's (``[gearN.modifications]``, ``surface.flank_modifications``). The
+        tooth compliance is that of the unmodified teeth: ``compliance`` from a run with
+        other modifications serves unchanged.
     """
     from ..contact.compliance import compliance_estimate
     from ..contact.halfspace import combined_modulus
@@ -396,7 +413,8 @@ def contact_analysis(
         raise ReducerlabError(
             f"order: {order} harmonics need positions >= {2 * order + 1}; got {positions}"
         )
-    mp = contact_pair(design, pair, profile=profile, misalignment=misalignment)
+    mp = contact_pair(design, pair, profile=profile, misalignment=misalignment,
+                      modifications=modifications)  # fmt: skip
     m_n = mp.crown.profile.module
     if cell is not None and not (
         isinstance(cell, (int, float)) and math.isfinite(cell) and 0 < cell <= 0.5 * m_n
@@ -415,7 +433,7 @@ def contact_analysis(
     n = contact_processes(workers, rigid=rigid, positions=positions)
     fe = compliance is None and not rigid
     if fe:
-        compliance_estimate(mp, tooth_size).check()
+        compliance_estimate(mp.unmodified, tooth_size).check()
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
     with contact_pool(n) as pool:
@@ -423,7 +441,7 @@ def contact_analysis(
         if compliance is not None and not rigid:
             comp_a, comp_b = compliance
         elif fe:
-            comp_a, comp_b = tooth_compliances(mp, material, tooth_size, say, pool)
+            comp_a, comp_b = tooth_compliances(mp.unmodified, material, tooth_size, say, pool)
         kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": E_star}
         s0 = ContactGrid.s_max
         if cell is None and rigid:
@@ -499,6 +517,7 @@ def contact_analysis(
         torque_external=T_a, torque_internal=T_b, speed=float(design.input_speed),
         mesh_frequency=f_mesh, k_mean=fit.mean, fit_residual=fit.residual, order=order,
         cell_m=h, rigid=int(rigid), lever_arm_m=arm,
+        modifications=json.dumps(mp.modifications.to_dict()),
         fe_dofs=0 if comp_a is None else comp_a.dofs + comp_b.dofs,
         seconds=time.perf_counter() - t0,
         frame="x: normal of the plane of the two axes (tangential at the mesh); y: along the "
