@@ -28,6 +28,8 @@ EXPECTED = {
     "cycloid_ball": {"design", "kinematics", "modal", "sensitivity", "campbell", "response"},
     "cycloid_ball_kinematics": {"design", "kinematics"},
     "gear_pair": {"design", "kinematics", "modal", "sensitivity", "campbell", "response"},
+    "gear_pair_crowned": {"design", "kinematics", "modal", "sensitivity", "campbell",
+                          "response"},
     "khv": {"design", "kinematics", "modal", "sensitivity", "campbell", "response",
             "closed-graph"},
     "khv_kinematics": {"design", "kinematics"},

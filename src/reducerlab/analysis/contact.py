@@ -216,7 +216,7 @@ def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
     modifications ``modifications`` (``contact.modifications.PairModifications``;
     default the design's, ``analysis.flank_modifications.design_modifications``)."""
     from ..contact.flanks import Misalignment, NutationPair
-    from .flank_modifications import checked, design_modifications
+    from .flank_modifications import with_modifications
 
     if not (isinstance(design, Design) and design.has_tooth_surfaces):
         raise ReducerlabError(
@@ -233,12 +233,7 @@ def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
     crown, ext = design.tooth_generation(2 * pair, profile)
     _, internal = design.tooth_generation(2 * pair - 1, profile)
     plain = NutationPair(crown, ext, internal, flank, misalignment)
-    if modifications is None:
-        modifications = design_modifications(design, pair, plain.flank_a, plain.flank_b)
-    if modifications.none:
-        return plain
-    return checked(NutationPair(crown, ext, internal, flank, misalignment, None, modifications),
-                   design, pair)  # fmt: skip
+    return with_modifications(plain, design, pair, modifications)
 
 
 #: the command-line option of each length of a misalignment

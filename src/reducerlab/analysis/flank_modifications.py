@@ -12,6 +12,7 @@ switch says ``"crowned"``, else none. :func:`spur_mesh_pair` is the spur design'
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 from ..contact.modifications import (
@@ -30,6 +31,7 @@ __all__ = [
     "design_modifications",
     "pair_fields",
     "spur_mesh_pair",
+    "with_modifications",
 ]
 
 
@@ -144,10 +146,21 @@ def spur_mesh_pair(design: Design, modifications: PairModifications | None = Non
 
     if getattr(design, "type", None) != "gear_pair":
         raise ReducerlabError("design: spur_mesh_pair needs a gear_pair design")
-    plain = SpurMeshPair(design.spur_pair())
+    return with_modifications(SpurMeshPair(design.spur_pair()), design, 1, modifications)
+
+
+def with_modifications(
+    plain: Any, design: Design, pair: int, modifications: PairModifications | None = None
+) -> Any:
+    """The unmodified mesh pair ``plain`` (a dataclass with a ``modifications`` field:
+    ``NutationPair``, ``SpurMeshPair``) with ``modifications``, default the design's
+    (:func:`design_modifications`); a relief longer than its flank refused in the
+    design's field names."""
     if modifications is None:
-        modifications = design_modifications(design, 1, plain.flank_a, plain.flank_b)
-    return checked(SpurMeshPair(plain.pair, modifications), design, 1)
+        modifications = design_modifications(design, pair, plain.flank_a, plain.flank_b)
+    if modifications.none:
+        return plain
+    return checked(replace(plain, modifications=modifications), design, pair)
 
 
 def checked(mesh_pair: Any, design: Design, pair: int) -> Any:

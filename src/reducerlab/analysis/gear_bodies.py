@@ -58,7 +58,8 @@ def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[
     """The design fields a loaded-contact result of one gear pair depends on (the rule
     of ``contact`` results in :data:`reducerlab.inputs.RULES`): the tooth generation of
     the pair (as for :func:`body_inputs`, without the blanks: the tooth compliance
-    models hold teeth and rim only), the ``[surface]`` table and the ``[material]``.
+    models hold teeth and rim only), the ``[surface]`` table and the ``[material]``,
+    the pair's flank modifications (and the design load when the crowned layout is on).
     Not the masses, supports, meshes or speeds: a changed damping or stiffness of the
     lumped model does not make the contact of the same teeth another result. The load,
     grid and misalignment are the result's own attributes. None (the whole design) for a
@@ -77,7 +78,12 @@ def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[
         return None
     if design.get("type") != "nutation" or pair not in (1, 2):
         return None
-    return _pair_generation(design, pair)
+    # the flank modifications: each gear's table, and the design load that sizes the
+    # crowned layout (surface.flank_modifications is in [surface])
+    mods = [f"gear{k}.modifications" for k in (2 * pair - 1, 2 * pair)]
+    if (design.get("surface") or {}).get("flank_modifications") == "crowned":
+        mods += ["output_torque", "output_power"]
+    return [*_pair_generation(design, pair), *mods]
 
 
 def body_mesh_sizes(

@@ -72,10 +72,10 @@ C_GAMMA = 20e9
 MAX_AMOUNT = 0.2e-3
 
 #: Share of the active profile (roll length or arc length) over which the crowned
-#: layout relieves each tip: the short relief of ISO/TS 6336-20 (to the middle of the
-#: double contact zone, ``(eps_alpha - 1) p_b / 2`` of ``g_alpha = eps_alpha p_b``) for a
-#: transverse contact ratio of about 1.65
-TIP_SHARE = 0.2
+#: layout relieves each tip: the long relief of ISO/TS 6336-20 (from the tip to the
+#: single contact point, ``(eps_alpha - 1) p_b`` of the path ``g_alpha = eps_alpha
+#: p_b``) for a transverse contact ratio of about 1.65
+TIP_SHARE = 0.4
 
 #: Points of the tables mapping flank parameters to profile and face positions
 TABLE = 201
@@ -422,8 +422,9 @@ def crowned_layout(
       foundation of stiffness ``c_gamma`` a parabolic crown of ``1.5 delta`` just spans
       the face at the design load; ``2 delta`` loads ``0.91 b`` and keeps the load off
       both face ends (``docs/contact.md``);
-    * tip relief ``C_a = C_eff = delta`` on each flank, linear, over the outer
-      :data:`TIP_SHARE` of its active profile (ISO/TS 6336-20's short relief);
+    * tip relief ``C_a = C_eff = delta`` on each flank, parabolic (no kink in the
+      flank, so no pressure spike where the relief starts), over the outer
+      :data:`TIP_SHARE` of its active profile (ISO/TS 6336-20's long relief);
     * no profile crowning, no root relief (each tip relief relieves the mating root).
 
     Parameters
