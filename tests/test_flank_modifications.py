@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -92,11 +93,15 @@ def test_bad_modifications_are_refused_naming_the_field():
         load_design(example_dir() / "khv.toml", ['gears.ring_modifications.root_relief="1 m"'])
     with pytest.raises(DesignError, match=r"mesh\.flank_modifications"):
         load_design(SPUR, ["mesh.flank_modifications=rounded"])
-    # a relief longer than the flank: refused when the pair is built, in the design's name
-    long = load_design(SPUR, ['gear.modifications.tip_relief="5 um"',
-                              'gear.modifications.tip_relief_length="40 mm"'])  # fmt: skip
-    with pytest.raises(DesignError, match=r"gear\.modifications\.tip_relief_length: 40 mm runs"):
-        spur_mesh_pair(long)
+    # a relief longer than the flank: refused at load time (spur: the involute's roll
+    # length), or when the pair is built (nutation: the generated flank), by field name
+    with pytest.raises(DesignError, match=r"gear\.modifications\.tip_relief_length.*beyond"):
+        load_design(SPUR, ['gear.modifications.tip_relief="5 um"',
+                           'gear.modifications.tip_relief_length="40 mm"'])  # fmt: skip
+    long = load_design(NUTATION, ['gear1.modifications.root_relief="5 um"',
+                                  'gear1.modifications.root_relief_length="9 mm"'])  # fmt: skip
+    with pytest.raises(DesignError, match=r"gear1\.modifications\.root_relief_length: 9 mm"):
+        contact_pair(long, 1)
     # the crowned layout needs the design load
     unloaded = load_design(SPUR, ["mesh.flank_modifications=crowned", "operating.torque=0"])
     with pytest.raises(DesignError, match=r"operating\.torque or operating\.power"):
@@ -209,6 +214,10 @@ def test_crowned_nutation_pair_keeps_the_load_off_the_edges():
     torque = 3000.0 / (1500 * math.pi / 30)
     mp = contact_pair(design, 1)
     assert not mp.modifications.none
+    # the modified pair travels to worker processes by pickle: the same flanks there
+    clone = pickle.loads(pickle.dumps(mp))
+    uv = (np.array([0.3, 0.6, 0.99]), np.array([0.0, 0.5, 1.0]))
+    np.testing.assert_array_equal(clone.flank_b.evaluate(*uv)[0], mp.flank_b.evaluate(*uv)[0])
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.array([0.0, 2.0 / 3.0])
     band = 0.1 * mp.crown.profile.module

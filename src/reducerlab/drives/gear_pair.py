@@ -155,6 +155,33 @@ class GearPairDesign(Design):
             ))  # fmt: skip
         return self
 
+    @model_validator(mode="after")
+    def _reliefs_fit(self) -> GearPairDesign:
+        """Relief lengths within each gear's active profile (its involute's roll length
+        from the root form circle to the tip), checked at load time."""
+        given = [n for n in ("pinion", "gear") if getattr(self, n).modifications is not None]
+        if not given or self.mesh.face_width is None:
+            return self
+        try:
+            pair = self.spur_pair()
+        except DesignError:
+            return self  # the tooth geometry's own error comes where the teeth are used
+        problems = []
+        for name in given:
+            g = pair.pinion if name == "pinion" else pair.wheel
+            roll = g.tip_roll - g.form_roll
+            spec = getattr(self, name).modifications
+            for f in ("tip_relief_length", "root_relief_length"):
+                if getattr(spec, f) > roll * (1 + 1e-12):
+                    problems.append((
+                        f"{name}.modifications.{f}",
+                        f"runs beyond the flank: the active profile is {roll * 1e3:.4g} mm "
+                        "(roll length from the root form circle to the tip)",
+                    ))  # fmt: skip
+        if problems:
+            raise field_rules(*problems)
+        return self
+
     def base_radius(self, which: Literal["pinion", "gear"]) -> float:
         """Base-circle radius ``m z cos(alpha) / 2`` (m)."""
         z = getattr(self, which).teeth
