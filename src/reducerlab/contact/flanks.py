@@ -51,7 +51,12 @@ Array = NDArray[np.float64]
 
 
 class Flank(Protocol):
-    """One flank of tooth 0 of a gear, evaluated exactly in the gear's frame."""
+    """One flank of tooth 0 of a gear, evaluated exactly in the gear's frame.
+
+    Optional, read by ``contact.modifications``: ``profile_position(u)`` (m, the roll
+    length of an involute from the root end) and ``tip_end`` (-1 where ``u`` runs from
+    the tip to the root).
+    """
 
     teeth: int
     u_range: tuple[float, float]

@@ -260,7 +260,7 @@ def _interp(x: Array, xp: Array, fp: Array) -> Array:
     return y
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FlankCoordinates:
     """Physical positions on a flank: tables from the flank parameters to the profile
     position ``s`` and the face position ``w`` (m), and the active flank's lengths.
