@@ -75,6 +75,47 @@ def test_ease_off_law_in_iso_21771_terms():
     assert FlankModification().none and not m.none
 
 
+class _PlaneFlank:
+    """The smallest object of the Flank protocol (no profile_position, no tip_end): a
+    plane rectangle ``L x b`` with its normal along +z, u from root (0) to tip (1)."""
+
+    teeth = 20
+    u_range = (0.0, 1.0)
+    L, b = 4e-3, 10e-3
+
+    def evaluate(self, u, v):
+        u, v = np.asarray(u, float).ravel(), np.asarray(v, float).ravel()
+        P = np.column_stack([u * self.L, v * self.b, np.zeros(u.size)])
+        return P, np.tile([0.0, 0.0, 1.0], (u.size, 1))
+
+    def inside(self, points):
+        return np.ones(len(points), bool)
+
+
+def test_any_flank_of_the_protocol_is_modified_along_its_normal():
+    # the wrapper needs only teeth, u_range, evaluate and inside: on a plane flank the
+    # arc lengths are L u and b v exactly, and the point moves by -e along the normal
+    from reducerlab.contact.modifications import ModifiedFlank, modified
+
+    m = FlankModification(lead_crowning=5e-6, tip_relief=3e-6, tip_relief_length=1e-3)
+    plane = _PlaneFlank()
+    f = modified(plane, m)
+    assert isinstance(f, ModifiedFlank) and modified(plane, FlankModification()) is plane
+    assert f.coordinates.profile == pytest.approx(plane.L, rel=1e-12)
+    assert f.coordinates.face == pytest.approx(plane.b, rel=1e-12)
+    u, v = np.array([0.0, 0.5, 1.0, 1.0]), np.array([0.5, 0.0, 0.5, 1.0])
+    P, N = f.evaluate(u, v)
+    want = m.ease_off(u * plane.L, v * plane.b, plane.L, plane.b)
+    np.testing.assert_allclose(P[:, 2], -want, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(N, plane.evaluate(u, v)[1])  # the normal is kept
+    np.testing.assert_allclose(want, [0.0, 5e-6, 3e-6, 8e-6], rtol=0, atol=1e-15)
+    assert f.teeth == 20 and f.L == plane.L  # the wrapped flank's attributes
+    with pytest.raises(AttributeError):
+        _ = f.missing
+    with pytest.raises(ReducerlabError, match=r"tip_relief_length: 5 mm runs beyond"):
+        modified(plane, FlankModification(tip_relief=1e-6, tip_relief_length=5e-3))
+
+
 def test_bad_modifications_are_refused_naming_the_field():
     with pytest.raises(ReducerlabError, match="lead_crowning: must be >= 0"):
         FlankModification(lead_crowning=-1e-6)
