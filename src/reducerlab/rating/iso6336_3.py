@@ -259,9 +259,9 @@ def internal_tooth_form(
     module: float,
     pressure_angle: float,
     tooth_thickness: float,
-    root_height: float,
+    reference_height: float,
+    tooth_depth: float,
     load_height: float,
-    dedendum: float = 1.25,
     root_fillet: float = 0.38,
 ) -> ToothForm:
     """Tooth form of an internal gear by the rack approximation (ISO 6336-3:2019,
@@ -269,43 +269,50 @@ def internal_tooth_form(
     critical section where the fillet tangent makes **60 deg** with the tooth axis).
 
     The rack tooth: straight flanks at ``alpha_n`` to the tooth axis, thickness
-    ``tooth_thickness`` at ``dedendum m`` above the root line, a root fillet of radius
-    ``rho_F = root_fillet m`` tangent to flank and root line. The critical point is
-    where the fillet tangent is at 60 deg: ``s_Fn = 2 [s/2 + (h_fP - rho) tan a +
-    rho / cos a - rho / 2]`` at height ``rho (1 - sin 60)`` above the root. The load
-    acts normal to the flank (``alpha_Fen = alpha_n``, a rack has ``gamma_e = 0``) at
-    ``load_height`` above the root line; ``h_Fe`` runs from the critical section to
-    where the load line crosses the tooth axis.
+    ``s = tooth_thickness`` on the reference line ``h = reference_height`` above the root
+    line, a root fillet of radius ``rho = root_fillet m`` tangent to flank and root line.
+    The fillet tangent is at 60 deg to the tooth axis at height ``rho (1 - sin 60)``,
+    where ``s_Fn = 2 [s/2 + (h - rho) tan a + rho / cos a - rho / 2]``. The load acts
+    normal to the flank (``alpha_Fen = alpha_n``: a rack has ``gamma_e = 0``) at
+    ``load_height`` above the root line; ``h_Fe`` runs along the tooth axis from the
+    critical section to where the load line crosses it. The derivation is ours, from
+    the clause's principle (``docs/assumptions.md``).
 
     Parameters
     ----------
     module, pressure_angle : float
         ``m_n`` (m) and ``alpha_n`` (rad).
     tooth_thickness : float
-        Tooth thickness ``s`` at the rack reference line (m).
-    root_height : float
-        Unused height datum check: the tooth depth from root to tip (m); the load
-        height must lie below it.
+        Tooth thickness ``s`` on the reference circle (m).
+    reference_height : float
+        Height of the reference circle above the root circle (m).
+    tooth_depth : float
+        Tooth depth from root to tip (m); the load must act below the tip.
     load_height : float
-        Height of the outer point of single contact above the root line (m).
-    dedendum, root_fillet : float
-        ``h_fP / m_n`` and ``rho_fP / m_n`` of the internal gear's basic rack.
+        Height of the outer point of single contact above the root circle (m).
+    root_fillet : float
+        ``rho_F / m_n``, the root fillet radius of the internal gear.
     """
     mn = _positive("module", module)
     an = _positive("pressure_angle", pressure_angle)
     s = _positive("tooth_thickness", tooth_thickness)
+    h = _positive("reference_height", reference_height)
     _positive("load_height", load_height)
-    if not load_height < root_height:
+    if not load_height < tooth_depth:
         raise ReducerlabError(
-            f"load_height: {load_height:.4g} m must be below the tooth depth {root_height:.4g} m"
+            f"load_height: {load_height:.4g} m must be below the tooth depth {tooth_depth:.4g} m"
         )
-    h_fP, rho = dedendum * mn, root_fillet * mn
-    half_F = s / 2 + (h_fP - rho) * math.tan(an) + rho / math.cos(an) - rho / 2
+    rho = _positive("root_fillet", root_fillet) * mn
+    half_F = s / 2 + (h - rho) * math.tan(an) + rho / math.cos(an) - rho / 2
     s_Fn = 2 * half_F
     y_F = rho * (1 - math.sin(math.pi / 3))
-    half_e = s / 2 + (h_fP - load_height) * math.tan(an)
+    half_e = s / 2 + (h - load_height) * math.tan(an)
     h_Fe = load_height - half_e * math.tan(an) - y_F
-    Y_F = 6 * (h_Fe / mn) * math.cos(an) / ((s_Fn / mn) ** 2 * math.cos(an))
+    if not (h_Fe > 0 and half_e > 0):
+        raise ReducerlabError(
+            "load_height: the load line crosses the tooth axis below the critical section"
+        )
+    Y_F = 6 * (h_Fe / mn) / (s_Fn / mn) ** 2
     Y_S, q_s = stress_correction(s_Fn, h_Fe, rho)
     return ToothForm(h_Fe, s_Fn, rho, an, math.nan, math.nan, Y_F, Y_S, q_s)
 
