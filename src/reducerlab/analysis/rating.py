@@ -195,16 +195,65 @@ def load_capacity(
             ("planet V", "ring K"),
         )
     elif kind == "nutation":
-        from ..rating.iso10300 import rate_nutation
-
-        for label, (r, names) in rate_nutation(design, mat, c, torque=torque, power=power).items():
-            ratings[label] = (r, names)
+        ratings.update(_nutation(design, mat, c, torque, power))
     else:
         raise ReducerlabError(
             f"type: the load capacity rating covers gear_pair, khv and nutation designs; "
             f"got {kind!r}"
         )
     return _result(design, ratings, c)
+
+
+def _nutation(
+    design: Any,
+    mat: GearMaterial,
+    c: RatingConditions,
+    torque: float | None,
+    power: float | None,
+) -> dict[str, tuple[PairRating, tuple[str, str]]]:
+    """Each bevel pair of a nutation design on its virtual cylindrical gears
+    (:func:`reducerlab.rating.bevel.rate_bevel_pair`), loaded by the torque flow."""
+    from ..rating.bevel import rate_bevel_pair
+    from .torque_flow import torque_flow
+
+    sf = design.surface
+    if sf is None:
+        raise ReducerlabError(
+            "surface: the rating needs the tooth geometry of a [surface] table "
+            "(profile, face_width)"
+        )
+    if sf.profile != "involute":
+        raise ReducerlabError(
+            f"surface.profile: the ISO rating covers involute teeth; got {sf.profile!r}"
+        )
+    if torque is not None or power is not None:
+        w_in = abs(float(design.input_speed))
+        t_in = torque if torque is not None else float(power) / w_in
+        ratio = abs(float(design.kinematics().ratio))
+        design = design.with_values({"output_torque": t_in * ratio, "output_power": None})
+    flow = torque_flow(design)
+    if not flow.output_torque:
+        raise ReducerlabError(
+            "torque/power: give the load (--torque or --power), or a load in the design "
+            "(output_torque or output_power)"
+        )
+    theta = design.theta
+    freqs = list(design.kinematics().mesh_frequencies(design.input_speed).values())
+    out = {}
+    for k, (d_nut, d_cen) in enumerate(design.cones(theta)):
+        nut, cen = getattr(design, f"gear{2 * k + 1}"), getattr(design, f"gear{2 * k + 2}")
+        mesh = flow.meshes[f"mesh{k + 1}"]
+        m_n = sf.normal_module or design.surface_module(2 * k + 1)
+        w_rel = 2 * math.pi * freqs[k] / cen.teeth
+        r = rate_bevel_pair(
+            teeth=(cen.teeth, nut.teeth), mean_radii=(cen.mean_radius, nut.mean_radius),
+            cone_angles=(d_cen, d_nut), normal_module=m_n, spiral_angle=design.spiral_angle,
+            pressure_angle=design.normal_pressure_angle, face_width=sf.face_width,
+            torque=abs(float(mesh.external_torque)), speed=w_rel, internal=True,
+            materials=(mat, mat), conditions=c,
+        )  # fmt: skip
+        out[f"pair {k + 1}"] = (r, (f"gear {2 * k + 2}", f"gear {2 * k + 1}"))
+    return out
 
 
 def _load(design: Design, torque, power, speed, pick) -> float:

@@ -21,7 +21,16 @@ from . import iso6336_2 as p2
 from . import iso6336_3 as p3
 from .material import GearMaterial, RatingConditions
 
-__all__ = ["DEFAULTS", "STEEL", "Factor", "PairRating", "rate_internal_pair", "rate_spur_pair"]
+__all__ = [
+    "DEFAULTS",
+    "STEEL",
+    "Factor",
+    "MeshData",
+    "PairRating",
+    "rate_internal_pair",
+    "rate_mesh",
+    "rate_spur_pair",
+]
 
 #: the default material of both gears (case-hardened steel MQ, ISO 6336-5)
 STEEL = GearMaterial()
@@ -59,7 +68,13 @@ class PairRating:
 
 
 @dataclass(frozen=True)
-class _Mesh:
+class MeshData:
+    """A cylindrical pair as the rating sees it (SI): teeth (``z_2 < 0`` internal),
+    reference, tip and base diameters, transverse and working pressure angles, contact
+    ratio, face width, normal module, tooth depth, the tooth forms of both gears, helix
+    angle and overlap ratio, and for virtual gears the real speed ratio and speed that
+    count the load cycles."""
+
     z: tuple[int, int]  # z2 < 0 for an internal gear
     d: tuple[float, float]  # reference diameters (m, > 0)
     da: tuple[float, float]
@@ -71,6 +86,10 @@ class _Mesh:
     m: float
     depth: float  # tooth depth h (m)
     forms: tuple[p3.ToothForm, p3.ToothForm]
+    beta: float = 0.0  # helix angle (rad); alpha, alpha_w are then transverse angles
+    eps_beta: float = 0.0  # overlap ratio
+    cycle_ratio: float | None = None  # n_1 / n_2 for the load cycles (default |u|)
+    cycle_speed: float | None = None  # gear 1's speed for its load cycles (default: speed)
 
 
 def _check_load(torque: float, speed: float) -> None:
@@ -91,7 +110,7 @@ def rate_spur_pair(
     (rad/s); tooth forms from the generated teeth (:func:`iso6336_3.spur_tooth_form`)."""
     _check_load(torque, speed)
     g1, g2 = pair.pinion, pair.wheel
-    mesh = _Mesh(
+    mesh = MeshData(
         z=(g1.teeth, g2.teeth),
         d=(2 * g1.reference_radius, 2 * g2.reference_radius),
         da=(2 * g1.tip_radius, 2 * g2.tip_radius),
@@ -104,7 +123,7 @@ def rate_spur_pair(
         depth=min(g.tip_radius - g.root_radius for g in (g1, g2)),
         forms=(p3.spur_tooth_form(pair, "pinion"), p3.spur_tooth_form(pair, "wheel")),
     )
-    return _rate(mesh, torque, speed, materials, conditions)
+    return rate_mesh(mesh, torque, speed, materials, conditions)
 
 
 def rate_internal_pair(
@@ -150,7 +169,7 @@ def rate_internal_pair(
         reference_height=rf2 - r2, tooth_depth=rf2 - ra2, load_height=rf2 - r_en2,
         root_fillet=root_fillet,
     )  # fmt: skip
-    mesh = _Mesh(
+    mesh = MeshData(
         z=(pair.z1, -pair.z2),
         d=(2 * pair.pitch_radius(1), 2 * r2),
         da=(2 * pair.tip_radius(1), 2 * ra2),
@@ -163,16 +182,18 @@ def rate_internal_pair(
         depth=min(g1.tip_radius - g1.root_radius, rf2 - ra2),
         forms=(form1, form2),
     )
-    return _rate(mesh, torque, speed, materials, conditions)
+    return rate_mesh(mesh, torque, speed, materials, conditions)
 
 
-def _rate(
-    mesh: _Mesh,
+def rate_mesh(
+    mesh: MeshData,
     torque: float,
     speed: float,
     materials: tuple[GearMaterial, GearMaterial],
     c: RatingConditions,
 ) -> PairRating:
+    """Rate ``mesh`` under ``torque`` on gear 1 (N m) at gear 1's ``speed`` (rad/s): the
+    ISO 6336-2/-3:2019 method B chain, every factor a row of the result."""
     rows: list[Factor] = []
     H2, H3, H1 = "ISO 6336-2:2019", "ISO 6336-3:2019", "ISO 6336-1:2019"
 
@@ -194,18 +215,24 @@ def _rate(
     )  # fmt: skip
     # ---- pitting
     m1, m2 = materials
-    zh = row("Z_H", "pair", p2.zone_factor(mesh.alpha, mesh.alpha_w), "1", f"{H2} Eq. 9")
+    beta_b = math.asin(
+        math.sin(mesh.beta) * math.cos(math.atan(math.tan(mesh.alpha) * math.cos(mesh.beta)))
+    )
+    zh = row("Z_H", "pair", p2.zone_factor(mesh.alpha, mesh.alpha_w, beta_b), "1", f"{H2} Eq. 9")
     ze = row(
         "Z_E", "pair",
         p2.elasticity_factor(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus,
                              m2.poisson_ratio),
         "sqrt(Pa)", f"{H2} Eq. 23",
     )  # fmt: skip
-    zeps = row("Z_eps", "pair", p2.contact_ratio_factor(mesh.eps), "1", f"{H2} Eq. 10")
-    zbeta = row("Z_beta", "pair", p2.helix_factor(0.0), "1", f"{H2} Eq. 13 (spur: 1)")
+    if mesh.beta:
+        row("eps_beta", "pair", mesh.eps_beta, "1", "ISO 21771 (overlap ratio)")
+    zeps = row("Z_eps", "pair", p2.contact_ratio_factor(mesh.eps, mesh.eps_beta), "1",
+               f"{H2} Eq. 10-12")  # fmt: skip
+    zbeta = row("Z_beta", "pair", p2.helix_factor(mesh.beta), "1", f"{H2} Eq. 13")
     zb, zd = p2.single_pair_factors(
         tip_diameters=mesh.da, base_diameters=mesh.db, teeth=mesh.z, alpha_wt=mesh.alpha_w,
-        eps_alpha=mesh.eps,
+        eps_alpha=mesh.eps, eps_beta=mesh.eps_beta,
     )  # fmt: skip
     row("Z_B", "1", zb, "1", f"{H2} Eq. 14-16")
     row("Z_D", "2", zd, "1", f"{H2} Eq. 17-19")
@@ -228,8 +255,11 @@ def _rate(
              f"{H2} Eq. 33-37")  # fmt: skip
     row("Z_W", "pair", 1.0, "1", f"{H2} clause 10 (equal hardness: 1)")
     row("Z_X", "pair", 1.0, "1", f"{H2} clause 11 (1: no size effect on pitting assumed)")
-    ratio = abs(u)
-    speeds = (speed, speed / ratio)
+    ratio = abs(u) if mesh.cycle_ratio is None else mesh.cycle_ratio
+    n1 = speed if mesh.cycle_speed is None else mesh.cycle_speed
+    speeds = (n1, n1 / ratio)
+    ybeta = p3.helix_factor(mesh.eps_beta, mesh.beta)
+    eps_n = mesh.eps / math.cos(beta_b) ** 2  # virtual contact ratio eps_alpha_n
     S_H, S_F = [], []
     hours_s = c.hours * 3600
     for i, (mat, zbd, form) in enumerate(zip(materials, (zb, zd), mesh.forms, strict=True)):
@@ -248,16 +278,16 @@ def _rate(
         row("s_Fn", g, form.s_Fn, "m", f"{H3} Eq. 16")
         row("rho_F", g, form.rho_F, "m", f"{H3} Eq. 17")
         row("alpha_Fen", g, form.alpha_Fen, "rad", f"{H3} Eq. 24")
-        row("Y_beta", g, 1.0, "1", f"{H3} Eq. 32 (spur: 1)")
+        row("Y_beta", g, ybeta, "1", f"{H3} Eq. 32")
         yb = row(
             "Y_B", g,
             p3.rim_factor(c.rim_thickness, mesh.depth, internal=(i == 1 and z2 < 0),
                           module=mesh.m),
             "1", f"{H3} Eq. 37-40",
         )  # fmt: skip
-        ydt = row("Y_DT", g, p3.deep_tooth_factor(mesh.eps, c.accuracy_grade), "1",
+        ydt = row("Y_DT", g, p3.deep_tooth_factor(eps_n, c.accuracy_grade), "1",
                   f"{H3} Eq. 41-43")  # fmt: skip
-        sf0 = row("sigma_F0", g, p3.root_stress_nominal(ft, mesh.b, mesh.m, form, 1.0, yb, ydt),
+        sf0 = row("sigma_F0", g, p3.root_stress_nominal(ft, mesh.b, mesh.m, form, ybeta, yb, ydt),
                   "Pa", f"{H3} Eq. 3")  # fmt: skip
         sf = row("sigma_F", g, sf0 * c.K_A * c.K_v * kfb * c.K_Halpha, "Pa", f"{H3} Eq. 2")
         ynt = row("Y_NT", g, p3.life_factor(n_l, mat.treatment), "1", f"{H3} Table 4")

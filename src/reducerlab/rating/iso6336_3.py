@@ -126,7 +126,7 @@ def stress_correction(s_Fn: float, h_Fe: float, rho_F: float) -> tuple[float, fl
 
 def tooth_form(
     *,
-    teeth: int,
+    teeth: float,
     module: float,
     pressure_angle: float,
     shift: float,
@@ -141,8 +141,8 @@ def tooth_form(
 
     Parameters
     ----------
-    teeth : int
-        Number of teeth ``z`` (> 0, external gear).
+    teeth : float
+        Number of teeth ``z`` (>= 5, external gear; a virtual gear's may be fractional).
     module : float
         Normal module ``m_n`` (m).
     pressure_angle : float
@@ -168,8 +168,10 @@ def tooth_form(
     ToothForm
     """
     z = teeth
-    if isinstance(z, bool) or not isinstance(z, int | np.integer) or z < 5:
-        raise ReducerlabError(f"teeth: must be an integer >= 5 (external gear); got {z!r}")
+    if isinstance(z, bool) or not isinstance(z, int | float | np.integer | np.floating):
+        raise ReducerlabError(f"teeth: must be a number >= 5 (external gear); got {z!r}")
+    if not (math.isfinite(z) and z >= 5):
+        raise ReducerlabError(f"teeth: must be a number >= 5 (external gear); got {z!r}")
     mn = _positive("module", module)
     an = _positive("pressure_angle", pressure_angle)
     _positive("tip_diameter", tip_diameter)
