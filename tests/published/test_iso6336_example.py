@@ -141,3 +141,48 @@ def test_safety_factors(ex1):
     rel = 0.0005 / 0.803 + 0.00025 + 3 * 0.5e-5
     assert ex1["S_H1"] == pytest.approx(1.02853, rel=rel)
     assert ex1["S_H2"] == pytest.approx(1.08696, rel=rel)
+
+
+def test_the_rating_chain_reproduces_the_example():
+    """The same example through :func:`reducerlab.rating.cylindrical.rate_mesh`, the
+    chain the designs' ratings run (helical path: Z_beta, Z_eps with eps_beta, beta_b
+    in Z_H), with the printed K-factors and conditions as inputs."""
+    from reducerlab.rating import iso6336_3 as p3
+    from reducerlab.rating.cylindrical import MeshData, rate_mesh
+    from reducerlab.rating.material import GearMaterial, RatingConditions
+
+    at = math.atan(math.tan(ALPHA_N) / math.cos(BETA))
+    mt = MN / math.cos(BETA)
+    d1, d2 = mt * Z1, mt * Z2
+    awt = math.acos((d1 + d2) / 2 * math.cos(at) / AW)
+    x1 = (inv(awt) - inv(at)) * (Z1 + Z2) / (2 * math.tan(ALPHA_N))
+    da1, da2 = d1 + 2 * MN * (1 + x1), d2 + 2 * MN
+    db1, db2 = d1 * math.cos(at), d2 * math.cos(at)
+    g = 0.5 * (math.sqrt(da1**2 - db1**2) + math.sqrt(da2**2 - db2**2)) - AW * math.sin(awt)
+    eps = g / (math.pi * mt * math.cos(at))
+    forms = tuple(
+        p3.tooth_form(teeth=z, module=MN, pressure_angle=ALPHA_N, shift=x, tip_diameter=da,
+                      contact_ratio=eps, helix_angle=BETA)
+        for z, x, da in ((Z1, x1, da1), (Z2, 0.0, da2))
+    )  # fmt: skip
+    mesh = MeshData(
+        z=(Z1, Z2), d=(d1, d2), da=(da1, da2), db=(db1, db2), alpha=at, alpha_w=awt, eps=eps,
+        b=B, m=MN, depth=2.25 * MN, forms=forms, beta=BETA,
+        eps_beta=B * math.sin(BETA) / (math.pi * MN),
+    )  # fmt: skip
+    cond = RatingConditions(
+        K_A=1.0, K_v=K_V, K_Hbeta=K_HBETA, K_Halpha=K_HALPHA, hours=HOURS, viscosity_40=NU40,
+        rz_flank=RZ, S_Hmin=1.0,
+    )  # fmt: skip
+    steel = GearMaterial(youngs_modulus=E, poisson_ratio=NU, sigma_Hlim=SIGMA_HLIM)
+    r = rate_mesh(mesh, T1, N1 * 2 * math.pi / 60, (steel, steel), cond)
+    assert r.value("Z_H") == pytest.approx(2.39533, abs=half(1e-5))
+    assert r.value("Z_beta") == pytest.approx(1.01944, abs=half(1e-5))
+    assert r.value("Z_eps") == pytest.approx(0.803, abs=half(1e-3))
+    assert r.value("Z_NT", "1") == pytest.approx(0.91, abs=half(1e-2))
+    assert r.value("Z_NT", "2") == pytest.approx(0.962, abs=half(1e-3))
+    assert r.value("sigma_HP", "1") / 1e6 == pytest.approx(1338.48050, rel=3 * 0.5e-5)
+    assert r.value("sigma_HP", "2") / 1e6 == pytest.approx(1414.52551, rel=3 * 0.5e-5)
+    rel = 0.0005 / 0.803 + 0.00025 + 3 * 0.5e-5  # as in test_safety_factors
+    assert r.S_H[0] == pytest.approx(1.02853, rel=rel)
+    assert r.S_H[1] == pytest.approx(1.08696, rel=rel)
