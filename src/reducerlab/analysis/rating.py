@@ -173,8 +173,13 @@ def load_capacity(
     """
     c = conditions or RatingConditions()
     _pinion_torque(design, torque, power)
-    mat = design_materials(design)
     kind = getattr(design, "type", "")
+    if kind not in ("gear_pair", "khv", "nutation"):
+        raise ReducerlabError(
+            f"type: the load capacity rating covers gear_pair, khv and nutation designs; "
+            f"got {kind!r}"
+        )
+    mat = design_materials(design)
     ratings: dict[str, tuple[PairRating, tuple[str, str]]] = {}
     if kind == "gear_pair":
         speed = float(design.operating.speed)  # type: ignore[attr-defined]
