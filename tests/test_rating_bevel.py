@@ -42,16 +42,18 @@ def test_ratio_of_the_virtual_pair_at_ninety_degrees():
 
 @pytest.mark.parametrize("internal", [False, True])
 def test_flat_cones_rate_as_the_cylindrical_pair(internal):
+    # 30 in 80 internal: a feasible unshifted internal pair with eps_alpha = 1.94 < 2
+    z1, z2 = (30, 80) if internal else (20, 40)
     common = dict(
-        teeth=(20, 40), mean_radii=(M * 10, M * 20), cone_angles=(FLAT, FLAT),
+        teeth=(z1, z2), mean_radii=(M * z1 / 2, M * z2 / 2), cone_angles=(FLAT, FLAT),
         normal_module=M, spiral_angle=0.0, pressure_angle=A, face_width=B, torque=80.0,
         speed=150.0, internal=internal,
     )  # fmt: skip
     bevel = rate_bevel_pair(**common)
     if internal:
-        ref = rate_internal_pair(InternalGearPair(20, 40, M, 0.0, 0.0, face_width=B), 80.0, 150.0)
+        ref = rate_internal_pair(InternalGearPair(z1, z2, M, 0.0, 0.0, face_width=B), 80.0, 150.0)
     else:
-        ref = rate_spur_pair(SpurPair(SpurGear(20, M, B), SpurGear(40, M, B)), 80.0, 150.0)
+        ref = rate_spur_pair(SpurPair(SpurGear(z1, M, B), SpurGear(z2, M, B)), 80.0, 150.0)
     # the same equations on the same numbers: agreement to rounding
     for k in range(2):
         assert bevel.S_H[k] == pytest.approx(ref.S_H[k], rel=1e-12)
@@ -60,6 +62,17 @@ def test_flat_cones_rate_as_the_cylindrical_pair(internal):
         for g in ("1", "2"):
             assert bevel.value(sym, g) == pytest.approx(ref.value(sym, g), rel=1e-12)
     assert "not ISO 10300 method B1" in bevel.standard
+
+
+def test_outside_the_scope_of_iso_10300_refused():
+    # ISO 10300-2:2014 scope: virtual transverse contact ratio below 2 (the internal
+    # 20 in 40 pair has 2.15)
+    with pytest.raises(ReducerlabError, match="ISO 10300-2:2014 scope"):
+        rate_bevel_pair(
+            teeth=(20, 40), mean_radii=(M * 10, M * 20), cone_angles=(FLAT, FLAT),
+            normal_module=M, spiral_angle=0.0, pressure_angle=A, face_width=B, torque=80.0,
+            speed=150.0, internal=True,
+        )  # fmt: skip
 
 
 def test_nutation_design_rated_and_double_arc_refused():

@@ -20,6 +20,12 @@ inside the internal one's (``z_v,i - z_v,e`` small). ISO 10300 covers external b
 and hypoid gears; internal bevel pairs lie outside its scope, which this
 approximation accepts.
 
+Scope of ISO 10300-2:2014 that the nutation pairs keep: virtual transverse contact
+ratio ``eps_va < 2`` (checked), profile shift sum zero (no shift at all), and within the
+range where the standard asks for confirmation by experience beyond it (mean spiral
+angle <= 45 deg, effective pressure angle <= 30 deg, face width <= 13 m_mn: the examples'
+25 deg, 20 deg and 5 m_mn).
+
 Assumptions: zero profile shift and the ISO 53 depths of the tooth surfaces
 (``geometry.profiles.InvoluteProfile``: ``h_a* = 1``, ``h_f* = 1.25``, ``rho_f* =
 0.38``) at the mean section, no tooth thickness modification, effective pressure angle
@@ -125,8 +131,12 @@ def rate_bevel_pair(
     if not (math.isfinite(b) and b > 0):
         raise ReducerlabError(f"face_width: must be > 0; got {b!r}")
     eps = v["eps_va"]
-    if not eps > 1.0:
-        raise ReducerlabError(f"teeth: the virtual pair's contact ratio {eps:.4g} is not > 1")
+    if not 1.0 < eps < 2.0:
+        # ISO 10300-2/-3:2014 scope: virtual cylindrical gears with eps_va < 2
+        raise ReducerlabError(
+            f"teeth: the virtual pair's transverse contact ratio {eps:.4g} must lie in (1, 2) "
+            "(ISO 10300-2:2014 scope)"
+        )
     form1 = p3.tooth_form(
         teeth=v["z_v1"], module=mn, pressure_angle=an, shift=0.0, tip_diameter=v["d_va1"],
         contact_ratio=eps, helix_angle=bm,
