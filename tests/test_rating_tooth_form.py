@@ -17,6 +17,7 @@ from reducerlab.geometry.spur import SpurGear, SpurPair
 from reducerlab.rating.iso6336_3 import (
     fillet_tangent_point,
     helix_factor,
+    internal_tooth_form,
     spur_tooth_form,
     tooth_form,
 )
@@ -75,3 +76,24 @@ def test_bad_input_named():
     pair = SpurPair(SpurGear(20, 0.004, 0.02), SpurGear(40, 0.004, 0.02))
     with pytest.raises(ReducerlabError, match="gear"):
         spur_tooth_form(pair, "planet")
+
+
+def test_the_rack_construction_is_the_limit_of_the_external_closed_forms():
+    # internal_tooth_form builds the critical section on a rack tooth (straight flanks,
+    # circular fillet); with the external gears' 30 deg tangent it must reproduce ISO
+    # 6336-3 Eq. 11-25 for an external gear of very many teeth: the differences are
+    # O(1/z), e.g. rho_F's 2 G^2 / (z cos^3 theta) ~ 2e-6 relative at z = 1e7
+    m, a, x, z = 1.0, math.radians(20), 0.2, 1e7
+    d = m * z
+    ext = tooth_form(
+        teeth=z, module=m, pressure_angle=a, shift=x, tip_diameter=d + 2 * m * (1 + x),
+        contact_ratio=1.6,
+    )  # fmt: skip
+    h_ref = m * (1.25 - x)  # reference line above the root line
+    rack = internal_tooth_form(
+        module=m, pressure_angle=a, tooth_thickness=m * (math.pi / 2 + 2 * x * math.tan(a)),
+        reference_height=h_ref, tooth_depth=2.25 * m, load_height=(ext.d_en - d) / 2 + h_ref,
+        root_fillet=0.38, tangent_angle=math.pi / 6,
+    )  # fmt: skip
+    for name in ("s_Fn", "rho_F", "h_Fe", "Y_F", "Y_S"):
+        assert getattr(rack, name) == pytest.approx(getattr(ext, name), rel=1e-5), name

@@ -265,6 +265,7 @@ def internal_tooth_form(
     tooth_depth: float,
     load_height: float,
     root_fillet: float = 0.38,
+    tangent_angle: float = math.pi / 3,
 ) -> ToothForm:
     """Tooth form of an internal gear by the rack approximation (ISO 6336-3:2019,
     clause 6.2.3: the internal gear's tooth taken as a rack tooth, ``z_n -> inf``, the
@@ -273,8 +274,9 @@ def internal_tooth_form(
     The rack tooth: straight flanks at ``alpha_n`` to the tooth axis, thickness
     ``s = tooth_thickness`` on the reference line ``h = reference_height`` above the root
     line, a root fillet of radius ``rho = root_fillet m`` tangent to flank and root line.
-    The fillet tangent is at 60 deg to the tooth axis at height ``rho (1 - sin 60)``,
-    where ``s_Fn = 2 [s/2 + (h - rho) tan a + rho / cos a - rho / 2]``. The load acts
+    The fillet tangent is at ``phi`` = 60 deg to the tooth axis at height
+    ``rho (1 - sin phi)``, where ``s_Fn = 2 [s/2 + (h - rho) tan a + rho / cos a -
+    rho cos phi]``. The load acts
     normal to the flank (``alpha_Fen = alpha_n``: a rack has ``gamma_e = 0``) at
     ``load_height`` above the root line; ``h_Fe`` runs along the tooth axis from the
     critical section to where the load line crosses it. The derivation is ours, from
@@ -294,6 +296,10 @@ def internal_tooth_form(
         Height of the outer point of single contact above the root circle (m).
     root_fillet : float
         ``rho_F / m_n``, the root fillet radius of the internal gear.
+    tangent_angle : float
+        Angle of the fillet tangent to the tooth axis at the critical section (rad):
+        60 deg for internal gears (ISO 6336-3); 30 deg gives the rack limit of an
+        external gear (the test's check of this construction).
     """
     mn = _positive("module", module)
     an = _positive("pressure_angle", pressure_angle)
@@ -305,9 +311,14 @@ def internal_tooth_form(
             f"load_height: {load_height:.4g} m must be below the tooth depth {tooth_depth:.4g} m"
         )
     rho = _positive("root_fillet", root_fillet) * mn
-    half_F = s / 2 + (h - rho) * math.tan(an) + rho / math.cos(an) - rho / 2
+    phi = float(tangent_angle)
+    if not an < phi < math.pi / 2:
+        raise ReducerlabError(
+            f"tangent_angle: must lie between the pressure angle and 90 deg; got {phi!r}"
+        )
+    half_F = s / 2 + (h - rho) * math.tan(an) + rho / math.cos(an) - rho * math.cos(phi)
     s_Fn = 2 * half_F
-    y_F = rho * (1 - math.sin(math.pi / 3))
+    y_F = rho * (1 - math.sin(phi))
     half_e = s / 2 + (h - load_height) * math.tan(an)
     h_Fe = load_height - half_e * math.tan(an) - y_F
     if not (h_Fe > 0 and half_e > 0):
