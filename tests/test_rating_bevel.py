@@ -90,3 +90,18 @@ def test_nutation_design_rated_and_double_arc_refused():
     # a torque on the input shaft: the flow's output is i times it
     half = load_capacity(d, torque=60.0 / abs(d.kinematics().ratio) / 2)
     assert half.value("F_t") == pytest.approx(r.value("F_t") / 2, rel=1e-9)
+
+
+def test_rating_limits_are_no_input_of_the_body_and_contact_results():
+    # sigma_Hlim, sigma_Flim and the treatment do not change a gear body's modes or the
+    # loaded contact: cached results stay valid when only the limits change
+    import json
+
+    from reducerlab.inputs import inputs_of
+
+    d = load_design(example_dir() / "nutation_surface.toml")
+    dump = json.loads(d.provenance["design"])
+    for kind, attrs in (("body-modal", {"gear": 1}), ("contact", {"pair": 1})):
+        rec = inputs_of(kind, dump, attrs)
+        assert "material.youngs_modulus" in rec and "material.density" in rec
+        assert not any(k.startswith(("material.sigma", "material.treatment")) for k in rec)
