@@ -16,6 +16,7 @@ from reducerlab.errors import ReducerlabError
 from reducerlab.geometry.spur import SpurGear, SpurPair
 from reducerlab.rating.iso6336_3 import (
     fillet_tangent_point,
+    gear_tooth_form,
     helix_factor,
     internal_tooth_form,
     spur_tooth_form,
@@ -30,6 +31,7 @@ def test_closed_form_matches_the_generated_tooth(z1, z2, x1, x2):
     pair = SpurPair(SpurGear(z1, 0.004, 0.02, shift=x1), SpurGear(z2, 0.004, 0.02, shift=x2))
     for name in ("pinion", "wheel"):
         tf = spur_tooth_form(pair, name)
+        assert gear_tooth_form(getattr(pair, name), pair.contact_ratio) == tf
         s_Fn, rho_F, h_Fe = fillet_tangent_point(getattr(pair, name), tf.d_en)
         # chord and arm: the same point found by bisection on 4001 fillet points, linear
         # interpolation error ~(h/rho)^2 ~ 1e-9 relative

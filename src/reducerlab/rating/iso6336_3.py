@@ -47,6 +47,7 @@ from ..geometry.spur import SpurGear, SpurPair
 __all__ = [
     "ToothForm",
     "fillet_tangent_point",
+    "gear_tooth_form",
     "helix_factor",
     "internal_tooth_form",
     "spur_tooth_form",
@@ -237,23 +238,30 @@ def tooth_form(
     return ToothForm(h_Fe, s_Fn, rho_F, alpha_Fen, theta, d_en, Y_F, Y_S, q_s)
 
 
+def gear_tooth_form(gear: SpurGear, contact_ratio: float) -> ToothForm:
+    """Tooth form of one :class:`~reducerlab.geometry.spur.SpurGear` (ISO 6336-3:2019
+    method B, its own ISO 53 generating rack) with the load at the outer point of single
+    contact for the transverse ``contact_ratio`` of its pair (``contact_ratio = 1``: the
+    load at the tip, ``Y_F -> Y_Fa``)."""
+    return tooth_form(
+        teeth=gear.teeth,
+        module=gear.module,
+        pressure_angle=gear.pressure_angle,
+        shift=gear.shift,
+        tip_diameter=2 * gear.tip_radius,
+        contact_ratio=contact_ratio,
+        dedendum=gear.dedendum,
+        root_fillet=gear.root_fillet,
+    )
+
+
 def spur_tooth_form(pair: SpurPair, gear: str = "pinion") -> ToothForm:
     """Tooth form of the ``"pinion"`` or the ``"wheel"`` of a spur pair, with its own
     generating rack and the pair's transverse contact ratio (ISO 6336-3:2019 method B).
     """
     if gear not in ("pinion", "wheel"):
         raise ReducerlabError(f"gear: must be 'pinion' or 'wheel'; got {gear!r}")
-    g: SpurGear = getattr(pair, gear)
-    return tooth_form(
-        teeth=g.teeth,
-        module=g.module,
-        pressure_angle=g.pressure_angle,
-        shift=g.shift,
-        tip_diameter=2 * g.tip_radius,
-        contact_ratio=pair.contact_ratio,
-        dedendum=g.dedendum,
-        root_fillet=g.root_fillet,
-    )
+    return gear_tooth_form(getattr(pair, gear), pair.contact_ratio)
 
 
 def internal_tooth_form(
