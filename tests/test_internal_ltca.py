@@ -316,3 +316,17 @@ def test_conformal_contact_against_hertz(cycle):
     assert p.pressure[mid_face].max() == pytest.approx(p0, rel=0.05)
     # the loaded band's width: each edge falls on a cell boundary (measured +0.09 mm)
     assert abs(p.contact_area / B - 2 * b_h) < CELL
+
+
+def test_pair_ring_tip_thickness_matches_the_ring_geometry():
+    # The ring's tooth on its tip circle two ways: InternalGearPair's closed form
+    # (space width e2 = m (pi/2 + 2 x2 tan a), ISO 21771 convention of the pair) and the
+    # half tooth angle of geometry.internal_gear.InternalGear's involute: they must agree.
+    from reducerlab.geometry.internal_gear import InternalGear
+    from reducerlab.geometry.internal_pair import InternalGearPair
+
+    for x2 in (0.25, 0.3, 0.4):
+        pair = InternalGearPair(30, 33, 4e-3, 0.2, x2)
+        ring = InternalGear(33, 4e-3, 0.01, shift=x2, root_fillet=0.2)
+        ra = pair.tip_radius(2)
+        assert pair.tip_thickness(2) == pytest.approx(2 * ra * ring.half_angle(ra), rel=1e-12)
