@@ -359,6 +359,7 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.frequency_response
     import reducerlab.analysis.kinematics
     import reducerlab.analysis.modal
+    import reducerlab.analysis.rating
     import reducerlab.analysis.regime_map
     import reducerlab.analysis.response
     import reducerlab.analysis.sweep  # noqa: F401

@@ -43,13 +43,14 @@ def body_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str
 
 def _pair_generation(design: Mapping[str, Any], pair: int) -> list[str]:
     """The fields that generate pair ``pair``'s teeth: type and sides, helix, pressure
-    and nutation angles, ``[surface]``, ``[material]``, and the teeth and mean radii of
-    both gears (of every gear where the nutation angle follows from them)."""
+    and nutation angles, ``[surface]``, the elastic constants and density of
+    ``[material]`` (not its rating limits), and the teeth and mean radii of both gears
+    (of every gear where the nutation angle follows from them)."""
     free = design.get("nutation_angle") is None and design.get("sides") == "double"
     gears = range(1, 5) if free else (2 * pair - 1, 2 * pair)
     return [
         "type", "sides", "helix_angle", "normal_pressure_angle", "nutation_angle",
-        "surface", "material",
+        "surface", "material.youngs_modulus", "material.poisson_ratio", "material.density",
         *(f"gear{k}.{f}" for k in gears for f in ("teeth", "mean_radius")),
     ]  # fmt: skip
 

@@ -184,8 +184,8 @@ class InternalGearPair:
         ra = self.tip_radius(gear)
         if gear == 1:
             half = math.pi / (2 * z) + 2 * self.x1 * math.tan(a) / z + inv(a) - inv(aa)
-        else:  # internal gear: space width of an external gear with shift -x2
-            half = math.pi / (2 * z) + 2 * self.x2 * math.tan(a) / z - inv(a) + inv(aa)
+        else:  # internal gear: space width e2 = m (pi/2 + 2 x2 tan a) on the reference circle
+            half = math.pi / (2 * z) - 2 * self.x2 * math.tan(a) / z - inv(a) + inv(aa)
         return 2 * ra * half
 
     # ------------------------------------------------------------- conditions

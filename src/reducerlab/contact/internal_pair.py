@@ -1,0 +1,492 @@
+"""Internal involute spur gear pairs (KHV drives, paper 004) in the loaded tooth contact
+analysis.
+
+Adapters to the protocols of :mod:`reducerlab.contact.flanks` and
+:mod:`reducerlab.contact.ltca`:
+
+* :class:`InternalFlank`: one involute flank of tooth 0 of an
+  :class:`~reducerlab.geometry.internal_gear.InternalGear` (the ring), ``u`` in
+  ``[0, 1]`` from the root form circle (outer end) to the tip circle (inner end),
+  linear in the roll length, ``v`` across the face, normals out of the material;
+* :class:`InternalMeshPair`: the planet (gear A, a :class:`SpurGear`) inside the ring
+  (gear B) at the working centre distance, as a ``MeshPair``; :meth:`InternalMeshPair.
+  from_khv` builds it from a KHV design's gears;
+* :func:`internal_tooth_compliance`: the finite-element bending compliance of ring teeth
+  ``-1, 0, 1`` (``contact.compliance.flank_influence`` on a five-tooth sector of
+  ``fe.internal_mesh``, the rim's outer surface and the radial cut faces held).
+
+Placement (fixed frame, SI units, rad): the planet's axis is the ``z`` axis, the ring's
+axis is parallel through ``(-a', 0, 0)``; the mesh zone lies on ``+x`` (pitch point
+``(r_w1, 0, 0)``). For a positive planet torque (about ``+z``) flank **+1** of the
+planet drives flank **-1** of the ring (the clockwise side of a ring tooth); the drive
+side line of action runs through the pitch point with direction
+``e = (sin a_w, cos a_w, 0)``, tangent to the planet's base circle at
+``T1 = r_b1 (cos a_w, -sin a_w)`` and to the ring's at ``T2 = T1 - a' sin(a_w) e``. A
+contact point at distance ``s`` from ``T1`` has the planet roll length ``s`` and the ring
+roll length ``s + a' sin a_w``. Both gears turn the same way: planet tooth ``k`` (tooth
+0 turned by ``2 pi k / z1``) meets ring tooth ``k`` (tooth 0 turned by ``2 pi k / z2``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError
+from ..fe.elasticity import STEEL, Material
+from ..geometry.internal_gear import InternalGear
+from ..geometry.internal_pair import inv, inv_inverse
+from ..geometry.spur import SpurGear
+from ..kinematics.rotations import rot_z
+from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
+from .flanks import GearPose
+from .spur_pair import SpurFlank, spur_tooth_compliance
+
+__all__ = [
+    "RING_DEDENDUM_CLEARANCE",
+    "RING_ROOT_FILLET",
+    "InternalFlank",
+    "InternalMeshPair",
+    "internal_tooth_compliance",
+]
+
+Array = NDArray[np.float64]
+Stage = Callable[[str], None]
+
+#: Teeth meshed for the ring's compliance: teeth -1, 0, 1 and one more on each side.
+SECTOR_TEETH = 5
+#: Tip clearance coefficient ``c*`` of the ring's root: ``h_f2* = h_a* + c*`` (the
+#: ISO 53 relation h_fP = h_aP + 0.25 m), docs/assumptions.md.
+RING_DEDENDUM_CLEARANCE = 0.25
+#: Root fillet radius coefficient of the ring, ``rho_f* = 0.25`` (ISO 53 profile C):
+#: profile A's 0.38 does not fit into the narrow space root of the paper 004 ring.
+RING_ROOT_FILLET = 0.25
+
+
+@dataclass(frozen=True)
+class InternalFlank:
+    """One involute flank of tooth 0 of an internal gear (the ``Flank`` protocol).
+
+    Parameters
+    ----------
+    gear : InternalGear
+    flank : {+1, -1}
+        Counter-clockwise (+1) or clockwise (-1) side of the tooth.
+
+    ``u`` runs along the involute from the root form circle (0, the outer end) to the tip
+    circle (1, the inner end), linear in the roll length; ``v`` over the face from
+    ``z = -b/2`` (0) to ``b/2`` (1). :meth:`evaluate` continues the involute and the face
+    analytically beyond ``[0, 1]``; :meth:`inside` tells the real tooth.
+    """
+
+    gear: InternalGear
+    flank: int = -1
+    u_range: tuple[float, float] = field(default=(0.0, 1.0), init=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.gear, InternalGear):
+            raise ReducerlabError(f"gear: must be an InternalGear; got {type(self.gear).__name__}")
+        if isinstance(self.flank, bool) or self.flank not in (1, -1):
+            raise ReducerlabError(f"flank: must be +1 or -1; got {self.flank!r}")
+
+    @property
+    def teeth(self) -> int:
+        """Number of teeth ``z``."""
+        return self.gear.teeth
+
+    def evaluate(self, u: Array, v: Array) -> tuple[Array, Array]:
+        """Points (m) and unit outward normals, shape (n, 3), gear frame.
+
+        Parameters
+        ----------
+        u, v : ndarray (n,)
+            Flank parameters (dimensionless), see the class docstring.
+        """
+        uu = np.asarray(u, float).ravel()
+        vv = np.asarray(v, float).ravel()
+        if uu.shape != vv.shape:
+            raise ReducerlabError(f"u, v: need the same length; got {uu.shape} and {vv.shape}")
+        p2, n2 = self.gear.involute_points(u=uu)
+        if self.flank == -1:
+            p2 = p2 * np.array([1.0, -1.0])
+            n2 = n2 * np.array([1.0, -1.0])
+        zc = self.gear.face_width * (vv - 0.5)
+        return np.column_stack([p2, zc]), np.column_stack([n2, np.zeros_like(zc)])
+
+    def inside(self, points: Array) -> NDArray[np.bool_]:
+        """Whether points (gear frame, (n, 3), m) lie within the tooth's radial extent
+        (tip circle to root form circle) and face width."""
+        g = self.gear
+        p = np.atleast_2d(np.asarray(points, float))
+        r = np.hypot(p[:, 0], p[:, 1])
+        tol = 1e-9 * g.root_radius
+        radial = (r >= g.tip_radius - tol) & (r <= g.form_radius + tol)
+        return radial & (np.abs(p[:, 2]) <= 0.5 * g.face_width + tol)
+
+
+@dataclass(frozen=True)
+class InternalMeshPair:
+    """A planet (external spur gear, gear A) inside a ring (internal gear, gear B) as a
+    ``MeshPair`` of the tooth contact analysis (module docstring for the frames).
+
+    Parameters
+    ----------
+    planet : SpurGear
+        Gear A, with its profile shift ``x1``.
+    ring : InternalGear
+        Gear B, with its profile shift ``x2``; the same module and pressure angle.
+    center_distance : float, optional
+        Working centre distance ``a'`` (m); default the zero-backlash distance
+        ``a' = m (z2 - z1) cos a / (2 cos a')``,
+        ``inv a' = inv a + 2 (x2 - x1) tan a / (z2 - z1)`` (as
+        :class:`~reducerlab.geometry.InternalGearPair`).
+
+    The mesh position ``phi`` is the planet's rotation (rad); the ring turns by
+    ``phi2 = phase + phi z1 / z2``, the phase chosen so that at ``phi = 0`` flank +1 of
+    planet tooth 0 touches flank -1 of ring tooth 0 (conjugate involutes, zero backlash
+    on the drive side).
+
+    Raises
+    ------
+    ReducerlabError
+        Gears of different module or pressure angle, ``z2 - z1 < 1``, a centre distance
+        below the zero-backlash one, a tip that meets the mating flank below its root
+        form circle (involute interference), or a contact ratio below 1.
+    """
+
+    planet: SpurGear
+    ring: InternalGear
+    center_distance: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.planet, SpurGear):
+            raise ReducerlabError(f"planet: must be a SpurGear; got {type(self.planet).__name__}")
+        if not isinstance(self.ring, InternalGear):
+            raise ReducerlabError(f"ring: must be an InternalGear; got {type(self.ring).__name__}")
+        p, r = self.planet, self.ring
+        if not math.isclose(p.module, r.module, rel_tol=1e-12):
+            raise ReducerlabError(f"ring.module: {r.module!r} m differs from the planet's")
+        if not math.isclose(p.pressure_angle, r.pressure_angle, rel_tol=1e-12):
+            raise ReducerlabError("ring.pressure_angle: differs from the planet's")
+        if r.teeth <= p.teeth:
+            raise ReducerlabError(f"ring.teeth: must exceed the planet's {p.teeth}; got {r.teeth}")
+        a = self.center_distance
+        if a is not None:
+            if (
+                isinstance(a, bool)
+                or not isinstance(a, int | float)
+                or not (math.isfinite(a) and a > r.base_radius - p.base_radius)
+            ):
+                raise ReducerlabError(
+                    f"center_distance: must exceed r_b2 - r_b1 = "
+                    f"{r.base_radius - p.base_radius:.6g} m; got {a!r}"
+                )
+            if a < self.zero_backlash_distance * (1 - 1e-12):
+                raise ReducerlabError(
+                    f"center_distance: {a:.9g} m is below the zero-backlash distance "
+                    f"{self.zero_backlash_distance:.9g} m: the teeth would interfere"
+                )
+        s_a, s_e = self.path_of_contact
+        if s_a < p.form_roll * (1 - 1e-12):
+            raise ReducerlabError(
+                "ring: its tip meets the planet below the planet's root form circle "
+                f"(roll {s_a:.6g} < {p.form_roll:.6g} m): involute interference"
+            )
+        if s_e + self.line_of_centres_roll > r.form_roll * (1 + 1e-12):
+            raise ReducerlabError(
+                "planet: its tip meets the ring beyond the ring's root form circle (roll "
+                f"{s_e + self.line_of_centres_roll:.6g} > {r.form_roll:.6g} m): involute "
+                "interference"
+            )
+        if self.contact_ratio < 1.0:
+            raise ReducerlabError(
+                f"center_distance: the transverse contact ratio {self.contact_ratio:.4f} is below 1"
+            )
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_khv(cls, gears: Any) -> InternalMeshPair:
+        """The pair of a KHV design's gears (``drives.khv.Gears``, or a ``KHVDesign``
+        whose ``gears`` it takes): planet ``SpurGear(z1, m, b, alpha, x1, h_a*)`` on the
+        ISO 53 generating rack (dedendum 1.25 m, root fillet 0.38 m); ring
+        ``InternalGear(z2, m, b, alpha, x2, h_a*)`` with the dedendum
+        ``h_a* + RING_DEDENDUM_CLEARANCE`` and the root fillet ``RING_ROOT_FILLET``
+        (docs/assumptions.md); zero-backlash centre distance."""
+        g = getattr(gears, "gears", gears)
+        for name in ("planet_teeth", "ring_teeth", "module", "face_width", "x1", "shift2"):
+            if not hasattr(g, name):
+                raise ReducerlabError(f"gears: a KHV design's gears need {name!r}")
+        planet = SpurGear(int(g.planet_teeth), float(g.module), float(g.face_width),
+                          pressure_angle=float(g.pressure_angle), shift=float(g.x1),
+                          addendum=float(g.addendum))  # fmt: skip
+        ring = InternalGear(int(g.ring_teeth), float(g.module), float(g.face_width),
+                            pressure_angle=float(g.pressure_angle), shift=float(g.shift2),
+                            addendum=float(g.addendum),
+                            dedendum=float(g.addendum) + RING_DEDENDUM_CLEARANCE,
+                            root_fillet=RING_ROOT_FILLET)  # fmt: skip
+        return cls(planet, ring)
+
+    # ------------------------------------------------------------------ geometry
+    @property
+    def zero_backlash_pressure_angle(self) -> float:
+        """``a'`` of the zero-backlash mesh (rad):
+        ``inv a' = inv a + 2 (x2 - x1) tan a / (z2 - z1)``."""
+        p, r = self.planet, self.ring
+        a = p.pressure_angle
+        return inv_inverse(inv(a) + 2 * (r.shift - p.shift) * math.tan(a) / (r.teeth - p.teeth))
+
+    @property
+    def zero_backlash_distance(self) -> float:
+        """``m (z2 - z1) cos a / (2 cos a')`` (m)."""
+        p, r = self.planet, self.ring
+        return (p.module * (r.teeth - p.teeth) * math.cos(p.pressure_angle)
+                / (2 * math.cos(self.zero_backlash_pressure_angle)))  # fmt: skip
+
+    @property
+    def a(self) -> float:
+        """Working centre distance (m)."""
+        return self.zero_backlash_distance if self.center_distance is None else self.center_distance
+
+    @property
+    def working_pressure_angle(self) -> float:
+        """``cos a_w = (r_b2 - r_b1) / a'`` (rad)."""
+        return math.acos((self.ring.base_radius - self.planet.base_radius) / self.a)
+
+    @property
+    def line_of_centres_roll(self) -> float:
+        """``a' sin a_w = T2 T1`` (m): the ring's roll length at ``T1``."""
+        return self.a * math.sin(self.working_pressure_angle)
+
+    @property
+    def base_pitch(self) -> float:
+        """``p_b = pi m cos a`` (m)."""
+        return self.planet.base_pitch
+
+    @property
+    def path_of_contact(self) -> tuple[float, float]:
+        """Distances from ``T1`` (m) where the contact starts (``A``: the ring's tip,
+        ``xi_a2 - a' sin a_w``) and ends (``E``: the planet's tip, ``xi_a1``)."""
+        return self.ring.tip_roll - self.line_of_centres_roll, self.planet.tip_roll
+
+    @property
+    def contact_ratio(self) -> float:
+        """``eps_alpha = (xi_a1 - xi_a2 + a' sin a_w) / p_b`` (ISO 21771, internal)."""
+        s_a, s_e = self.path_of_contact
+        return (s_e - s_a) / self.base_pitch
+
+    @property
+    def working_pitch_radii(self) -> tuple[float, float]:
+        """``r_w = r_b / cos a_w`` (m) of planet and ring."""
+        c = math.cos(self.working_pressure_angle)
+        return self.planet.base_radius / c, self.ring.base_radius / c
+
+    @property
+    def ring_center(self) -> Array:
+        """``(-a', 0, 0)`` (m)."""
+        return np.array([-self.a, 0.0, 0.0])
+
+    def contact_roll(self, phi: float, tooth: int = 0) -> float:
+        """Drive-side contact of tooth pair ``tooth`` at ``phi``: distance from ``T1``
+        along the line of action (m), ``r_b1 (psi_b1 + phi + 2 pi k / z1 + a_w)``."""
+        p = self.planet
+        return p.base_radius * (p.base_half_angle + phi + tooth * p.pitch
+                                + self.working_pressure_angle)  # fmt: skip
+
+    def ring_angle(self, phi: float) -> float:
+        """Ring rotation (rad) at the planet rotation ``phi``: the ring roll length of the
+        contact, ``r_b2 (phi2 - tau_b2 + a_w)``, equals the planet's plus ``a' sin a_w``."""
+        aw = self.working_pressure_angle
+        s = self.contact_roll(phi) + self.line_of_centres_roll
+        return s / self.ring.base_radius + self.ring.base_half_angle - aw
+
+    def pitch_point_position(self, k: int = 0) -> float:
+        """``phi`` (rad) at which tooth pair ``k`` touches at the pitch point."""
+        p = self.planet
+        aw = self.working_pressure_angle
+        return math.tan(aw) - aw - p.base_half_angle - k * p.pitch
+
+    def position_of(self, roll: float, k: int = 0) -> float:
+        """``phi`` (rad) at which tooth pair ``k`` touches at distance ``roll`` (m) from
+        ``T1``."""
+        p = self.planet
+        return (roll / p.base_radius - p.base_half_angle - self.working_pressure_angle
+                - k * p.pitch)  # fmt: skip
+
+    # ------------------------------------------------------------------ MeshPair protocol
+    @property
+    def flank_a(self) -> SpurFlank:
+        """Flank +1 of the planet."""
+        return SpurFlank(self.planet, 1)
+
+    @property
+    def flank_b(self) -> InternalFlank:
+        """Flank -1 of the ring."""
+        return InternalFlank(self.ring, -1)
+
+    @property
+    def torque_ratio(self) -> float:
+        """``T_B / T_A = z2 / z1``."""
+        return self.ring.teeth / self.planet.teeth
+
+    def tooth_angles(self, k: int) -> tuple[float, float]:
+        """``(2 pi k / z1, 2 pi k / z2)`` (rad): planet tooth ``k`` meets ring tooth
+        ``k``."""
+        return 2 * math.pi * k / self.planet.teeth, 2 * math.pi * k / self.ring.teeth
+
+    def poses(self, phi: float) -> tuple[GearPose, GearPose]:
+        """Planet about the ``z`` axis, ring about the parallel axis through
+        ``(-a', 0, 0)``, for the planet rotation ``phi`` (rad)."""
+        phi = float(phi)
+        if not math.isfinite(phi):
+            raise ReducerlabError(f"phi: must be a finite angle; got {phi!r}")
+        ez = np.array([0.0, 0.0, 1.0])
+        return (GearPose(rot_z(phi), np.zeros(3), ez),
+                GearPose(rot_z(self.ring_angle(phi)), self.ring_center, ez.copy()))  # fmt: skip
+
+    # ------------------------------------------------------------------ compliance
+    def tooth_compliances(
+        self,
+        *,
+        material: Material = STEEL,
+        grid: tuple[int, int] = (6, 9),
+        tooth_size: float | None = None,
+        body_size: float | None = None,
+        planet_rim: float | None = None,
+        ring_rim: float | None = None,
+        stage: Stage | None = None,
+    ) -> tuple[ToothCompliance, ToothCompliance]:
+        """Bending compliances of planet (:func:`~reducerlab.contact.spur_pair.
+        spur_tooth_compliance`, bore held) and ring (:func:`internal_tooth_compliance`,
+        outer surface held), in this pair's tooth order (both ``direction = +1``)."""
+        kw = dict(material=material, grid=grid, tooth_size=tooth_size, body_size=body_size,
+                  stage=stage)  # fmt: skip
+        ca = spur_tooth_compliance(self.planet, 1, direction=1, rim=planet_rim, **kw)
+        cb = internal_tooth_compliance(self.ring, -1, direction=1, rim=ring_rim, **kw)
+        return ca, cb
+
+
+def _held_dofs(basis, mesh) -> NDArray[np.int64]:
+    """DOFs of the boundary facets on the rim's outer cylinder and the two cut faces."""
+    skm = basis.mesh
+    x = skm.p
+    tol = 1e-6 * mesh.gear.module
+    on = np.abs(np.hypot(x[0], x[1]) - mesh.outer_radius) <= tol
+    cut = np.zeros_like(on)
+    for phi in mesh.cut_angles:
+        nrm = np.array([-math.sin(phi), math.cos(phi), 0.0])
+        e = np.array([math.cos(phi), math.sin(phi), 0.0])
+        cut |= (np.abs(nrm @ x) <= tol) & (e @ x > 0)
+    bf = skm.boundary_facets()
+    corners = skm.facets[:, bf]
+    facets = bf[np.all(on[corners], axis=0) | np.all(cut[corners], axis=0)]
+    if facets.size == 0:
+        raise ReducerlabError("compliance: no rim or cut-face facets found to hold")
+    return np.asarray(basis.get_dofs(facets=facets).all(), dtype=np.int64)
+
+
+def internal_tooth_compliance(
+    gear: InternalGear,
+    flank: int = -1,
+    *,
+    material: Material = STEEL,
+    grid: tuple[int, int] = (6, 9),
+    tooth_size: float | None = None,
+    body_size: float | None = None,
+    rim: float | None = None,
+    direction: int = 1,
+    stage: Stage | None = None,
+) -> ToothCompliance:
+    """Finite-element bending compliance of teeth ``-1, 0, 1`` of an internal gear.
+
+    A sector of five teeth (``fe.internal_mesh.mesh_internal_sector``, teeth
+    ``-2 ... 2``) is held on its rim's outer cylinder and its two radial cut faces;
+    ``n_u x n_v`` load points on the flank of each modelled tooth, inset by the bump
+    radius ``a = 2 tooth_size`` from the flank's edges, give the influence coefficients of
+    ``contact.compliance.flank_influence`` (local half-space part removed), as
+    :func:`~reducerlab.contact.spur_pair.spur_tooth_compliance` does for external gears.
+    The work and memory are estimated first (``fe.internal_mesh.
+    internal_sector_estimate``) and refused beyond their bounds.
+
+    Parameters
+    ----------
+    gear : InternalGear
+    flank : {+1, -1}
+        The loaded flank (-1: driven by a planet with a positive torque).
+    material : Material
+    grid : (int, int)
+        Load points along the profile and across the face on each tooth (>= 2 each).
+    tooth_size, body_size : float, optional
+        Element sizes (m) on the teeth and one tooth depth outside the root circle;
+        default ``0.3 m`` and ``m``.
+    rim : float, optional
+        Rim thickness outside the root circle (m); default ``3.5 m``.
+    direction : {+1, -1}
+        Tooth block ``k`` is gear tooth ``direction * k``: +1 for the ring of an
+        :class:`InternalMeshPair`.
+    stage : callable, optional
+        ``stage(text)`` at each step.
+
+    Returns
+    -------
+    ToothCompliance
+        Teeth ``(-1, 0, 1)``, flank parameters of :class:`InternalFlank`, m/N.
+
+    Raises
+    ------
+    ReducerlabError
+        A bad argument (named), a flank too short for the load bumps, or a model
+        beyond the memory or DOF bound (``BudgetError``).
+    """
+    from ..fe.gear_mesh import MeshSizes
+    from ..fe.internal_mesh import internal_sector_estimate, mesh_internal_sector
+
+    if not isinstance(gear, InternalGear):
+        raise ReducerlabError(f"gear: must be an InternalGear; got {type(gear).__name__}")
+    if isinstance(flank, bool) or flank not in (1, -1):
+        raise ReducerlabError(f"flank: must be +1 or -1; got {flank!r}")
+    if isinstance(direction, bool) or direction not in (1, -1):
+        raise ReducerlabError(f"direction: must be +1 or -1; got {direction!r}")
+    if not isinstance(material, Material):
+        raise ReducerlabError(f"material: must be a Material; got {type(material).__name__}")
+    try:
+        n_u, n_v = (int(g) for g in grid)
+    except (TypeError, ValueError):
+        raise ReducerlabError(f"grid: must be two integers (n_u, n_v); got {grid!r}") from None
+    if n_u < 2 or n_v < 2:
+        raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
+    m = gear.module
+    sizes = {"tooth_size": 0.3 * m, "body_size": 1.0 * m}
+    for name, val in (("tooth_size", tooth_size), ("body_size", body_size)):
+        if val is None:
+            continue
+        if (
+            isinstance(val, bool)
+            or not isinstance(val, int | float)
+            or not (math.isfinite(val) and val > 0)
+        ):
+            raise ReducerlabError(f"{name}: must be a length > 0 (m); got {val!r}")
+        sizes[name] = float(val)
+    ts, bs = sizes["tooth_size"], max(sizes["body_size"], sizes["tooth_size"])
+    mesh_sizes = MeshSizes(ts, bs)
+    internal_sector_estimate(
+        gear, SECTOR_TEETH, rim, mesh_sizes, dense_columns=len(TEETH) * n_u * n_v,
+        what=f"contact: the tooth compliance of the internal gear (z = {gear.teeth})",
+    ).check()  # fmt: skip
+    say = stage or (lambda _s: None)
+    a = 2.0 * ts  # bump radius: two tooth elements
+    iflank = InternalFlank(gear, flank)
+    u_nodes, v_nodes = load_nodes(iflank, a, n_u, n_v)
+    say(f"meshing a {SECTOR_TEETH}-tooth internal sector")
+    mesh = mesh_internal_sector(gear, SECTOR_TEETH, rim=rim, sizes=mesh_sizes)
+    uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
+    P0, N0 = iflank.evaluate(uu.ravel(), vv.ravel())
+    angles = [direction * gear.pitch * k for k in TEETH]
+    K, dofs = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
+                              angles, a, material, stage=say,
+                              name=f"internal gear (z = {gear.teeth})")  # fmt: skip
+    return ToothCompliance(u_nodes, v_nodes, TEETH, K, dofs, a)
