@@ -165,7 +165,11 @@ def test_pressure_angle_message_shows_the_angle_in_degrees(tmp_path, written, sh
 @pytest.mark.parametrize(
     ("anchor", "field", "allowed"),
     [
-        ("[pinion]\n", "pinion.mas", "bearing, mass, moment_of_inertia, shift, teeth"),
+        (
+            "[pinion]\n",
+            "pinion.mas",
+            "bearing, mass, modifications, moment_of_inertia, shift, teeth",
+        ),
         (
             "[pinion.bearing]\n",
             "pinion.bearing.mas",

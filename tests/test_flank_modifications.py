@@ -201,6 +201,37 @@ def test_unloaded_separation_is_the_sum_of_the_ease_offs():
     np.testing.assert_allclose(t1 - t0, want, rtol=0, atol=2e-11)
 
 
+def test_khv_internal_pair_takes_the_designs_modifications():
+    # the KHV planet in its ring (contact.internal_pair): the design's crowned layout
+    # reaches both flanks (the ring's measured by its roll length), and at the pitch
+    # point the unloaded separation along the face grows by the summed lead ease-offs
+    # exactly, as for the spur pair (the involutes' normals are collinear there)
+    from reducerlab.analysis.flank_modifications import khv_mesh_pair
+
+    khv = load_design(example_dir() / "khv.toml", ["gears.flank_modifications=crowned"])
+    mp = khv_mesh_pair(khv)
+    delta = 50.0 / 0.0525 / (0.02 * C_GAMMA)
+    assert mp.modifications.a.lead_crowning == pytest.approx(delta, rel=1e-12)
+    ring = mp.ring
+    roll = abs(ring.tip_roll - ring.form_roll)
+    assert mp.modifications.b.tip_relief_length == pytest.approx(TIP_SHARE * roll, rel=1e-12)
+    assert khv_mesh_pair(load_design(example_dir() / "khv.toml")).modifications.none
+    m = FlankModification(lead_crowning=6e-6, lead_slope=-2e-6)
+    plain = mp.unmodified
+    mod = khv_mesh_pair(khv, PairModifications(m, m))
+    g = mp.planet
+    u0 = (g.base_radius * math.tan(mp.working_pressure_angle) - g.form_roll) / (
+        g.tip_roll - g.form_roll
+    )
+    v = np.linspace(0.0, 1.0, 11)
+    phi = plain.pitch_point_position(0)
+    t0 = separations(plain, phi, 0, np.full(v.size, u0), v).distance
+    t1 = separations(mod, phi, 0, np.full(v.size, u0), v).distance
+    y = (v - 0.5) * g.face_width
+    want = 2 * (m.lead_crowning * (2 * y / g.face_width) ** 2 + m.lead_slope * y / g.face_width)
+    np.testing.assert_allclose(t1 - t0, want, rtol=0, atol=2e-11)
+
+
 def test_lead_crowned_spur_pair_is_a_hertz_point_contact():
     # Johnson (1985) §4.2 through contact.hertz.hertz_elliptic: the relative curvature
     # across the face is the involutes' at the pitch point, along it the crowning's

@@ -6,8 +6,8 @@ or KHV design (``[gears]``) and returns the
 :class:`~reducerlab.contact.modifications.PairModifications` of the pair's two loaded
 flanks: a gear's own table as given, else the default crowned layout
 (:func:`~reducerlab.contact.modifications.crowned_layout`) at the design load when the
-switch says ``"crowned"``, else none. :func:`spur_mesh_pair` is the spur design's
-``SpurMeshPair`` with them.
+switch says ``"crowned"``, else none. :func:`spur_mesh_pair` and :func:`khv_mesh_pair`
+are the spur and KHV designs' mesh pairs with them.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ __all__ = [
     "checked",
     "design_force",
     "design_modifications",
+    "khv_mesh_pair",
     "pair_fields",
     "spur_mesh_pair",
     "with_modifications",
@@ -147,6 +148,23 @@ def spur_mesh_pair(design: Design, modifications: PairModifications | None = Non
     if getattr(design, "type", None) != "gear_pair":
         raise ReducerlabError("design: spur_mesh_pair needs a gear_pair design")
     return with_modifications(SpurMeshPair(design.spur_pair()), design, 1, modifications)
+
+
+def khv_mesh_pair(design: Design, modifications: PairModifications | None = None) -> Any:
+    """The :class:`~reducerlab.contact.internal_pair.InternalMeshPair` of a ``khv``
+    design (planet = A, ring = B) with its flank modifications (``modifications``,
+    default the design's ``[gears]`` fields).
+
+    Raises
+    ------
+    ReducerlabError
+        Not a KHV design, or a relief longer than its flank (naming the field).
+    """
+    from ..contact.internal_pair import InternalMeshPair
+
+    if getattr(design, "type", None) != "khv":
+        raise ReducerlabError("design: khv_mesh_pair needs a khv design")
+    return with_modifications(InternalMeshPair.from_khv(design), design, 1, modifications)
 
 
 def with_modifications(

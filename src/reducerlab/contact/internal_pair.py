@@ -29,9 +29,10 @@ roll length ``s + a' sin a_w``. Both gears turn the same way: planet tooth ``k``
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -44,7 +45,8 @@ from ..geometry.internal_pair import inv, inv_inverse
 from ..geometry.spur import SpurGear
 from ..kinematics.rotations import rot_z
 from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
-from .flanks import GearPose
+from .flanks import Flank, GearPose
+from .modifications import PairModifications, modified
 from .spur_pair import SpurFlank, spur_tooth_compliance
 
 __all__ = [
@@ -99,6 +101,13 @@ class InternalFlank:
         """Number of teeth ``z``."""
         return self.gear.teeth
 
+    def profile_position(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Distance (m) along the line of action from the root form circle at profile
+        parameters ``u`` (the roll length by which ISO 21771 measures profile
+        modifications, ``contact.modifications``)."""
+        g = self.gear
+        return np.asarray(u, float) * abs(g.tip_roll - g.form_roll)
+
     def evaluate(self, u: Array, v: Array) -> tuple[Array, Array]:
         """Points (m) and unit outward normals, shape (n, 3), gear frame.
 
@@ -145,6 +154,9 @@ class InternalMeshPair:
         ``a' = m (z2 - z1) cos a / (2 cos a')``,
         ``inv a' = inv a + 2 (x2 - x1) tan a / (z2 - z1)`` (as
         :class:`~reducerlab.geometry.InternalGearPair`).
+    modifications : PairModifications, optional
+        Flank modifications of the planet (``a``) and the ring (``b``),
+        ``contact.modifications``; default none.
 
     The mesh position ``phi`` is the planet's rotation (rad); the ring turns by
     ``phi2 = phase + phi z1 / z2``, the phase chosen so that at ``phi = 0`` flank +1 of
@@ -162,8 +174,14 @@ class InternalMeshPair:
     planet: SpurGear
     ring: InternalGear
     center_distance: float | None = None
+    modifications: PairModifications = field(default_factory=PairModifications)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.modifications, PairModifications):
+            raise ReducerlabError(
+                "modifications: must be a PairModifications (contact.modifications); got "
+                f"{type(self.modifications).__name__}"
+            )
         if not isinstance(self.planet, SpurGear):
             raise ReducerlabError(f"planet: must be a SpurGear; got {type(self.planet).__name__}")
         if not isinstance(self.ring, InternalGear):
@@ -318,15 +336,22 @@ class InternalMeshPair:
                 - k * p.pitch)  # fmt: skip
 
     # ------------------------------------------------------------------ MeshPair protocol
-    @property
-    def flank_a(self) -> SpurFlank:
-        """Flank +1 of the planet."""
-        return SpurFlank(self.planet, 1)
+    @functools.cached_property
+    def flank_a(self) -> Flank:
+        """Flank +1 of the planet (modified by ``modifications.a``)."""
+        return modified(SpurFlank(self.planet, 1), self.modifications.a, "modifications.a")
+
+    @functools.cached_property
+    def flank_b(self) -> Flank:
+        """Flank -1 of the ring (modified by ``modifications.b``)."""
+        return modified(InternalFlank(self.ring, -1), self.modifications.b, "modifications.b")
 
     @property
-    def flank_b(self) -> InternalFlank:
-        """Flank -1 of the ring."""
-        return InternalFlank(self.ring, -1)
+    def unmodified(self) -> InternalMeshPair:
+        """The same pair without flank modifications (the tooth compliance's pair)."""
+        if self.modifications.none:
+            return self
+        return replace(self, modifications=PairModifications())
 
     @property
     def torque_ratio(self) -> float:
