@@ -115,7 +115,9 @@ def compliance_stage(
     from ..contact.compliance import compliance_estimate, fe_tooth_compliance
     from ..fe import Material
 
-    base = design_inputs("contact", design, {"pair": pair})
+    # the compliance is the unmodified teeth's: not keyed by the flank modifications
+    base = {k: v for k, v in design_inputs("contact", design, {"pair": pair}).items()
+            if "modifications" not in k and k not in ("output_torque", "output_power")}  # fmt: skip
     gears = (2 * pair, 2 * pair - 1)
     keys = {
         g: store.key("compliance", {"design": base, "gear": g, "tooth_size": settings.tooth_size})
