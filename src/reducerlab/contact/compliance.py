@@ -112,6 +112,9 @@ class ToothCompliance:
         Size of the finite-element model.
     radius : float
         Bump radius ``a`` (m).
+    fillet : contact.rootstress.FilletInfluence, optional
+        Stress influence coefficients of the same load bumps at the root fillets of the
+        teeth (built on request, ``root_stress=True``; None otherwise).
     """
 
     u_nodes: Array
@@ -120,6 +123,7 @@ class ToothCompliance:
     matrix: Array
     dofs: int
     radius: float
+    fillet: Any = None
 
     def stencil(self, tooth: Array, u: Array, v: Array) -> tuple[NDArray[np.int64], Array]:
         """Bilinear interpolation of points ``(u, v)`` on teeth ``tooth`` from the load
@@ -253,8 +257,9 @@ def flank_influence(
     stage: Stage | None = None,
     *,
     name: str = "gear",
+    fillet: Callable | None = None,
     _legacy: bool = False,
-) -> tuple[Array, int]:
+) -> tuple[Array, int] | tuple[Array, int, Any]:
     """Bending influence coefficients of load points on several teeth of one FE model.
 
     Parameters
@@ -274,6 +279,12 @@ def flank_influence(
         ``stage(text)`` at each step (progress display).
     name : str
         The gear in messages, e.g. ``"internal gear (z = 32)"``.
+    fillet : callable, optional
+        ``fillet(basis) -> (facets, tooth, side)``: the boundary facets of the root
+        fillets, each facet's tooth block (index into ``angles``' teeth) and side (+1
+        the loaded flank's fillet, -1 the other). Given, the displacements of all
+        bumps are solved too (the backward substitution of the same factor) and their
+        stresses recovered at the fillet nodes (``fe.stress.surface_stress_operator``).
     _legacy : bool
         Private: scikit-fem's assembly and PARDISO's whole solve, as before issue 28
         (``benchmarks/fe_compliance_speed.py`` times both in one run).
@@ -285,6 +296,9 @@ def flank_influence(
         removed between load points of the same tooth (module docstring).
     dofs : int
         Size of the finite-element model.
+    fillet : (SurfaceStress, tooth, side, ndarray (n, 6, T L))
+        Only with ``fillet``: the fillet nodes, their tooth block and side, and the
+        stress (Pa) at each under each unit bump (Pa/N).
 
     Raises
     ------
@@ -312,14 +326,66 @@ def flank_influence(
             "again with another tooth element size (tooth_size; reducerlab contact --tooth-size)"
         ) from None
     say(f"solving {K.shape[0]} DOFs for {F.shape[1]} loads")
-    Kfe = _influence(K, F, fixed, _legacy)
+    raw = None
+    if fillet is None:
+        Kfe = _influence(K, F, fixed, _legacy)
+    else:
+        Kfe, raw = _fillet_influence(K, F, fixed, basis, material, fillet, say)
     L = len(points)
     E, nu = material.E, material.nu
     for t in range(len(angles)):
         sl = slice(t * L, (t + 1) * L)
         d = np.linalg.norm(centres[sl, None, :] - centres[None, sl, :], axis=2)
         Kfe[sl, sl] -= (1 - nu**2) / (math.pi * E) * bump_interaction(d, radius)
+    if raw is not None:
+        return Kfe, int(K.shape[0]), raw
     return Kfe, int(K.shape[0])
+
+
+def root_stress_estimate(dofs: int, loads: int, samples: int = 0) -> Any:
+    """The :class:`~reducerlab.budget.Estimate` of the root-stress influence: the
+    displacements of ``loads`` bumps on ``dofs`` DOFs (with their forward
+    substitution and a copy of the loads: three dense blocks) and the stress of each at
+    ``samples`` fillet nodes (six components)."""
+    from ..budget import Estimate
+
+    return Estimate(
+        what="contact: the root-stress influence of the flank loads",
+        memory=3 * 8.0 * dofs * loads + 6 * 8.0 * samples * loads,
+        control="the tooth element size (tooth_size, --tooth-size) or the load grid",
+    )
+
+
+def _fillet_influence(K, F: Array, fixed, basis, material, fillet, say) -> tuple[Array, Any]:
+    """``F^T K^-1 F`` (m/N) and the fillet stresses of ``U = K^-1 F`` (one factorisation,
+    PARDISO's forward and backward substitutions, or SuperLU without pypardiso)."""
+    from ..fe.elasticity import pardiso_gram_solve
+    from ..fe.stress import surface_stress_operator
+
+    facets, tooth, side = fillet(basis)
+    facets = np.asarray(facets, dtype=np.int64)
+    if facets.size == 0:
+        raise ReducerlabError("root stress: no root-fillet facets found on the tooth model")
+    facets, first = np.unique(facets, return_index=True)  # sorted, as the operator's
+    tooth, side = np.asarray(tooth)[first], np.asarray(side)[first]
+    ss = surface_stress_operator(basis, material, facets)
+    n = len(ss.points)
+    root_stress_estimate(K.shape[0], F.shape[1], n).check()
+    say(f"root stress at {n} fillet nodes")
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    Kff = K[free][:, free].tocsr()
+    Ff = F[free]
+    out = pardiso_gram_solve(Kff, Ff)
+    if out is None:
+        from scipy.sparse.linalg import splu
+
+        Uf = splu(Kff.tocsc()).solve(Ff)
+        G = Ff.T @ Uf
+        G = 0.5 * (G + G.T)
+    else:
+        G, Uf = out
+    S = np.asarray(ss.operator[:, free] @ Uf).reshape(n, 6, F.shape[1])
+    return G, (ss, tooth[ss.facet_of], side[ss.facet_of], S)
 
 
 def load_nodes(flank, inset: float, n_u: int, n_v: int) -> tuple[Array, Array]:
