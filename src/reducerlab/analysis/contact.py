@@ -105,7 +105,8 @@ class ContactResult(Result):
     ``cell`` (the contact grid of every position, concatenated) with ``cell_position``,
     ``cell_tooth``, ``u``, ``v`` (flank parameters of the external gear), ``x, y, z``
     (m), ``area``, ``separation`` (m), ``cell_force`` (N), ``pressure`` (Pa) and ``edge``
-    (1 on a flank edge).
+    (1 on a flank edge); with ``root_stress``, dimensions ``gear`` and ``tooth_pair``
+    with the root stresses of ``analysis.contact_rootstress.ROOT_VARIABLES``.
     """
 
     kind: ClassVar[str] = "contact"
@@ -337,6 +338,7 @@ def contact_analysis(
     workers: int | None = None,
     stage: Stage | None = None,
     progress: Callable[[int, int], None] | None = None,
+    root_stress: bool = False,
 ) -> ContactResult:
     """Loaded tooth contact analysis of one gear pair over a mesh cycle.
 
@@ -377,12 +379,16 @@ def contact_analysis(
         one process, to rounding.
     stage, progress : callable, optional
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
+    root_stress : bool
+        Also the tooth-root stresses of both gears at every position (the tooth models'
+        fillet stress influence, ``analysis.contact_rootstress``).
     """
     from ..contact.compliance import compliance_estimate
     from ..contact.halfspace import combined_modulus
     from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
     from ..fe import Material
+    from .contact_rootstress import add_root_stress, check_root_compliance
     from .contact_workers import contact_pool, contact_processes, tooth_compliances
 
     t0 = time.perf_counter()
@@ -412,6 +418,8 @@ def contact_analysis(
     check_load(mp, T_a, external.mean_radius, E_star, design.operating_speed, power is not None)
     if cell is not None:
         grid_estimate(mp, ContactGrid(float(cell))).check()
+    if root_stress:
+        check_root_compliance(compliance, rigid)
     n = contact_processes(workers, rigid=rigid, positions=positions)
     fe = compliance is None and not rigid
     if fe:
@@ -423,7 +431,7 @@ def contact_analysis(
         if compliance is not None and not rigid:
             comp_a, comp_b = compliance
         elif fe:
-            comp_a, comp_b = tooth_compliances(mp, material, tooth_size, say, pool)
+            comp_a, comp_b = tooth_compliances(mp, material, tooth_size, say, pool, root_stress)
         kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": E_star}
         s0 = ContactGrid.s_max
         if cell is None and rigid:
@@ -504,6 +512,8 @@ def contact_analysis(
         frame="x: normal of the plane of the two axes (tangential at the mesh); y: along the "
         "pitch line; z: crown gear axis",
     )  # fmt: skip
+    if root_stress:
+        ds = add_root_stress(ds, mp, runs, comp_a, comp_b)
     out = ContactResult(ds)
     out.compliance = None if comp_a is None else (comp_a, comp_b)
     return out

@@ -200,6 +200,7 @@ def fe_tooth_compliance(
     body_size: float | None = None,
     rim: float | None = None,
     stage: Stage | None = None,
+    root_stress: bool = False,
     _legacy: bool = False,
 ) -> ToothCompliance:
     """Finite-element tooth compliance of a crown-generated bevel gear's flank.
@@ -217,6 +218,10 @@ def fe_tooth_compliance(
         Rim thickness below the root cone (m); its base is held. Default ``2 m_n``.
     stage : callable, optional
         ``stage(text)`` at each step (progress display).
+    root_stress : bool
+        Also the stress influence of every load bump at the root-fillet nodes of the
+        three teeth (``contact.rootstress``; :func:`_bevel_fillet`; one backward
+        substitution more and about ``24 dofs x loads`` bytes more at the peak).
     _legacy : bool
         Private: the finite-element path as before issue 28 (:func:`flank_influence`).
     """
@@ -230,6 +235,8 @@ def fe_tooth_compliance(
     n_u, n_v = (int(g) for g in grid)
     if n_u < 2 or n_v < 2:
         raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
+    if not isinstance(root_stress, bool):
+        raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
     a = 2.0 * ts  # bump radius: two tooth elements
     say("meshing five tooth sectors")
     mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, bs), sectors=range(-2, 3))
@@ -239,11 +246,126 @@ def fe_tooth_compliance(
     P0, N0 = flank.evaluate(uu.ravel(), vv.ravel())
     skm = mesh.skfem()
     angles = [-2 * math.pi * k / gear.teeth for k in TEETH]
-    Kb, dofs = flank_influence(
+    fillet = _bevel_fillet(flank, mesh.blank, angles) if root_stress else None
+    out = flank_influence(
         skm, lambda basis: _held_dofs(basis, mesh, cone_coordinates), P0, N0, angles,
-        a, material, stage=say, name=f"{gear.kind} gear (z = {gear.teeth})", _legacy=_legacy,
+        a, material, stage=say, name=f"{gear.kind} gear (z = {gear.teeth})", fillet=fillet,
+        _legacy=_legacy,
     )  # fmt: skip
-    return ToothCompliance(u_nodes, v_nodes, TEETH, Kb, dofs, a)
+    inf = fillet.influence(out[2]) if root_stress else None
+    return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)
+
+
+class _bevel_fillet:
+    """The root fillets of a crown-generated bevel gear's tooth model (cone coordinates
+    ``(L, h, psi)``, ``geometry.solid.cone_coordinates``).
+
+    A boundary facet is in the root region when its corners lie below the lower edge of
+    the active flanks (``u = u_range[0]``) of both flanks that bound a tooth space and
+    above the middle of the rim, and not all on the toe or heel cone. The space of the
+    loaded flank's tooth 0 lies between the lower edge of the loaded flank
+    (azimuth ``psi_A(L)``) and that of the opposite flank of the same crown tooth
+    (``psi_B(L)``); every space is that one turned by whole pitches. A facet in a space
+    belongs to the tooth on its side of the space's mid azimuth: side +1 (the loaded
+    flank's fillet) on the ``psi_A`` side, -1 on the ``psi_B`` side; the tooth block is
+    found from the tooth's rotation (``angles``)."""
+
+    def __init__(self, flank, blank, angles: Sequence[float]) -> None:
+        from ..geometry.solid import cone_coordinates
+        from .flanks import BevelFlank
+
+        gear = flank.gear
+        self.delta = gear.cone_angle
+        self.pitch = 2 * math.pi / gear.teeth
+        self.sign = 1.0 if gear.kind == "external" else -1.0
+        self.blank = blank
+        self.blocks = {round(t / self.pitch): k for t, k in zip(angles, TEETH, strict=True)}
+        other = BevelFlank(flank.crown, gear, -flank.flank, flank.addendum)
+        v = np.linspace(0.0, 1.0, 61)
+        edges = []
+        for f in (flank, other):
+            P, _ = f.evaluate(np.full_like(v, f.u_range[0]), v)
+            L, h, psi = cone_coordinates(P, self.delta)
+            o = np.argsort(L)
+            edges.append((L[o], h[o], np.unwrap(psi[o])))
+        (self.L_a, self.h_a, self.psi_a), (self.L_b, self.h_b, self.psi_b) = edges
+        self._cone = cone_coordinates
+        # do the two edges bound a tooth space (the loaded flank's normal, out of the
+        # material, turns toward the other edge) or the tooth itself?
+        P, N = flank.evaluate(np.array([0.5 * sum(flank.u_range)]), np.array([0.5]))
+        L0, _, psi0 = cone_coordinates(P, self.delta)
+        e_psi = np.array([-math.sin(psi0[0]), math.cos(psi0[0]), 0.0])
+        toward = np.angle(np.exp(1j * (np.interp(L0, self.L_b, self.psi_b) - psi0)))[0]
+        self.space_between = bool(np.sign(N[0] @ e_psi) == np.sign(toward))
+
+    def _edges(self, L: Array) -> tuple[Array, Array, Array]:
+        """Mid azimuth of the loaded flank's tooth space, offset of the loaded flank's
+        edge from it (rad) and the height of the root region's upper bound (m) at cone
+        distances ``L``."""
+        pa = np.interp(L, self.L_a, self.psi_a)
+        pb = np.interp(L, self.L_b, self.psi_b)
+        pb = pa + np.angle(np.exp(1j * (pb - pa)))
+        h = np.interp(L, self.L_a, self.h_a), np.interp(L, self.L_b, self.h_b)
+        top = np.maximum(*h) if self.sign > 0 else np.minimum(*h)
+        mid = 0.5 * (pa + pb)
+        if not self.space_between:  # the edges bound tooth 0: its space half a pitch on
+            mid = mid + np.sign(pa - pb) * 0.5 * self.pitch
+        return mid, pa - mid, top
+
+    def _place(self, L: Array, psi: Array) -> tuple[Array, Array, Array]:
+        """Tooth rotation (in pitches), side and centre-line azimuth offset of points."""
+        mid, half, _ = self._edges(L)
+        d = np.angle(np.exp(1j * (psi - mid)))
+        j = np.rint(d / self.pitch)
+        e = d - j * self.pitch
+        a_side = np.sign(half)
+        side = np.where(np.sign(e) == a_side, 1, -1)
+        # side -1: the tooth across the space, one pitch on the psi_B side
+        turn = np.where(side == 1, j, j - a_side)
+        return turn, side, mid
+
+    def __call__(self, basis) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+        skm = basis.mesh
+        bl = self.blank
+        bf = skm.boundary_facets()
+        P = skm.p[:, skm.facets[:, bf]]  # (3, 3 corners, facets)
+        L, h, psi = self._cone(np.moveaxis(P, 0, -1), self.delta)  # (3, facets)
+        _, _, top = self._edges(L)
+        tol = 1e-6 * float(np.max(np.abs(skm.p)))
+        floor = bl.root + 0.5 * (bl.body - bl.root)
+        band = np.all(self.sign * (top - h) >= -tol, axis=0)
+        band &= np.all(self.sign * (h - floor) > tol, axis=0)
+        ends = np.all(np.abs(L - bl.front) < tol, axis=0)
+        ends |= np.all(np.abs(L - bl.back) < tol, axis=0)
+        Lc, psic = L.mean(axis=0), np.angle(np.exp(1j * psi).mean(axis=0))
+        turn, side, _ = self._place(Lc, psic)
+        block = np.array([self.blocks.get(int(t), 99) for t in turn])
+        keep = band & ~ends & (block != 99)
+        return bf[keep], block[keep], side[keep]
+
+    def influence(self, raw):
+        """The :class:`~reducerlab.contact.rootstress.FilletInfluence` of the fillet
+        nodes: radius from the axis, face position ``L - (L_toe + L_heel)/2`` and the
+        tangent angle to the tooth centre line in the section normal to the pitch-cone
+        generatrix (the centre line: the ``h`` direction at the tooth's mid azimuth)."""
+        from .rootstress import FilletInfluence
+
+        ss, tooth, side, S = raw
+        p, n = ss.points, ss.normals
+        L, _, psi = self._cone(p, self.delta)
+        mid, half, _ = self._edges(L)
+        # tooth 0's centre line: half a pitch from the space's mid azimuth, on the
+        # loaded flank's side; tooth block k is turned by -k pitches
+        centre = mid + np.sign(half) * 0.5 * self.pitch - tooth * self.pitch
+        sd, cd = math.sin(self.delta), math.cos(self.delta)
+        e_l = np.stack([sd * np.cos(psi), sd * np.sin(psi), np.full_like(psi, cd)], axis=1)
+        e_h = np.stack([cd * np.cos(centre), cd * np.sin(centre), np.full_like(psi, -sd)], 1)
+        nt = n - np.einsum("ij,ij->i", n, e_l)[:, None] * e_l
+        nt /= np.maximum(np.linalg.norm(nt, axis=1, keepdims=True), 1e-300)
+        angle = np.arcsin(np.clip(np.abs(np.einsum("ij,ij->i", nt, e_h)), 0.0, 1.0))
+        face = L - 0.5 * (self.blank.front + self.blank.back)
+        return FilletInfluence(p, n, np.asarray(tooth, np.int64), np.asarray(side, np.int64),
+                               np.hypot(p[:, 0], p[:, 1]), face, angle, S)  # fmt: skip
 
 
 def flank_influence(
