@@ -161,6 +161,7 @@ def test_the_circle_check_sees_circles():
         ("dynamics", ("dynamics", "model", "errors", "units", "budget")),
         ("model", ("model", "errors", "units", "budget")),
         ("kinematics", ("kinematics", "errors", "units")),
+        ("rating", ("rating", "geometry", "contact", "errors", "units", "budget")),
     ],
 )
 def test_lower_floors_import_only_below(package, allowed):

@@ -165,7 +165,7 @@ def test_pressure_angle_message_shows_the_angle_in_degrees(tmp_path, written, sh
 @pytest.mark.parametrize(
     ("anchor", "field", "allowed"),
     [
-        ("[pinion]\n", "pinion.mas", "bearing, mass, moment_of_inertia, teeth"),
+        ("[pinion]\n", "pinion.mas", "bearing, mass, moment_of_inertia, shift, teeth"),
         (
             "[pinion.bearing]\n",
             "pinion.bearing.mas",
@@ -174,7 +174,7 @@ def test_pressure_angle_message_shows_the_angle_in_degrees(tmp_path, written, sh
         (
             'type = "gear_pair"\n',
             "mas",
-            "check, description, gear, mesh, name, operating, pinion, report, type",
+            "check, description, gear, material, mesh, name, operating, pinion, report, type",
         ),
     ],
     ids=["pinion", "bearing", "top-level"],

@@ -47,6 +47,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "kinematics": "reducerlab.analysis.kinematics",
     "body-modal": "reducerlab.analysis.body_modal",
     "contact": "reducerlab.analysis.contact",
+    "rating": "reducerlab.analysis.rating",
 }
 
 

@@ -33,7 +33,20 @@ from typing import Annotated, Any
 import typer
 
 from .. import __version__
-from . import body, check, contact, geometry, khv, kinematics, modal, nonlinear, report, run, sweep
+from . import (
+    body,
+    check,
+    contact,
+    geometry,
+    khv,
+    kinematics,
+    modal,
+    nonlinear,
+    rating,
+    report,
+    run,
+    sweep,
+)  # fmt: skip
 from .output import err, kept, reset_kept
 
 __all__ = ["app", "main"]
@@ -68,8 +81,8 @@ def _main(
 
 
 # the commands, in this order in the help
-for _group in (run, modal, kinematics, sweep, check, nonlinear, geometry, body, contact, report,
-               khv):  # fmt: skip
+for _group in (run, modal, kinematics, sweep, check, nonlinear, geometry, body, contact, rating,
+               report, khv):  # fmt: skip
     _group.register(app)
 del _group
 

@@ -41,6 +41,7 @@ from ..errors import DesignError, ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 from ..model.laws import TimeLaw
+from .rating_material import GearMaterialSpec
 
 if TYPE_CHECKING:
     from ..geometry.spur import SpurPair
@@ -138,6 +139,7 @@ class GearPairDesign(Design):
     gear: Gear
     mesh: GearMesh
     operating: Operating = Operating()
+    material: GearMaterialSpec = GearMaterialSpec()  # [material]: load capacity (issue 29)
 
     @model_validator(mode="after")
     def _harmonics_need_speed(self) -> GearPairDesign:

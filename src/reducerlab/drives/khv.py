@@ -46,6 +46,7 @@ from ..geometry import InternalGearPair
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
+from .rating_material import GearMaterialSpec
 
 __all__ = ["PAPER_LINE", "KHVDesign", "build_model", "relative_coordinates"]
 
@@ -158,6 +159,7 @@ class KHVDesign(Design):
     inertia: Inertias
     shafts: Shafts
     mesh: MeshSpec = MeshSpec()
+    material: GearMaterialSpec = GearMaterialSpec()  # [material]: load capacity (issue 29)
 
     @model_validator(mode="after")
     def _feasible(self) -> KHVDesign:

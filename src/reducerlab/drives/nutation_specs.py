@@ -69,11 +69,20 @@ class BlankSpec(Spec):
 
 class MaterialSpec(Spec):
     """Isotropic linear elastic material of the gear bodies (``[material]``); default
-    paper 000 §4's structural steel (E = 206 GPa, nu = 0.29, rho = 7850 kg/m^3)."""
+    paper 000 §4's structural steel (E = 206 GPa, nu = 0.29, rho = 7850 kg/m^3). The
+    load capacity rating's limits (issue 29): ``sigma_Hlim`` and ``sigma_Flim`` of
+    ISO 6336-5:2016, default case-hardened wrought steel MQ (1500 MPa, 500 MPa), and the
+    heat ``treatment`` that selects the life factor lines."""
 
     youngs_modulus: quantity("pressure", gt=0) = 206e9  # type: ignore[valid-type]
     poisson_ratio: float = Field(0.29, gt=-1.0, lt=0.5)
     density: quantity("density", gt=0) = 7850.0  # type: ignore[valid-type]
+    # load capacity limits (issue 29): ISO 6336-5:2016 case-hardened wrought steel MQ
+    sigma_Hlim: quantity("pressure", gt=0) = 1500e6  # type: ignore[valid-type]
+    sigma_Flim: quantity("pressure", gt=0) = 500e6  # type: ignore[valid-type]
+    treatment: Literal["case-hardened", "through-hardened", "induction-hardened", "nitrided"] = (
+        "case-hardened"
+    )
 
 
 class Bevel(Spec):

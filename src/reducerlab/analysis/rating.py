@@ -1,0 +1,311 @@
+"""Load capacity of a design's gear pairs: pitting and tooth root safety factors
+(issue 29).
+
+``load_capacity(design, torque=..., power=..., conditions=...)`` rates
+
+* a ``gear_pair`` design's spur pair (ISO 6336-2/-3:2019 method B,
+  :func:`reducerlab.rating.cylindrical.rate_spur_pair`), the load the pinion's torque
+  at ``operating.speed``;
+* a ``khv`` design's internal pair, planet in ring
+  (:func:`reducerlab.rating.cylindrical.rate_internal_pair`), the load the planet's
+  torque (the drive's output torque: the planet drives the output through the W
+  mechanism) at the planet's speed relative to the carrier;
+* a ``nutation`` design's bevel pairs by ISO 10300:2014 method B1
+  (:func:`reducerlab.rating.iso10300.rate_bevel_pair`), the load each pair's torque
+  from the lossless torque flow.
+
+The result lists every factor with its value, unit and clause, and ``S_H``, ``S_F`` per
+gear (``pair``: which pair, ``gear``: ``1`` or ``2`` of that pair).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any, ClassVar
+
+import numpy as np
+import xarray as xr
+
+from ..design import Design
+from ..errors import ReducerlabError
+from ..rating.cylindrical import PairRating, rate_internal_pair, rate_spur_pair
+from ..rating.material import GearMaterial, RatingConditions
+from ..results import Result, provenance
+
+__all__ = ["RatingResult", "design_materials", "load_capacity"]
+
+
+class RatingResult(Result):
+    """Load capacity of a design's gear pairs.
+
+    ``data`` has dimension ``factor`` with ``pair`` (label of the pair), ``symbol``,
+    ``gear`` (``pair``, ``1``, ``2``), ``value`` (SI), ``unit`` and ``clause`` (the
+    standard, edition and equation); attributes ``pairs`` (JSON: per pair its standard,
+    ``S_H`` and ``S_F`` of gears 1 and 2, the gears' names), ``torque`` and the
+    provenance.
+    """
+
+    kind: ClassVar[str] = "rating"
+
+    def pairs(self) -> dict[str, dict[str, Any]]:
+        """Per pair: ``standard``, ``gears`` (names), ``S_H`` and ``S_F`` (gear 1, 2)."""
+        return dict(json.loads(self.data.attrs["pairs"]))
+
+    def value(self, symbol: str, gear: str = "pair", pair: str | None = None) -> float:
+        """The value (SI) of ``symbol`` for ``gear`` of ``pair`` (default: the first)."""
+        ds = self.data
+        pair = pair or next(iter(self.pairs()))
+        m = (ds["symbol"].values == symbol) & (ds["gear"].values == gear)
+        m &= ds["pair"].values == pair
+        if not m.any():
+            raise ReducerlabError(f"symbol: no factor {symbol!r} of gear {gear!r} in {pair!r}")
+        return float(ds["value"].values[m][0])
+
+    @property
+    def minimum_safety(self) -> dict[str, float]:
+        """The smallest ``S_H`` and ``S_F`` over all gears of all pairs."""
+        p = self.pairs().values()
+        return {"S_H": min(min(v["S_H"]) for v in p), "S_F": min(min(v["S_F"]) for v in p)}
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the pairs' safety factors and every factor row."""
+        ds = self.data
+        rows = [
+            {
+                "pair": str(ds["pair"].values[i]),
+                "symbol": str(ds["symbol"].values[i]),
+                "gear": str(ds["gear"].values[i]),
+                "value": float(ds["value"].values[i]),
+                "unit": str(ds["unit"].values[i]),
+                "clause": str(ds["clause"].values[i]),
+            }
+            for i in range(ds.sizes["factor"])
+        ]
+        return {"pairs": self.pairs(), "factors": rows}
+
+    def table(self) -> str:
+        """Plain-text table: per pair the safety factors, then every factor (MPa and mm
+        where SI would print Pa and m)."""
+        lines = []
+        ds = self.data
+        for label, p in self.pairs().items():
+            g1, g2 = p["gears"]
+            lines.append(f"{label}: {p['standard']}")
+            lines.append(
+                f"  S_H: {g1} {p['S_H'][0]:.3f}, {g2} {p['S_H'][1]:.3f}   "
+                f"S_F: {g1} {p['S_F'][0]:.3f}, {g2} {p['S_F'][1]:.3f}"
+            )
+            lines.append(f"  {'symbol':<12} {'gear':<8} {'value':>14}  {'unit':<9} clause")
+            for i in np.nonzero(ds["pair"].values == label)[0]:
+                unit, v = str(ds["unit"].values[i]), float(ds["value"].values[i])
+                if unit == "Pa":
+                    unit, v = "MPa", v / 1e6
+                elif unit == "m":
+                    unit, v = "mm", v * 1e3
+                elif unit == "sqrt(Pa)":
+                    unit, v = "sqrt(MPa)", v / 1e3
+                elif unit == "rad":
+                    unit, v = "deg", math.degrees(v)
+                gear = str(ds["gear"].values[i])
+                name = {"1": g1, "2": g2}.get(gear, gear)
+                lines.append(
+                    f"  {ds['symbol'].values[i]!s:<12} {name:<8} {v:>14.6g}  {unit:<9} "
+                    f"{ds['clause'].values[i]}"
+                )
+        return "\n".join(lines)
+
+
+def design_materials(design: Design) -> GearMaterial:
+    """The rating material of a design's ``[material]`` table."""
+    m = getattr(design, "material", None)
+    if m is None:
+        raise ReducerlabError("material: this design has no [material] table")
+    return GearMaterial(
+        youngs_modulus=float(m.youngs_modulus),
+        poisson_ratio=float(m.poisson_ratio),
+        sigma_Hlim=float(m.sigma_Hlim),
+        sigma_Flim=float(m.sigma_Flim),
+        treatment=str(m.treatment),
+    )
+
+
+def _pinion_torque(design: Design, torque: float | None, power: float | None) -> float | None:
+    if torque is not None and power is not None:
+        raise ReducerlabError("torque/power: give at most one of them")
+    if torque is not None:
+        if not (math.isfinite(torque) and torque > 0):
+            raise ReducerlabError(f"torque: must be > 0 (N m); got {torque!r}")
+        return float(torque)
+    if power is not None:
+        if not (math.isfinite(power) and power > 0):
+            raise ReducerlabError(f"power: must be > 0 (W); got {power!r}")
+        return None  # resolved per design from its speed
+    return None
+
+
+def load_capacity(
+    design: Design,
+    *,
+    torque: float | None = None,
+    power: float | None = None,
+    conditions: RatingConditions | None = None,
+) -> RatingResult:
+    """Rate every gear pair of ``design`` (ISO 6336-2/-3:2019, ISO 10300:2014).
+
+    Parameters
+    ----------
+    design : Design
+        A ``gear_pair``, ``khv`` or ``nutation`` design.
+    torque, power : float, optional
+        The load, at most one: the torque (N m) on the pair's driving gear (gear_pair:
+        the pinion; khv: the planet; nutation: the input shaft, spread by the torque
+        flow), or the power (W) at the design's speed. Default: the design's own load.
+    conditions : RatingConditions, optional
+        K-factors, life, lubricant, roughness, minimum safety factors; defaults
+        documented in :class:`~reducerlab.rating.material.RatingConditions`.
+
+    Raises
+    ------
+    ReducerlabError
+        No load (neither given nor in the design), a design type without gear pairs to
+        rate, or geometry outside the standard's range, naming the field.
+    """
+    c = conditions or RatingConditions()
+    _pinion_torque(design, torque, power)
+    kind = getattr(design, "type", "")
+    if kind not in ("gear_pair", "khv", "nutation"):
+        raise ReducerlabError(
+            f"type: the load capacity rating covers gear_pair, khv and nutation designs; "
+            f"got {kind!r}"
+        )
+    mat = design_materials(design)
+    ratings: dict[str, tuple[PairRating, tuple[str, str]]] = {}
+    if kind == "gear_pair":
+        speed = float(design.operating.speed)  # type: ignore[attr-defined]
+        if not speed > 0:
+            raise ReducerlabError("operating.speed: must be > 0 for the rating (load cycles)")
+        t = _load(design, torque, power, speed, lambda p: p.input_torque)
+        pair = design.spur_pair()  # type: ignore[attr-defined]
+        ratings["pair"] = (rate_spur_pair(pair, t, speed, (mat, mat), c), ("pinion", "gear"))
+    elif kind == "khv":
+        g = design.gears  # type: ignore[attr-defined]
+        w_h = float(design.input_speed)  # type: ignore[attr-defined]
+        # ring fixed: the planet turns relative to the carrier at -(z_K / z_V) omega_H
+        rel = abs(w_h) * g.ring_teeth / g.planet_teeth
+        t = _load(design, torque, power, None, lambda p: p.output_torque)
+        pair = g.pair()
+        ratings["mesh K-V"] = (
+            rate_internal_pair(pair, t, rel, (mat, mat), c),
+            ("planet V", "ring K"),
+        )
+    elif kind == "nutation":
+        ratings.update(_nutation(design, mat, c, torque, power))
+    else:
+        raise ReducerlabError(
+            f"type: the load capacity rating covers gear_pair, khv and nutation designs; "
+            f"got {kind!r}"
+        )
+    return _result(design, ratings, c)
+
+
+def _nutation(
+    design: Any,
+    mat: GearMaterial,
+    c: RatingConditions,
+    torque: float | None,
+    power: float | None,
+) -> dict[str, tuple[PairRating, tuple[str, str]]]:
+    """Each bevel pair of a nutation design on its virtual cylindrical gears
+    (:func:`reducerlab.rating.bevel.rate_bevel_pair`), loaded by the torque flow."""
+    from ..rating.bevel import rate_bevel_pair
+    from .torque_flow import torque_flow
+
+    sf = design.surface
+    if sf is None:
+        raise ReducerlabError(
+            "surface: the rating needs the tooth geometry of a [surface] table "
+            "(profile, face_width)"
+        )
+    if sf.profile != "involute":
+        raise ReducerlabError(
+            f"surface.profile: the ISO rating covers involute teeth; got {sf.profile!r}"
+        )
+    if torque is not None or power is not None:
+        w_in = abs(float(design.input_speed))
+        t_in = torque if torque is not None else float(power) / w_in
+        ratio = abs(float(design.kinematics().ratio))
+        design = design.with_values({"output_torque": t_in * ratio, "output_power": None})
+    flow = torque_flow(design)
+    if not flow.output_torque:
+        raise ReducerlabError(
+            "torque/power: give the load (--torque or --power), or a load in the design "
+            "(output_torque or output_power)"
+        )
+    theta = design.theta
+    freqs = list(design.kinematics().mesh_frequencies(design.input_speed).values())
+    out = {}
+    for k, (d_nut, d_cen) in enumerate(design.cones(theta)):
+        nut, cen = getattr(design, f"gear{2 * k + 1}"), getattr(design, f"gear{2 * k + 2}")
+        mesh = flow.meshes[f"mesh{k + 1}"]
+        m_n = sf.normal_module or design.surface_module(2 * k + 1)
+        w_rel = 2 * math.pi * freqs[k] / cen.teeth
+        r = rate_bevel_pair(
+            teeth=(cen.teeth, nut.teeth), mean_radii=(cen.mean_radius, nut.mean_radius),
+            cone_angles=(d_cen, d_nut), normal_module=m_n, spiral_angle=design.spiral_angle,
+            pressure_angle=design.normal_pressure_angle, face_width=sf.face_width,
+            torque=abs(float(mesh.external_torque)), speed=w_rel, internal=True,
+            materials=(mat, mat), conditions=c,
+        )  # fmt: skip
+        out[f"pair {k + 1}"] = (r, (f"gear {2 * k + 2}", f"gear {2 * k + 1}"))
+    return out
+
+
+def _load(design: Design, torque, power, speed, pick) -> float:
+    if torque is not None:
+        return float(torque)
+    if power is not None:
+        if speed is None:
+            point = design.operating_point()
+            w_out = abs(point.output_speed)
+            return float(power) / w_out
+        return float(power) / speed
+    point = design.operating_point()
+    if not point.loaded:
+        raise ReducerlabError(
+            "torque/power: give the load (--torque or --power), or a load in the design "
+            f"({' or '.join(design.load_fields)})"
+        )
+    return abs(float(pick(point)))
+
+
+def _result(
+    design: Design, ratings: dict[str, tuple[PairRating, tuple[str, str]]], c: RatingConditions
+) -> RatingResult:
+    rows = [(label, f) for label, (r, _) in ratings.items() for f in r.factors]
+    pairs = {
+        label: {
+            "standard": r.standard,
+            "gears": list(names),
+            "S_H": list(r.S_H),
+            "S_F": list(r.S_F),
+        }
+        for label, (r, names) in ratings.items()
+    }
+    ds = xr.Dataset(
+        {
+            "pair": ("factor", np.array([p for p, _ in rows], dtype=str)),
+            "symbol": ("factor", np.array([f.symbol for _, f in rows], dtype=str)),
+            "gear": ("factor", np.array([f.gear for _, f in rows], dtype=str)),
+            "value": ("factor", np.array([f.value for _, f in rows], dtype=float)),
+            "unit": ("factor", np.array([f.unit for _, f in rows], dtype=str)),
+            "clause": ("factor", np.array([f.clause for _, f in rows], dtype=str)),
+        },
+        attrs={
+            "title": "Load capacity (pitting, tooth root)",
+            "pairs": json.dumps(pairs),
+            "conditions": json.dumps(c.__dict__),
+            **provenance(design.provenance),
+        },
+    )
+    return RatingResult(ds)
