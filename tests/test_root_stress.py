@@ -189,3 +189,16 @@ def test_reversed_teeth_and_bad_input():
         line_load_root_stress(c, 0, 0.5, 1.0, points=1)
     with pytest.raises(ReducerlabError, match="amplitudes"):
         c.fillet.stress(np.zeros(5))
+
+
+def test_contact_analysis_refuses_root_stress_it_cannot_give():
+    import xarray as xr
+
+    from reducerlab.analysis.contact_rootstress import check_root_compliance, root_stress_lines
+
+    with pytest.raises(ReducerlabError, match="rigid"):
+        check_root_compliance(None, rigid=True)
+    with pytest.raises(ReducerlabError, match="without the root-stress"):
+        check_root_compliance((_synthetic(), _synthetic(False)), rigid=False)
+    check_root_compliance((_synthetic(), _synthetic()), rigid=False)  # accepted
+    assert root_stress_lines(xr.Dataset()) == []
