@@ -202,3 +202,15 @@ def test_contact_analysis_refuses_root_stress_it_cannot_give():
         check_root_compliance((_synthetic(), _synthetic(False)), rigid=False)
     check_root_compliance((_synthetic(), _synthetic()), rigid=False)  # accepted
     assert root_stress_lines(xr.Dataset()) == []
+
+
+def test_a_fillet_outside_the_model_is_nan_not_an_error():
+    c = _synthetic()
+    f = c.fillet
+    keep = ~((f.tooth == 1) & (f.side == -1))  # as if cut away by the sector's end wall
+    cut = FilletInfluence(*(getattr(f, n)[keep] for n in (
+        "points", "normals", "tooth", "side", "radius", "face", "angle", "matrix")))  # fmt: skip
+    c2 = ToothCompliance(c.u_nodes, c.v_nodes, c.teeth, c.matrix, c.dofs, c.radius, cut)
+    r = tooth_root_stress(c2, [0], [0.5], [0.5], [1.0])
+    assert np.isnan(r.compressive[2]) and np.isnan(r.compressive_radius[2])
+    assert np.all(np.isfinite(r.tensile)) and np.all(np.isfinite(r.compressive[:2]))

@@ -85,6 +85,6 @@ def root_stress_lines(ds: Any) -> list[str]:
         f"  at radius {a['root_stress_peak_radius'] * 1e3:.3f} mm, "
         f"{a['root_stress_peak_face'] * 1e3:+.2f} mm from mid-face, fillet tangent "
         f"{a['root_stress_peak_angle']:.1f} deg to the tooth centre line",
-        f"compressive side (opposite fillet): {comp.min() / 1e6:.1f} MPa; fillet von Mises "
-        f"up to {float(ds['root_von_mises'].max()) / 1e6:.1f} MPa",
+        f"compressive side (opposite fillet): {np.nanmin(comp) / 1e6:.1f} MPa; fillet von "
+        f"Mises up to {float(np.nanmax(ds['root_von_mises'].values)) / 1e6:.1f} MPa",
     ]

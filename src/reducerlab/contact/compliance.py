@@ -260,9 +260,12 @@ class _bevel_fillet:
     """The root fillets of a crown-generated bevel gear's tooth model (cone coordinates
     ``(L, h, psi)``, ``geometry.solid.cone_coordinates``).
 
-    A boundary facet is in the root region when its corners lie below the lower edge of
-    the active flanks (``u = u_range[0]``) of both flanks that bound a tooth space and
-    above the middle of the rim, and not all on the toe or heel cone. The space of the
+    A boundary facet is in the root region when its corners lie between the bottom of
+    the tooth spaces (the deepest boundary point of the model in each slice along the
+    face) and the root-side edge of the active flanks of both flanks that bound a tooth
+    space (0.25 m_n above the bottom where the flank runs into it: the internal gears of
+    the nutation drive), above the middle of the rim, and not all on the toe or heel
+    cone. The space of the
     loaded flank's tooth 0 lies between the lower edge of the loaded flank
     (azimuth ``psi_A(L)``) and that of the opposite flank of the same crown tooth
     (``psi_B(L)``); every space is that one turned by whole pitches. A facet in a space
@@ -280,19 +283,24 @@ class _bevel_fillet:
         self.sign = 1.0 if gear.kind == "external" else -1.0
         self.blank = blank
         self.blocks = {round(t / self.pitch): k for t, k in zip(angles, TEETH, strict=True)}
+        self.module = flank.crown.profile.module
         other = BevelFlank(flank.crown, gear, -flank.flank, flank.addendum)
         v = np.linspace(0.0, 1.0, 61)
-        edges = []
+        edges, u_root = [], []
         for f in (flank, other):
-            P, _ = f.evaluate(np.full_like(v, f.u_range[0]), v)
-            L, h, psi = cone_coordinates(P, self.delta)
+            # the end of the active flank nearer the root cone (internal gears: u = 1)
+            ends = [(u, cone_coordinates(f.evaluate(np.full_like(v, u), v)[0], self.delta))
+                    for u in f.u_range]  # fmt: skip
+            u, (L, h, psi) = min(ends, key=lambda e: abs(float(np.median(e[1][1])) - blank.root))
             o = np.argsort(L)
             edges.append((L[o], h[o], np.unwrap(psi[o])))
+            u_root.append(u)
         (self.L_a, self.h_a, self.psi_a), (self.L_b, self.h_b, self.psi_b) = edges
         self._cone = cone_coordinates
         # do the two edges bound a tooth space (the loaded flank's normal, out of the
         # material, turns toward the other edge) or the tooth itself?
-        P, N = flank.evaluate(np.array([0.5 * sum(flank.u_range)]), np.array([0.5]))
+        u0 = 0.9 * u_root[0] + 0.1 * (sum(flank.u_range) - u_root[0])
+        P, N = flank.evaluate(np.array([u0]), np.array([0.5]))
         L0, _, psi0 = cone_coordinates(P, self.delta)
         e_psi = np.array([-math.sin(psi0[0]), math.cos(psi0[0]), 0.0])
         toward = np.angle(np.exp(1j * (np.interp(L0, self.L_b, self.psi_b) - psi0)))[0]
@@ -333,10 +341,29 @@ class _bevel_fillet:
         _, _, top = self._edges(L)
         tol = 1e-6 * float(np.max(np.abs(skm.p)))
         floor = bl.root + 0.5 * (bl.body - bl.root)
-        band = np.all(self.sign * (top - h) >= -tol, axis=0)
-        band &= np.all(self.sign * (h - floor) > tol, axis=0)
         ends = np.all(np.abs(L - bl.front) < tol, axis=0)
         ends |= np.all(np.abs(L - bl.back) < tol, axis=0)
+        # the open sector's end walls: planes through the axis
+        nrm = np.cross((P[:, 1] - P[:, 0]).T, (P[:, 2] - P[:, 0]).T)
+        nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+        c = P.mean(axis=1).T
+        walls = (np.abs(np.einsum("ij,ij->i", nrm, c)) < 1e-6 * np.linalg.norm(c, axis=1)) & (
+            np.abs(nrm[:, 2]) < 1e-6
+        )
+        above = np.all(self.sign * (h - floor) > tol, axis=0) & ~ends & ~walls
+        # the bottom of the tooth spaces along the face (the deepest boundary point in
+        # each of 40 slices of L); the root region reaches from there to the active
+        # flank's root-side edge, or 0.25 m_n where the flank runs into the bottom
+        Lc, hc = L.mean(axis=0), h.mean(axis=0)
+        bins = np.linspace(bl.front, bl.back, 41)
+        idx = np.clip(np.searchsorted(bins, Lc) - 1, 0, 39)
+        deep = np.full(40, np.inf)
+        np.minimum.at(deep, idx[above], self.sign * hc[above])
+        ok = np.isfinite(deep)
+        bottom = self.sign * np.interp(L, 0.5 * (bins[1:] + bins[:-1])[ok], deep[ok])
+        top = np.where(self.sign * (top - bottom) > 0.1 * self.module, top,
+                       bottom + self.sign * 0.25 * self.module)  # fmt: skip
+        band = above & np.all(self.sign * (top - h) >= -tol, axis=0)
         Lc, psic = L.mean(axis=0), np.angle(np.exp(1j * psi).mean(axis=0))
         turn, side, _ = self._place(Lc, psic)
         block = np.array([self.blocks.get(int(t), 99) for t in turn])

@@ -117,7 +117,8 @@ class ToothRootStress:
     teeth : tuple of int
         Tooth blocks (tooth pairs of the contact analysis).
     tensile : ndarray (T,)
-        Largest principal stress on the loaded flank's fillet of each tooth (Pa).
+        Largest principal stress on the loaded flank's fillet of each tooth (Pa); NaN
+        (and NaN locations) for a fillet the tooth model does not hold.
     tensile_radius, tensile_face, tensile_angle : ndarray (T,)
         Where: radius from the axis (m), position across the face from mid-face (m),
         fillet tangent angle to the tooth centre line (rad, :class:`FilletInfluence`).
@@ -207,8 +208,10 @@ def tooth_root_stress(
         out["vm"].append(float(vm[inf.tooth == k].max(initial=0.0)))
         for side, key, val in ((1, "t", p[:, 2]), (-1, "c", p[:, 0])):
             idx = np.flatnonzero((inf.tooth == k) & (inf.side == side))
-            if idx.size == 0:
-                raise ReducerlabError(f"root stress: no fillet nodes on tooth {k}, side {side}")
+            if idx.size == 0:  # a fillet outside the model (cut by a sector's end wall)
+                for suffix in ("", "r", "f", "a"):
+                    out[key + suffix].append(math.nan)
+                continue
             j = idx[np.argmax(val[idx])] if side == 1 else idx[np.argmin(val[idx])]
             out[key].append(float(val[j]))
             out[key + "r"].append(float(inf.radius[j]))
@@ -260,7 +263,7 @@ class PairRootStress:
         """The largest tensile root stress of the run and where: ``gear`` (0 A, 1 B),
         ``position`` index, ``tooth``, ``stress`` (Pa), ``radius``, ``face`` (m),
         ``angle`` (rad)."""
-        g, p, t = np.unravel_index(int(np.argmax(self.tensile)), self.tensile.shape)
+        g, p, t = np.unravel_index(int(np.nanargmax(self.tensile)), self.tensile.shape)
         return {
             "gear": int(g), "position": int(p), "tooth": int(self.teeth[t]),
             "stress": float(self.tensile[g, p, t]), "radius": float(self.tensile_radius[g, p, t]),
