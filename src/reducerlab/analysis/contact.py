@@ -423,7 +423,7 @@ def contact_analysis(
     n = contact_processes(workers, rigid=rigid, positions=positions)
     fe = compliance is None and not rigid
     if fe:
-        compliance_estimate(mp, tooth_size).check()
+        compliance_estimate(mp, tooth_size, root_stress=root_stress).check()
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
     with contact_pool(n) as pool:

@@ -305,7 +305,8 @@ def tooth_compliances(
     from ..budget import memory_limit
     from ..contact.compliance import compliance_estimate, fe_tooth_compliance
 
-    both = None if pool is None else compliance_estimate(pair, tooth_size, concurrent=True)
+    both = None if pool is None else compliance_estimate(pair, tooth_size, concurrent=True,
+                                                         root_stress=root_stress)  # fmt: skip
     if both is not None and both.memory <= memory_limit():
         return pool.compliance((pair.flank_a, pair.flank_b), material, tooth_size, say,
                                root_stress)  # fmt: skip

@@ -160,11 +160,14 @@ def _sizes(m_n: float, tooth_size: float | None, body_size: float | None) -> tup
 def compliance_estimate(
     pair, tooth_size: float | None = None, body_size: float | None = None,
     grid: tuple[int, int] = (6, 9), rim: float | None = None, concurrent: bool = False,
+    root_stress: bool = False,
 ) -> Any:  # fmt: skip
     """The :class:`~reducerlab.budget.Estimate` of both gears' tooth-compliance models
     of ``pair`` (five tooth sectors each, and the dense loads and responses of the
     flank loads), from the element sizes before any meshing; the larger of the two, or
-    with ``concurrent`` (both models built at once, in two processes) their sum."""
+    with ``concurrent`` (both models built at once, in two processes) their sum.
+    ``root_stress``: with the displacements of the loads too (twice the dense
+    columns)."""
     import dataclasses
 
     from ..fe.gear_mesh import BlankFeatures, MeshSizes, mesh_estimate
@@ -179,7 +182,7 @@ def compliance_estimate(
             crown, gear, 2.0 * m_n if rim is None else rim, BlankFeatures(), MeshSizes(ts, bs),
             what=f"contact: the tooth compliance of the {gear.kind} gear",
             control="the tooth element size (--tooth-size, tooth_size=)", sectors=5,
-            dense_columns=len(TEETH) * grid[0] * grid[1],
+            dense_columns=len(TEETH) * grid[0] * grid[1] * (2 if root_stress else 1),
         )  # fmt: skip
         total += est.memory
         if worst is None or est.memory > worst.memory:
