@@ -258,3 +258,16 @@ def test_bevel_tooth_model_root_stress_is_the_same_on_each_modelled_tooth():
         assert np.all(r.tensile[others] < 0.7 * r.tensile[i])
         own.append(r.tensile[i])
     assert max(own) / min(own) < 1.1
+
+
+def test_root_stress_memory_is_estimated_and_bounded(monkeypatch):
+    from reducerlab.budget import MEMORY_ENV
+    from reducerlab.contact.compliance import root_stress_estimate
+    from reducerlab.errors import BudgetError
+
+    monkeypatch.setenv(MEMORY_ENV, "1G")
+    est = root_stress_estimate(100_000, 162, 2000)  # the spur model: 3 x 130 MB + 16 MB
+    assert est.memory == pytest.approx(3 * 8.0 * 100_000 * 162 + 6 * 8.0 * 2000 * 162)
+    est.check()
+    with pytest.raises(BudgetError, match="root-stress influence"):
+        root_stress_estimate(1_000_000, 162, 2000).check()  # 3.9 GB
