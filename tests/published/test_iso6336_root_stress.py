@@ -38,14 +38,13 @@ node sits nearest the peak): the stated peak is the largest node value.
 
 Tolerance: ISO 6336-3 method B is an approximation: ``Y_F`` is the bending stress of a
 cantilever at the 30 deg tangent section (a plane-section beam formula), ``Y_S`` an
-empirical fit of photo-elastic measurements (Hirt, TU Munich 1976, the standard's
-basis; valid for ``1 <= q_s < 8``, here ``q_s = 1.88``) for the stress concentration
-and the part of the radial load. The standard itself gives no error band (its text was
-not available here); published comparisons of method B with precise 2-D/3-D FE for
-standard spur gears commonly report agreement within about 5-10 %, ISO usually a little
-below the FE fillet maximum. The assertion is +-12 %: the band of those comparisons
-plus the +-4 % node sampling of the 0.3 m model. A wrong sign, a wrong fillet, a
-forgotten load scale or a factor 2 fails it.
+empirical fit of the stress concentration and the radial load's part (photo-elastic
+measurements; valid for ``1 <= q_s < 8``, here ``q_s = 1.88``). The standard's text
+was not available here, so no error band of its own is quoted; comparisons of method B
+with 2-D/3-D FE for standard spur gears in the literature are, as far as known here
+(not checked against a text in this session), within about 5-10 %. The assertion is
++-12 %: that band plus the +-4 % node sampling of the 0.3 m model. A wrong sign, a
+wrong fillet, a forgotten load scale or a factor 2 fails it.
 """
 
 from __future__ import annotations
