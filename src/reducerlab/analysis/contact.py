@@ -106,7 +106,8 @@ class ContactResult(Result):
     ``cell`` (the contact grid of every position, concatenated) with ``cell_position``,
     ``cell_tooth``, ``u``, ``v`` (flank parameters of the external gear), ``x, y, z``
     (m), ``area``, ``separation`` (m), ``cell_force`` (N), ``pressure`` (Pa) and ``edge``
-    (1 on a flank edge).
+    (1 on a flank edge); with ``root_stress``, dimensions ``gear`` and ``tooth_pair``
+    with the root stresses of ``analysis.contact_rootstress.ROOT_VARIABLES``.
     """
 
     kind: ClassVar[str] = "contact"
@@ -344,6 +345,7 @@ def contact_analysis(
     stage: Stage | None = None,
     progress: Callable[[int, int], None] | None = None,
     modifications: Any = None,
+    root_stress: bool = False,
 ) -> ContactResult:
     """Loaded tooth contact analysis of one gear pair over a mesh cycle.
 
@@ -389,12 +391,16 @@ def contact_analysis(
         the design's (``[gearN.modifications]``, ``surface.flank_modifications``). The
         tooth compliance is that of the unmodified teeth: ``compliance`` from a run with
         other modifications serves unchanged.
+    root_stress : bool
+        Also the tooth-root stresses of both gears at every position (the tooth models'
+        fillet stress influence, ``analysis.contact_rootstress``).
     """
     from ..contact.compliance import compliance_estimate
     from ..contact.halfspace import combined_modulus
     from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
     from ..fe import Material
+    from .contact_rootstress import add_root_stress, check_root_compliance
     from .contact_workers import contact_pool, contact_processes, tooth_compliances
 
     t0 = time.perf_counter()
@@ -425,10 +431,12 @@ def contact_analysis(
     check_load(mp, T_a, external.mean_radius, E_star, design.operating_speed, power is not None)
     if cell is not None:
         grid_estimate(mp, ContactGrid(float(cell))).check()
+    if root_stress:
+        check_root_compliance(compliance, rigid)
     n = contact_processes(workers, rigid=rigid, positions=positions)
     fe = compliance is None and not rigid
     if fe:
-        compliance_estimate(mp.unmodified, tooth_size).check()
+        compliance_estimate(mp.unmodified, tooth_size, root_stress=root_stress).check()
     pitch = 2 * math.pi / mp.external.teeth
     phis = pitch * np.arange(positions) / positions
     with contact_pool(n) as pool:
@@ -436,7 +444,9 @@ def contact_analysis(
         if compliance is not None and not rigid:
             comp_a, comp_b = compliance
         elif fe:
-            comp_a, comp_b = tooth_compliances(mp.unmodified, material, tooth_size, say, pool)
+            comp_a, comp_b = tooth_compliances(
+                mp.unmodified, material, tooth_size, say, pool, root_stress
+            )
         kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": E_star}
         s0 = ContactGrid.s_max
         if cell is None and rigid:
@@ -518,6 +528,8 @@ def contact_analysis(
         frame="x: normal of the plane of the two axes (tangential at the mesh); y: along the "
         "pitch line; z: crown gear axis",
     )  # fmt: skip
+    if root_stress:
+        ds = add_root_stress(ds, mp, runs, comp_a, comp_b)
     out = ContactResult(ds)
     out.compliance = None if comp_a is None else (comp_a, comp_b)
     return out

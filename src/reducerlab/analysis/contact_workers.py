@@ -99,15 +99,17 @@ def _warm() -> None:
 
 
 def _compliance_task(
-    flank: Any, material: Any, tooth_size: float | None, solids: dict, threads: int
-) -> tuple[Any, dict]:
+    flank: Any, material: Any, tooth_size: float | None, solids: dict, threads: int,
+    root_stress: bool = False,
+) -> tuple[Any, dict]:  # fmt: skip
     """One gear's tooth compliance in a worker; also the sector solids it built."""
     from ..contact.compliance import fe_tooth_compliance
     from ..fe.gear_mesh import store_solids, stored_solids
 
     store_solids(solids)
     with share_threads(threads):
-        comp = fe_tooth_compliance(flank, material=material, tooth_size=tooth_size)
+        comp = fe_tooth_compliance(flank, material=material, tooth_size=tooth_size,
+                                   root_stress=root_stress)  # fmt: skip
     return comp, {k: v for k, v in stored_solids().items() if k not in solids}
 
 
@@ -172,15 +174,16 @@ class ContactPool:
                 self._result(future, what)
 
     def compliance(self, flanks: Sequence[Any], material: Any, tooth_size: float | None,
-                   say: Stage) -> tuple[Any, Any]:  # fmt: skip
+                   say: Stage, root_stress: bool = False) -> tuple[Any, Any]:  # fmt: skip
         """Both gears' tooth compliances at once: ``flanks[0]`` here, ``flanks[1]`` in a
-        worker (``contact.compliance.fe_tooth_compliance``)."""
+        worker (``contact.compliance.fe_tooth_compliance``; ``root_stress``: with the
+        fillet stress influence)."""
         from ..contact.compliance import fe_tooth_compliance
         from ..fe.gear_mesh import store_solids, stored_solids
 
         what = "the internal gear's tooth compliance"
         future = self.pool.submit(_compliance_task, flanks[1], material, tooth_size,
-                                  stored_solids(), self.threads)  # fmt: skip
+                                  stored_solids(), self.threads, root_stress)  # fmt: skip
         futures = {**dict.fromkeys(self.warm, "its start"), future: what}
 
         def stage(text: str) -> None:
@@ -190,7 +193,7 @@ class ContactPool:
         say("finite-element compliance of both gears' teeth (two processes)")
         with share_threads(self.threads):
             comp_a = fe_tooth_compliance(flanks[0], material=material, tooth_size=tooth_size,
-                                         stage=stage)  # fmt: skip
+                                         stage=stage, root_stress=root_stress)  # fmt: skip
         say("finite-element compliance of the internal gear's teeth (worker process)")
         comp_b, solids = self._result(future, what)
         store_solids(solids)
@@ -292,21 +295,25 @@ def contact_pool(processes: int) -> Iterator[ContactPool | None]:
 
 
 def tooth_compliances(
-    pair: Any, material: Any, tooth_size: float | None, say: Stage, pool: ContactPool | None
-) -> tuple[Any, Any]:
+    pair: Any, material: Any, tooth_size: float | None, say: Stage, pool: ContactPool | None,
+    root_stress: bool = False,
+) -> tuple[Any, Any]:  # fmt: skip
     """The external and internal gears' tooth compliances of ``pair``
-    (``contact.compliance.fe_tooth_compliance``): at once on ``pool`` where its memory
-    estimate of both models together fits, else one after the other here."""
+    (``contact.compliance.fe_tooth_compliance``; ``root_stress``: with the fillet
+    stress influence): at once on ``pool`` where its memory estimate of both models
+    together fits, else one after the other here."""
     from ..budget import memory_limit
     from ..contact.compliance import compliance_estimate, fe_tooth_compliance
 
-    both = None if pool is None else compliance_estimate(pair, tooth_size, concurrent=True)
+    both = None if pool is None else compliance_estimate(pair, tooth_size, concurrent=True,
+                                                         root_stress=root_stress)  # fmt: skip
     if both is not None and both.memory <= memory_limit():
-        return pool.compliance((pair.flank_a, pair.flank_b), material, tooth_size, say)
+        return pool.compliance((pair.flank_a, pair.flank_b), material, tooth_size, say,
+                               root_stress)  # fmt: skip
     say("finite-element compliance of the external gear's teeth")
     comp_a = fe_tooth_compliance(pair.flank_a, material=material, tooth_size=tooth_size,
-                                 stage=say)  # fmt: skip
+                                 stage=say, root_stress=root_stress)  # fmt: skip
     say("finite-element compliance of the internal gear's teeth")
     comp_b = fe_tooth_compliance(pair.flank_b, material=material, tooth_size=tooth_size,
-                                 stage=say)  # fmt: skip
+                                 stage=say, root_stress=root_stress)  # fmt: skip
     return comp_a, comp_b

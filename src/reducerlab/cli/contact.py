@@ -85,12 +85,21 @@ def contact(
             "fitted k_m, harmonics and phases (paper 000 Eq. 8)."
         ),
     ] = None,
+    root_stress: Annotated[
+        bool,
+        typer.Option(
+            "--root-stress",
+            help="Also the tooth-root stress of both gears at every position (from the "
+            "finite-element tooth models); prints the peak and where it is.",
+        ),
+    ] = False,
     sets: SetOption = None,
 ) -> None:
     """Loaded tooth contact analysis of a gear pair over one mesh cycle (papers 001, 000
     §2.3): contact pattern and pressure, transmission error, contact force, subsurface
     stress, mesh stiffness k(t) and its Fourier series; netCDF, JSON, table, figures."""
     from ..analysis.contact import contact_analysis, design_with_mesh
+    from ..analysis.contact_rootstress import root_stress_lines
     from ..contact.flanks import Misalignment
     from ..drives import load_design
 
@@ -124,7 +133,7 @@ def contact(
                 d, pair, power=P, torque=T, positions=positions, order=order, cell=h,
                 profile=None if profile is None else profile.value,
                 misalignment=Misalignment(**mis) if mis else None, tooth_size=ts,
-                rigid=rigid, workers=workers,
+                rigid=rigid, workers=workers, root_stress=root_stress,
                 stage=lambda text: progress.update(task, description=text),
                 progress=lambda done, total: progress.update(
                     task, completed=done, total=total,
@@ -135,7 +144,8 @@ def contact(
             with files:
                 res.save(files.path("contact.nc"))
                 write_json(res, files.path("contact.json"))
-                files.path("contact.txt").write_text(res.table() + "\n")
+                lines = root_stress_lines(res.data)
+                files.path("contact.txt").write_text("\n".join([res.table(), *lines]) + "\n")
                 savefig(res.figure(), files.path("contact.png"), res.data.attrs)
                 from ..plot.contact import plot_pressure_map
 
@@ -144,6 +154,8 @@ def contact(
             text = design_with_mesh(design, res)
             write_file(write_design, lambda tmp: tmp.write_text(text))
     typer.echo(res.table())
+    for line in root_stress_lines(res.data):
+        typer.echo(line)
 
 
 def _design_torque(design, pair: int) -> float:

@@ -112,6 +112,9 @@ class ToothCompliance:
         Size of the finite-element model.
     radius : float
         Bump radius ``a`` (m).
+    fillet : contact.rootstress.FilletInfluence, optional
+        Stress influence coefficients of the same load bumps at the root fillets of the
+        teeth (built on request, ``root_stress=True``; None otherwise).
     """
 
     u_nodes: Array
@@ -120,6 +123,7 @@ class ToothCompliance:
     matrix: Array
     dofs: int
     radius: float
+    fillet: Any = None
 
     def stencil(self, tooth: Array, u: Array, v: Array) -> tuple[NDArray[np.int64], Array]:
         """Bilinear interpolation of points ``(u, v)`` on teeth ``tooth`` from the load
@@ -156,11 +160,14 @@ def _sizes(m_n: float, tooth_size: float | None, body_size: float | None) -> tup
 def compliance_estimate(
     pair, tooth_size: float | None = None, body_size: float | None = None,
     grid: tuple[int, int] = (6, 9), rim: float | None = None, concurrent: bool = False,
+    root_stress: bool = False,
 ) -> Any:  # fmt: skip
     """The :class:`~reducerlab.budget.Estimate` of both gears' tooth-compliance models
     of ``pair`` (five tooth sectors each, and the dense loads and responses of the
     flank loads), from the element sizes before any meshing; the larger of the two, or
-    with ``concurrent`` (both models built at once, in two processes) their sum."""
+    with ``concurrent`` (both models built at once, in two processes) their sum.
+    ``root_stress``: with the displacements of the loads too (twice the dense
+    columns)."""
     import dataclasses
 
     from ..fe.gear_mesh import BlankFeatures, MeshSizes, mesh_estimate
@@ -175,7 +182,7 @@ def compliance_estimate(
             crown, gear, 2.0 * m_n if rim is None else rim, BlankFeatures(), MeshSizes(ts, bs),
             what=f"contact: the tooth compliance of the {gear.kind} gear",
             control="the tooth element size (--tooth-size, tooth_size=)", sectors=5,
-            dense_columns=len(TEETH) * grid[0] * grid[1],
+            dense_columns=len(TEETH) * grid[0] * grid[1] * (2 if root_stress else 1),
         )  # fmt: skip
         total += est.memory
         if worst is None or est.memory > worst.memory:
@@ -196,6 +203,7 @@ def fe_tooth_compliance(
     body_size: float | None = None,
     rim: float | None = None,
     stage: Stage | None = None,
+    root_stress: bool = False,
     _legacy: bool = False,
 ) -> ToothCompliance:
     """Finite-element tooth compliance of a crown-generated bevel gear's flank.
@@ -213,6 +221,10 @@ def fe_tooth_compliance(
         Rim thickness below the root cone (m); its base is held. Default ``2 m_n``.
     stage : callable, optional
         ``stage(text)`` at each step (progress display).
+    root_stress : bool
+        Also the stress influence of every load bump at the root-fillet nodes of the
+        three teeth (``contact.rootstress``; :func:`_bevel_fillet`; one backward
+        substitution more and about ``24 dofs x loads`` bytes more at the peak).
     _legacy : bool
         Private: the finite-element path as before issue 28 (:func:`flank_influence`).
     """
@@ -226,6 +238,8 @@ def fe_tooth_compliance(
     n_u, n_v = (int(g) for g in grid)
     if n_u < 2 or n_v < 2:
         raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
+    if not isinstance(root_stress, bool):
+        raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
     a = 2.0 * ts  # bump radius: two tooth elements
     say("meshing five tooth sectors")
     mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, bs), sectors=range(-2, 3))
@@ -235,11 +249,153 @@ def fe_tooth_compliance(
     P0, N0 = flank.evaluate(uu.ravel(), vv.ravel())
     skm = mesh.skfem()
     angles = [-2 * math.pi * k / gear.teeth for k in TEETH]
-    Kb, dofs = flank_influence(
+    fillet = _bevel_fillet(flank, mesh.blank, angles) if root_stress else None
+    out = flank_influence(
         skm, lambda basis: _held_dofs(basis, mesh, cone_coordinates), P0, N0, angles,
-        a, material, stage=say, name=f"{gear.kind} gear (z = {gear.teeth})", _legacy=_legacy,
+        a, material, stage=say, name=f"{gear.kind} gear (z = {gear.teeth})", fillet=fillet,
+        _legacy=_legacy,
     )  # fmt: skip
-    return ToothCompliance(u_nodes, v_nodes, TEETH, Kb, dofs, a)
+    inf = fillet.influence(out[2]) if root_stress else None
+    return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)
+
+
+class _bevel_fillet:
+    """The root fillets of a crown-generated bevel gear's tooth model (cone coordinates
+    ``(L, h, psi)``, ``geometry.solid.cone_coordinates``).
+
+    A boundary facet is in the root region when its corners lie between the bottom of
+    the tooth spaces (the deepest boundary point of the model in each slice along the
+    face) and the root-side edge of the active flanks of both flanks that bound a tooth
+    space (0.25 m_n above the bottom where the flank runs into it: the internal gears of
+    the nutation drive), above the middle of the rim, and not all on the toe or heel
+    cone. The space of the
+    loaded flank's tooth 0 lies between the lower edge of the loaded flank
+    (azimuth ``psi_A(L)``) and that of the opposite flank of the same crown tooth
+    (``psi_B(L)``); every space is that one turned by whole pitches. A facet in a space
+    belongs to the tooth on its side of the space's mid azimuth: side +1 (the loaded
+    flank's fillet) on the ``psi_A`` side, -1 on the ``psi_B`` side; the tooth block is
+    found from the tooth's rotation (``angles``)."""
+
+    def __init__(self, flank, blank, angles: Sequence[float]) -> None:
+        from ..geometry.solid import cone_coordinates
+        from .flanks import BevelFlank
+
+        gear = flank.gear
+        self.delta = gear.cone_angle
+        self.pitch = 2 * math.pi / gear.teeth
+        self.sign = 1.0 if gear.kind == "external" else -1.0
+        self.blank = blank
+        self.blocks = {round(t / self.pitch): k for t, k in zip(angles, TEETH, strict=True)}
+        self.module = flank.crown.profile.module
+        other = BevelFlank(flank.crown, gear, -flank.flank, flank.addendum)
+        v = np.linspace(0.0, 1.0, 61)
+        edges, u_root = [], []
+        for f in (flank, other):
+            # the end of the active flank nearer the root cone (internal gears: u = 1)
+            ends = [(u, cone_coordinates(f.evaluate(np.full_like(v, u), v)[0], self.delta))
+                    for u in f.u_range]  # fmt: skip
+            u, (L, h, psi) = min(ends, key=lambda e: abs(float(np.median(e[1][1])) - blank.root))
+            o = np.argsort(L)
+            edges.append((L[o], h[o], np.unwrap(psi[o])))
+            u_root.append(u)
+        (self.L_a, self.h_a, self.psi_a), (self.L_b, self.h_b, self.psi_b) = edges
+        self._cone = cone_coordinates
+        # do the two edges bound a tooth space (the loaded flank's normal, out of the
+        # material, turns toward the other edge) or the tooth itself?
+        u0 = 0.9 * u_root[0] + 0.1 * (sum(flank.u_range) - u_root[0])
+        P, N = flank.evaluate(np.array([u0]), np.array([0.5]))
+        L0, _, psi0 = cone_coordinates(P, self.delta)
+        e_psi = np.array([-math.sin(psi0[0]), math.cos(psi0[0]), 0.0])
+        toward = np.angle(np.exp(1j * (np.interp(L0, self.L_b, self.psi_b) - psi0)))[0]
+        self.space_between = bool(np.sign(N[0] @ e_psi) == np.sign(toward))
+
+    def _edges(self, L: Array) -> tuple[Array, Array, Array]:
+        """Mid azimuth of the loaded flank's tooth space, offset of the loaded flank's
+        edge from it (rad) and the height of the root region's upper bound (m) at cone
+        distances ``L``."""
+        pa = np.interp(L, self.L_a, self.psi_a)
+        pb = np.interp(L, self.L_b, self.psi_b)
+        pb = pa + np.angle(np.exp(1j * (pb - pa)))
+        h = np.interp(L, self.L_a, self.h_a), np.interp(L, self.L_b, self.h_b)
+        top = np.maximum(*h) if self.sign > 0 else np.minimum(*h)
+        mid = 0.5 * (pa + pb)
+        if not self.space_between:  # the edges bound tooth 0: its space half a pitch on
+            mid = mid + np.sign(pa - pb) * 0.5 * self.pitch
+        return mid, pa - mid, top
+
+    def _place(self, L: Array, psi: Array) -> tuple[Array, Array, Array]:
+        """Tooth rotation (in pitches), side and centre-line azimuth offset of points."""
+        mid, half, _ = self._edges(L)
+        d = np.angle(np.exp(1j * (psi - mid)))
+        j = np.rint(d / self.pitch)
+        e = d - j * self.pitch
+        a_side = np.sign(half)
+        side = np.where(np.sign(e) == a_side, 1, -1)
+        # side -1: the tooth across the space, one pitch on the psi_B side
+        turn = np.where(side == 1, j, j - a_side)
+        return turn, side, mid
+
+    def __call__(self, basis) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+        skm = basis.mesh
+        bl = self.blank
+        bf = skm.boundary_facets()
+        P = skm.p[:, skm.facets[:, bf]]  # (3, 3 corners, facets)
+        L, h, psi = self._cone(np.moveaxis(P, 0, -1), self.delta)  # (3, facets)
+        _, _, top = self._edges(L)
+        tol = 1e-6 * float(np.max(np.abs(skm.p)))
+        floor = bl.root + 0.5 * (bl.body - bl.root)
+        ends = np.all(np.abs(L - bl.front) < tol, axis=0)
+        ends |= np.all(np.abs(L - bl.back) < tol, axis=0)
+        # the open sector's end walls: planes through the axis
+        nrm = np.cross((P[:, 1] - P[:, 0]).T, (P[:, 2] - P[:, 0]).T)
+        nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+        c = P.mean(axis=1).T
+        walls = (np.abs(np.einsum("ij,ij->i", nrm, c)) < 1e-6 * np.linalg.norm(c, axis=1)) & (
+            np.abs(nrm[:, 2]) < 1e-6
+        )
+        above = np.all(self.sign * (h - floor) > tol, axis=0) & ~ends & ~walls
+        # the bottom of the tooth spaces along the face (the deepest boundary point in
+        # each of 40 slices of L); the root region reaches from there to the active
+        # flank's root-side edge, or 0.25 m_n where the flank runs into the bottom
+        Lc, hc = L.mean(axis=0), h.mean(axis=0)
+        bins = np.linspace(bl.front, bl.back, 41)
+        idx = np.clip(np.searchsorted(bins, Lc) - 1, 0, 39)
+        deep = np.full(40, np.inf)
+        np.minimum.at(deep, idx[above], self.sign * hc[above])
+        ok = np.isfinite(deep)
+        bottom = self.sign * np.interp(L, 0.5 * (bins[1:] + bins[:-1])[ok], deep[ok])
+        top = np.where(self.sign * (top - bottom) > 0.1 * self.module, top,
+                       bottom + self.sign * 0.25 * self.module)  # fmt: skip
+        band = above & np.all(self.sign * (top - h) >= -tol, axis=0)
+        Lc, psic = L.mean(axis=0), np.angle(np.exp(1j * psi).mean(axis=0))
+        turn, side, _ = self._place(Lc, psic)
+        block = np.array([self.blocks.get(int(t), 99) for t in turn])
+        keep = band & ~ends & (block != 99)
+        return bf[keep], block[keep], side[keep]
+
+    def influence(self, raw):
+        """The :class:`~reducerlab.contact.rootstress.FilletInfluence` of the fillet
+        nodes: radius from the axis, face position ``L - (L_toe + L_heel)/2`` and the
+        tangent angle to the tooth centre line in the section normal to the pitch-cone
+        generatrix (the centre line: the ``h`` direction at the tooth's mid azimuth)."""
+        from .rootstress import FilletInfluence
+
+        ss, tooth, side, S = raw
+        p, n = ss.points, ss.normals
+        L, _, psi = self._cone(p, self.delta)
+        mid, half, _ = self._edges(L)
+        # tooth 0's centre line: half a pitch from the space's mid azimuth, on the
+        # loaded flank's side; tooth block k is turned by -k pitches
+        centre = mid + np.sign(half) * 0.5 * self.pitch - tooth * self.pitch
+        sd, cd = math.sin(self.delta), math.cos(self.delta)
+        e_l = np.stack([sd * np.cos(psi), sd * np.sin(psi), np.full_like(psi, cd)], axis=1)
+        e_h = np.stack([cd * np.cos(centre), cd * np.sin(centre), np.full_like(psi, -sd)], 1)
+        nt = n - np.einsum("ij,ij->i", n, e_l)[:, None] * e_l
+        nt /= np.maximum(np.linalg.norm(nt, axis=1, keepdims=True), 1e-300)
+        angle = np.arcsin(np.clip(np.abs(np.einsum("ij,ij->i", nt, e_h)), 0.0, 1.0))
+        face = L - 0.5 * (self.blank.front + self.blank.back)
+        return FilletInfluence(p, n, np.asarray(tooth, np.int64), np.asarray(side, np.int64),
+                               np.hypot(p[:, 0], p[:, 1]), face, angle, S)  # fmt: skip
 
 
 def flank_influence(
@@ -253,8 +409,9 @@ def flank_influence(
     stage: Stage | None = None,
     *,
     name: str = "gear",
+    fillet: Callable | None = None,
     _legacy: bool = False,
-) -> tuple[Array, int]:
+) -> tuple[Array, int] | tuple[Array, int, Any]:
     """Bending influence coefficients of load points on several teeth of one FE model.
 
     Parameters
@@ -274,6 +431,12 @@ def flank_influence(
         ``stage(text)`` at each step (progress display).
     name : str
         The gear in messages, e.g. ``"internal gear (z = 32)"``.
+    fillet : callable, optional
+        ``fillet(basis) -> (facets, tooth, side)``: the boundary facets of the root
+        fillets, each facet's tooth block (index into ``angles``' teeth) and side (+1
+        the loaded flank's fillet, -1 the other). Given, the displacements of all
+        bumps are solved too (the backward substitution of the same factor) and their
+        stresses recovered at the fillet nodes (``fe.stress.surface_stress_operator``).
     _legacy : bool
         Private: scikit-fem's assembly and PARDISO's whole solve, as before issue 28
         (``benchmarks/fe_compliance_speed.py`` times both in one run).
@@ -285,6 +448,9 @@ def flank_influence(
         removed between load points of the same tooth (module docstring).
     dofs : int
         Size of the finite-element model.
+    fillet : (SurfaceStress, tooth, side, ndarray (n, 6, T L))
+        Only with ``fillet``: the fillet nodes, their tooth block and side, and the
+        stress (Pa) at each under each unit bump (Pa/N).
 
     Raises
     ------
@@ -312,14 +478,66 @@ def flank_influence(
             "again with another tooth element size (tooth_size; reducerlab contact --tooth-size)"
         ) from None
     say(f"solving {K.shape[0]} DOFs for {F.shape[1]} loads")
-    Kfe = _influence(K, F, fixed, _legacy)
+    raw = None
+    if fillet is None:
+        Kfe = _influence(K, F, fixed, _legacy)
+    else:
+        Kfe, raw = _fillet_influence(K, F, fixed, basis, material, fillet, say)
     L = len(points)
     E, nu = material.E, material.nu
     for t in range(len(angles)):
         sl = slice(t * L, (t + 1) * L)
         d = np.linalg.norm(centres[sl, None, :] - centres[None, sl, :], axis=2)
         Kfe[sl, sl] -= (1 - nu**2) / (math.pi * E) * bump_interaction(d, radius)
+    if raw is not None:
+        return Kfe, int(K.shape[0]), raw
     return Kfe, int(K.shape[0])
+
+
+def root_stress_estimate(dofs: int, loads: int, samples: int = 0) -> Any:
+    """The :class:`~reducerlab.budget.Estimate` of the root-stress influence: the
+    displacements of ``loads`` bumps on ``dofs`` DOFs (with their forward
+    substitution and a copy of the loads: three dense blocks) and the stress of each at
+    ``samples`` fillet nodes (six components)."""
+    from ..budget import Estimate
+
+    return Estimate(
+        what="contact: the root-stress influence of the flank loads",
+        memory=3 * 8.0 * dofs * loads + 6 * 8.0 * samples * loads,
+        control="the tooth element size (tooth_size, --tooth-size) or the load grid",
+    )
+
+
+def _fillet_influence(K, F: Array, fixed, basis, material, fillet, say) -> tuple[Array, Any]:
+    """``F^T K^-1 F`` (m/N) and the fillet stresses of ``U = K^-1 F`` (one factorisation,
+    PARDISO's forward and backward substitutions, or SuperLU without pypardiso)."""
+    from ..fe.elasticity import pardiso_gram_solve
+    from ..fe.stress import surface_stress_operator
+
+    facets, tooth, side = fillet(basis)
+    facets = np.asarray(facets, dtype=np.int64)
+    if facets.size == 0:
+        raise ReducerlabError("root stress: no root-fillet facets found on the tooth model")
+    facets, first = np.unique(facets, return_index=True)  # sorted, as the operator's
+    tooth, side = np.asarray(tooth)[first], np.asarray(side)[first]
+    ss = surface_stress_operator(basis, material, facets)
+    n = len(ss.points)
+    root_stress_estimate(K.shape[0], F.shape[1], n).check()
+    say(f"root stress at {n} fillet nodes")
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    Kff = K[free][:, free].tocsr()
+    Ff = F[free]
+    out = pardiso_gram_solve(Kff, Ff)
+    if out is None:
+        from scipy.sparse.linalg import splu
+
+        Uf = splu(Kff.tocsc()).solve(Ff)
+        G = Ff.T @ Uf
+        G = 0.5 * (G + G.T)
+    else:
+        G, Uf = out
+    S = np.asarray(ss.operator[:, free] @ Uf).reshape(n, 6, F.shape[1])
+    return G, (ss, tooth[ss.facet_of], side[ss.facet_of], S)
 
 
 def load_nodes(flank, inset: float, n_u: int, n_v: int) -> tuple[Array, Array]:

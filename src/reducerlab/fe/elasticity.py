@@ -28,6 +28,7 @@ __all__ = [
     "assemble",
     "body_modes",
     "pardiso_gram",
+    "pardiso_gram_solve",
     "pardiso_inverse",
     "point_dofs",
 ]
@@ -443,6 +444,66 @@ def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
     finally:
         solver.free_memory(everything=True)  # PARDISO's own memory (the factor)
     return 0.5 * (G + G.T)
+
+
+def pardiso_gram_solve(
+    A: Any, B: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """``B^T A^-1 B`` and ``X = A^-1 B`` of a symmetric positive definite sparse ``A``
+    by one MKL PARDISO Cholesky factorisation ``P A P^T = L L^T``, or None when
+    pypardiso (or its phase calls) is not there.
+
+    The forward substitution ``Y = L^-1 P B`` gives the Gram matrix ``Y^T Y`` as in
+    :func:`pardiso_gram`; the backward substitution of ``Y`` alone (PARDISO phase 333)
+    gives ``X``, both without iterative refinement. ``X``'s first column is checked
+    against a whole solve (phase 33; relative 1e-8): where it fails, every column is
+    solved whole.
+
+    Parameters
+    ----------
+    A : sparse matrix (n, n)
+        Symmetric positive definite (e.g. a held stiffness, N/m).
+    B : ndarray (n, k)
+        Right-hand sides (e.g. loads, N).
+
+    Returns
+    -------
+    G : ndarray (k, k)
+        ``B^T A^-1 B`` (e.g. influence coefficients, m/N), symmetric.
+    X : ndarray (n, k)
+        ``A^-1 B`` (e.g. displacements, m).
+    """
+    pypardiso = import_pypardiso()
+    if pypardiso is None:
+        return None
+    try:
+        solver = pypardiso.PyPardisoSolver(mtype=2)
+    except OSError:  # no MKL runtime library
+        return None
+    if not all(callable(getattr(solver, f, None)) for f in ("_call_pardiso", "set_phase")):
+        return None
+    import scipy.sparse as sp
+
+    upper = sp.triu(A, format="csr")
+    upper.sort_indices()
+    b = np.asfortranarray(B, dtype=float)
+    try:
+        solver.factorize(upper)
+        solver.set_phase(331)  # forward substitution
+        Y = np.asfortranarray(solver._call_pardiso(upper, b), dtype=float)
+        G = Y.T @ Y
+        solver.set_phase(333)  # backward substitution
+        X = np.asarray(solver._call_pardiso(upper, Y), dtype=float)
+        del Y
+        solver.set_phase(33)
+        x0 = np.asarray(solver._call_pardiso(upper, np.asfortranarray(b[:, :1])), dtype=float)
+        scale = float(np.max(np.abs(x0)))
+        if not np.allclose(X[:, 0], x0[:, 0], rtol=1e-8, atol=1e-8 * scale):
+            X = np.asarray(solver._call_pardiso(upper, b), dtype=float)
+            G = b.T @ X
+    finally:
+        solver.free_memory(everything=True)
+    return 0.5 * (G + G.T), X
 
 
 def point_dofs(basis: Any, tets: NDArray[np.int64], n_points: int) -> NDArray[np.int64]:

@@ -1,0 +1,90 @@
+"""Tooth-root stress variables of the loaded contact result (issue 29).
+
+:func:`add_root_stress` computes the root stresses of both gears at every position of a
+contact run (``contact.rootstress.contact_root_stress``, from the finite-element tooth
+models built with ``root_stress=True``) and adds them to the contact dataset on the
+dimensions ``gear`` (``external``, ``internal``), ``position`` and ``tooth_pair``
+(the modelled tooth pairs ``-1, 0, 1`` of the contact analysis).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..errors import ReducerlabError
+
+__all__ = ["ROOT_VARIABLES", "add_root_stress", "check_root_compliance", "root_stress_lines"]
+
+#: dataset variable, PairRootStress attribute, unit, description
+ROOT_VARIABLES = (
+    ("root_stress", "tensile", "Pa", "largest principal stress on the loaded flank's fillet"),
+    ("root_stress_radius", "tensile_radius", "m", "its distance from the gear axis"),
+    ("root_stress_face", "tensile_face", "m", "its position across the face from mid-face"),
+    ("root_stress_angle", "tensile_angle", "rad", "fillet tangent angle to the tooth centre line"),
+    ("root_compressive", "compressive", "Pa", "most negative principal stress, opposite fillet"),
+    ("root_compressive_radius", "compressive_radius", "m", "its distance from the gear axis"),
+    ("root_compressive_face", "compressive_face", "m", "its position across the face"),
+    ("root_compressive_angle", "compressive_angle", "rad", "its fillet tangent angle"),
+    ("root_von_mises", "von_mises", "Pa", "largest von Mises stress on either fillet"),
+)
+
+
+def check_root_compliance(compliance: tuple[Any, Any] | None, rigid: bool) -> None:
+    """Refuse a root-stress request that the tooth models cannot answer: rigid teeth, or
+    compliances given from a run built without the fillet influence."""
+    if rigid:
+        raise ReducerlabError("root_stress: needs the finite-element tooth models, not rigid")
+    if compliance is not None and any(getattr(c, "fillet", None) is None for c in compliance):
+        raise ReducerlabError(
+            "root_stress: the given tooth compliances were built without the root-stress "
+            "influence; run again without compliance= (or from a run with root_stress)"
+        )
+
+
+def add_root_stress(ds: Any, pair: Any, runs: list, comp_a: Any, comp_b: Any) -> Any:
+    """``ds`` with the root-stress variables of :data:`ROOT_VARIABLES` (dims ``gear``,
+    ``position``, ``tooth_pair``) and the peak's attributes ``root_stress_peak`` (Pa),
+    ``root_stress_peak_gear``, ``_position``, ``_tooth``, ``_radius`` (m), ``_face`` (m),
+    ``_angle`` (deg)."""
+    from ..contact.rootstress import contact_root_stress
+
+    rs = contact_root_stress(pair, runs, comp_a, comp_b)
+    dims = ("gear", "position", "tooth_pair")
+    out = ds.assign_coords(gear=["external", "internal"], tooth_pair=np.array(rs.teeth))
+    out = out.assign(
+        {
+            name: (dims, getattr(rs, attr), {"units": unit, "long_name": text})
+            for name, attr, unit, text in ROOT_VARIABLES
+        }
+    )
+    peak = rs.peak()
+    gear = ["external", "internal"][peak["gear"]]
+    out.attrs.update(
+        root_stress_peak=peak["stress"], root_stress_peak_gear=gear,
+        root_stress_peak_position=peak["position"], root_stress_peak_tooth=peak["tooth"],
+        root_stress_peak_radius=peak["radius"], root_stress_peak_face=peak["face"],
+        root_stress_peak_angle=math.degrees(peak["angle"]),
+    )  # fmt: skip
+    return out
+
+
+def root_stress_lines(ds: Any) -> list[str]:
+    """The peak root stress of a contact dataset and where, as text lines (MPa, mm,
+    deg); empty when the dataset has no root stress."""
+    if "root_stress" not in ds:
+        return []
+    a = ds.attrs
+    comp = ds["root_compressive"].values
+    return [
+        f"peak tooth-root stress: {a['root_stress_peak'] / 1e6:.1f} MPa (largest principal, "
+        f"{a['root_stress_peak_gear']} gear, tooth pair {a['root_stress_peak_tooth']}, "
+        f"position {a['root_stress_peak_position']})",
+        f"  at radius {a['root_stress_peak_radius'] * 1e3:.3f} mm, "
+        f"{a['root_stress_peak_face'] * 1e3:+.2f} mm from mid-face, fillet tangent "
+        f"{a['root_stress_peak_angle']:.1f} deg to the tooth centre line",
+        f"compressive side (opposite fillet): {np.nanmin(comp) / 1e6:.1f} MPa; fillet von "
+        f"Mises up to {float(np.nanmax(ds['root_von_mises'].values)) / 1e6:.1f} MPa",
+    ]
