@@ -10,9 +10,10 @@
   (:func:`reducerlab.rating.cylindrical.rate_internal_pair`), the load the planet's
   torque (the drive's output torque: the planet drives the output through the W
   mechanism) at the planet's speed relative to the carrier;
-* a ``nutation`` design's bevel pairs by ISO 10300:2014 method B1
-  (:func:`reducerlab.rating.iso10300.rate_bevel_pair`), the load each pair's torque
-  from the lossless torque flow.
+* a ``nutation`` design's bevel pairs on their ISO 10300-1:2014 virtual cylindrical
+  gears, rated by the ISO 6336 method B chain (:func:`reducerlab.rating.bevel.rate_bevel_pair`;
+  not ISO 10300 method B1: its bevel factors Z_M-B, Z_LS, Z_K, Y_LS are not applied),
+  the load each pair's torque from the lossless torque flow.
 
 The result lists every factor with its value, unit and clause, and ``S_H``, ``S_F`` per
 gear (``pair``: which pair, ``gear``: ``1`` or ``2`` of that pair).
@@ -83,6 +84,13 @@ class RatingResult(Result):
             for i in range(ds.sizes["factor"])
         ]
         return {"pairs": self.pairs(), "factors": rows}
+
+    def figure(self) -> Any:
+        """Bars of ``S_H`` and ``S_F`` per gear against their minimums
+        (:func:`reducerlab.plot.rating.plot_rating`)."""
+        from ..plot.rating import plot_rating
+
+        return plot_rating(self)
 
     def table(self) -> str:
         """Plain-text table: per pair the safety factors, then every factor (MPa and mm

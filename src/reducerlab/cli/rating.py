@@ -11,7 +11,7 @@ import typer
 
 from ..errors import ReducerlabError
 from .options import DesignArgument, Format, FormatOption, SetOption, quantity_option
-from .output import output_set, user_errors, write_json
+from .output import output_set, savefig, user_errors, write_json
 
 
 def _factor(text: str | None, option: str) -> float | None:
@@ -98,6 +98,7 @@ def rating(
                 res.save(files.path("rating.nc"))
                 write_json(res, files.path("rating.json"))
                 files.path("rating.txt").write_text(res.table() + "\n")
+                savefig(res.figure(), files.path("rating.png"), res.data.attrs)
     typer.echo(json.dumps(res.to_dict(), indent=2) if fmt is Format.json else res.table())
 
 

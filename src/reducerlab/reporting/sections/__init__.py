@@ -8,7 +8,7 @@ API's; figures come from :mod:`reducerlab.plot`.
 One module per group: :mod:`.inputs` (design inputs, kinematics), :mod:`.modes`
 (natural frequencies, sensitivity, Campbell diagram and verdict, gear bodies),
 :mod:`.motion` (nonlinear response, bifurcation, regime map), :mod:`.geometry` (tooth
-surfaces, closed graph, loaded contact).
+surfaces, closed graph, loaded contact), :mod:`.capacity` (load capacity).
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from collections.abc import Callable
 
 from ..blocks import Section
 from ..context import Context
+from .capacity import capacity_section
 from .geometry import closed_graph_section, contact_section, surfaces_section
 from .inputs import design_section, kinematics_section
 from .modes import bodies_section, campbell_section, modal_section, sensitivity_section
@@ -38,4 +39,5 @@ SECTIONS: list[tuple[str, str, Callable[[Context], Section | None]]] = [
     ("surfaces", "Tooth surfaces", surfaces_section),
     ("closed-graph", "Closed graph", closed_graph_section),
     ("contact", "Loaded tooth contact", contact_section),
+    ("capacity", "Load capacity", capacity_section),
 ]

@@ -1,0 +1,132 @@
+"""Report section on load capacity (issue 29): the ISO 6336 / ISO 10300 safety factors of
+every gear pair, beside the stresses the loaded tooth contact analysis computed.
+
+The rating is computed here from the design at its own load
+(:func:`reducerlab.analysis.rating.load_capacity`: milliseconds); a rating result handed
+to the report (``--with rating.nc``, the ``run`` pipeline) is used instead. The contact
+results handed to the report add, per pair, the LTCA's interior peak contact pressure
+beside ISO's nominal contact stress ``sigma_H``, and the FE tooth-root stress (when the
+contact was run with ``root_stress``) beside ISO's ``sigma_F``: the standard's nominal
+values carry its load factors (``K_A K_v K_Hbeta K_Halpha``), the LTCA's are the static
+stresses of the modelled flanks, so they are compared, not equated.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from ...errors import ReducerlabError
+from ..blocks import Section, figure, note, table
+from ..context import Context
+
+__all__ = ["capacity_section"]
+
+#: design types the rating covers
+RATED = ("gear_pair", "khv", "nutation")
+
+
+def _rating(ctx: Context) -> tuple[Any | None, str]:
+    given = ctx.given("rating")
+    if given:
+        return given[0], ""
+    if getattr(ctx.design, "type", "") not in RATED:
+        return None, ""
+    if ctx.design.type == "nutation" and not ctx.design.has_tooth_surfaces:
+        return None, ""  # kinematics only: no teeth to rate
+    from ...analysis.rating import load_capacity
+
+    try:
+        return load_capacity(ctx.design), ""
+    except ReducerlabError as e:  # no load, no tooth geometry, double-arc teeth
+        return None, str(e)
+
+
+def _beside(rating: Any, contacts: list[Any]) -> list[tuple[Any, ...]]:
+    """Rows: pair, quantity, ISO value, LTCA value (MPa)."""
+    rows = []
+    names = list(rating.pairs())
+    for r in contacts:
+        pair = int(r.attrs.get("pair", 1))
+        name = names[pair - 1] if pair - 1 < len(names) else names[0]
+        summ = r.summary()
+
+        def iso(symbol: str, gear: str, name: str = name) -> float:
+            try:
+                return rating.value(symbol, gear, name) * 1e-6
+            except ReducerlabError:
+                return math.nan
+
+        rows.append(
+            (
+                name,
+                "contact stress (MPa)",
+                iso("sigma_H", "1"),
+                summ["interior_pressure_max"] * 1e-6,
+                "ISO sigma_H (gear 1) / LTCA interior peak pressure",
+            )
+        )
+        peak = r.attrs.get("root_stress_peak")
+        if peak is not None:
+            rows.append(
+                (
+                    name,
+                    "tooth-root stress (MPa)",
+                    max(iso("sigma_F", "1"), iso("sigma_F", "2")),
+                    float(peak) * 1e-6,
+                    "ISO sigma_F (larger gear) / FE largest principal in the fillet",
+                )
+            )
+    return rows
+
+
+def capacity_section(ctx: Context) -> Section | None:
+    """Safety factors per ISO 6336-2/-3 (ISO 10300 virtual gears for bevel pairs) and the
+    LTCA's stresses beside them."""
+    rating, why = _rating(ctx)
+    if rating is None:
+        if not why:
+            return None
+        s = Section("capacity", "Load capacity")
+        s.blocks.append(note(f"No rating: {why}"))
+        return s
+    s = Section("capacity", "Load capacity")
+    pairs = rating.pairs()
+    s.values["safety"] = pairs
+    s.values["minimum"] = rating.minimum_safety
+    rows = []
+    for name, p in pairs.items():
+        for gear, h, f in zip(p["gears"], p["S_H"], p["S_F"], strict=True):
+            rows.append((name, gear, h, f, p["standard"]))
+    s.blocks.append(
+        table(
+            ["pair", "gear", "S_H", "S_F", "standard"],
+            rows,
+            digits=4,
+            name="safety",
+            caption="pitting and tooth-root safety factors",
+        )
+    )
+    s.blocks.append(figure(rating.figure(), "safety factors against their minimums"))
+    contacts = ctx.given("contact")
+    if contacts:
+        beside = _beside(rating, contacts)
+        s.values["beside"] = beside
+        s.blocks.append(
+            table(
+                ["pair", "quantity", "ISO", "LTCA", "what"],
+                beside,
+                digits=4,
+                name="iso-vs-ltca",
+                caption="the standard's nominal stresses (with its load factors) "
+                "beside the loaded contact's static stresses",
+            )
+        )
+    cond = rating.data.attrs.get("conditions", "")
+    s.blocks.append(
+        note(
+            f"Rating conditions (K-factors, life, lubricant, minimums): {cond}. "
+            "Every factor with its clause: 'reducerlab rating DESIGN'."
+        )
+    )
+    return s
