@@ -186,7 +186,9 @@ class PositionContact:
         Largest separation admitted into the grid (m).
     edge : ndarray of bool (n,)
         Cells within ``ContactGrid.edge_band`` of an edge of gear A's flank or opposite
-        an edge of gear B's flank: tip, root end of the active flank, toe or heel.
+        an edge of gear B's flank: tip, root end of the active flank, toe, heel, or a
+        corner of the basic profile (``BasicProfile.corners``: the double arc's
+        concave/transition joint).
     """
 
     phi: float
@@ -223,13 +225,103 @@ class PositionContact:
 
     @property
     def contact_area(self) -> float:
-        """Area of the loaded cells (m^2)."""
+        """Area (m^2) where the pressure field is positive: the boundary of each patch is
+        located inside its boundary cells (:func:`loaded_area`), not at whole cells."""
+        return loaded_area(self.uv, self.tooth, self.area, self.force)
+
+    @property
+    def loaded_cell_area(self) -> float:
+        """Area of the loaded cells, whole (m^2): the bound of :attr:`contact_area` from
+        above on the grid (a boundary cell counts fully)."""
         return float(self.area[self.force > 0].sum())
 
     @property
     def force_vector(self) -> Array:
         """Resultant contact force on gear A (N), fixed frame: ``-sum F_i n_i``."""
         return -(self.force[:, None] * self.normals).sum(axis=0)
+
+
+def _reach(q0: Array, q1: Array, q2: Array) -> Array:
+    """How far (in cell spacings, 0..1) beyond the centre of the last loaded cell of a
+    grid line the field ``q`` reaches zero, from its values ``q0, q1, q2`` at that cell
+    and the next two inward (``nan`` where missing): the zero of the quadratic through
+    the three, else of the line through two, else half a cell."""
+    c2 = 0.5 * (q0 - 2.0 * q1 + q2)
+    c1 = q0 - q1 + c2  # q(s) = q0 + c1 s + c2 s^2 at s = 0, -1, -2 (outward s > 0)
+    with np.errstate(all="ignore"):
+        disc = c1 * c1 - 4.0 * c2 * q0
+        # the smallest positive root of c2 s^2 + c1 s + q0 = 0 (q0 > 0)
+        r_plus = (-c1 + np.sqrt(disc)) / (2.0 * c2)
+        r_minus = (-c1 - np.sqrt(disc)) / (2.0 * c2)
+        roots = np.stack([r_plus, r_minus])
+        roots = np.where(np.isfinite(roots) & (roots > 0), roots, np.inf).min(axis=0)
+        quad = np.where(np.abs(c2) > 1e-12 * np.abs(q0), roots, q0 / (q1 - q0) * -1.0)
+        lin = np.where(q0 < q1, q0 / (q1 - q0), np.inf)
+    # a field still rising outward has no zero within reach: the whole next cell
+    out = np.where(np.isfinite(q2), quad, np.where(np.isfinite(q1), lin, 0.5))
+    return np.clip(np.nan_to_num(out, nan=0.5, posinf=1.0), 0.0, 1.0)
+
+
+def loaded_area(uv: Array, tooth: NDArray[np.int64], area: Array, force: Array) -> float:
+    """Area (m^2) where the pressure field of a contact grid is positive.
+
+    The cells of each tooth pair lie on a tensor grid of flank parameters ``uv``. Along
+    every grid line (both directions) each run of loaded cells ends where ``q = p^2``,
+    extrapolated from the run's last cells, reaches zero (:func:`_reach`; Hertz:
+    ``p^2 = p0^2 (1 - x^2/a^2 - y^2/b^2)`` is a quadratic in position, so polynomial
+    extrapolation of ``q`` finds the edge that ``p``, falling like a square root, would
+    overshoot), within the boundary cell or the next; a run that ends at the grid's
+    edge (the flank's edge) ends with its cell. Each cell contributes its area times the
+    fraction of it inside the runs; the area is the mean of the two directions.
+
+    Parameters
+    ----------
+    uv : ndarray (n, 2)
+        Flank parameters of the cell centres (a tensor grid per tooth pair).
+    tooth : ndarray of int (n,)
+        Tooth pair of each cell.
+    area, force : ndarray (n,)
+        Cell areas (m^2) and normal forces (N).
+    """
+    total = 0.0
+    loaded_all = force > 0
+    for k in np.unique(tooth[loaded_all]):
+        m = tooth == k
+        _, iu = np.unique(uv[m, 0], return_inverse=True)
+        _, iv = np.unique(uv[m, 1], return_inverse=True)
+        shape = (int(iu.max()) + 1, int(iv.max()) + 1)
+        p = np.zeros(shape)
+        a = np.full(shape, np.nan)  # nan: not a cell of the grid
+        p[iu, iv] = force[m] / area[m]
+        a[iu, iv] = area[m]
+        for axis in (0, 1):
+            P = np.moveaxis(p, axis, 0)
+            A = np.moveaxis(a, axis, 0)
+            q = np.where(P > 0, P * P, np.nan)
+            frac = np.where(P > 0, 1.0, 0.0)
+            n = P.shape[0]
+            for step in (1, -1):
+                # last loaded cell of a run toward +step: loaded, next one not loaded
+                nxt = np.zeros_like(P, dtype=bool)  # next cell exists and is unloaded
+                q1 = np.full_like(q, np.nan)
+                q2 = np.full_like(q, np.nan)
+                if step > 0:
+                    nxt[:-1] = np.isfinite(A[1:]) & ~(P[1:] > 0)
+                    q1[1:], q2[2:] = q[:-1], q[:-2]
+                else:
+                    nxt[1:] = np.isfinite(A[:-1]) & ~(P[:-1] > 0)
+                    q1[:-1], q2[:-2] = q[1:], q[2:]
+                end = (P > 0) & nxt
+                r = _reach(q, q1, q2)
+                # the end cell's outer half holds min(r, 1/2), the next cell the rest
+                frac += np.where(end, np.minimum(r, 0.5) - 0.5, 0.0)
+                spill = np.where(end, np.maximum(r - 0.5, 0.0), 0.0)
+                if step > 0:
+                    frac[1:n] += spill[: n - 1]
+                else:
+                    frac[: n - 1] += spill[1:n]
+            total += 0.5 * float(np.nansum(A * frac))
+    return float(total)
 
 
 def _arc(flank, along_u: bool, fixed: float, n: int = 801) -> tuple[Array, Array]:
@@ -259,6 +351,18 @@ def _edge_distance(flank, ax_u: _Axis, ax_v: _Axis, pu, arc_u, pv, arc_v) -> Arr
     padded = np.pad(inside, 1, constant_values=False)
     d = distance_transform_edt(padded, sampling=(hu, hv))[1:-1, 1:-1]
     return d - 0.5 * min(hu, hv)  # from the cell centre to the edge, not the next centre
+
+
+def _corner_distance(ax: _Axis, param: Array, arc: Array, corners: Sequence[float]) -> Array:
+    """Distance (m, arc length along the profile at mid-face) of each fine cell centre of
+    ``ax`` to the nearest profile corner; ``inf`` without corners. The coarse edges land
+    on the corners (``_axis``), so no cell straddles one."""
+    s = np.interp(ax.centres, param, arc)
+    inner = [c for c in corners if param[0] < c < param[-1]]
+    if not inner:
+        return np.full(len(s), np.inf)
+    sc = np.interp(inner, param, arc)
+    return np.min(np.abs(s[:, None] - sc[None, :]), axis=1)
 
 
 def _cells(flank, u: Array, v: Array, du: Array, dv: Array) -> tuple[Array, ...]:
@@ -364,14 +468,20 @@ def loaded_contact(
     cu, cv = np.meshgrid(ax_u.coarse_centres, ax_v.coarse_centres, indexing="ij")
     band = grid.edge_band if grid.edge_band is not None else 2.0 * grid.cell
     B = pair.flank_b
-    edge_a = (_edge_distance(A, ax_u, ax_v, pu, arc_u, pv, arc_v) < band).ravel()
+    # a profile corner (tangent discontinuity) is an edge of the flank surface like its
+    # boundary; curvature-only breaks are not (``BasicProfile.corners``)
+    corners = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "corners", ()))
+    dist_a = np.minimum(_edge_distance(A, ax_u, ax_v, pu, arc_u, pv, arc_v),
+                        _corner_distance(ax_u, pu, arc_u, corners)[:, None])  # fmt: skip
+    edge_a = (dist_a < band).ravel()
     pub, arc_ub = _arc(B, True, 0.5)
     pvb, arc_vb = _arc(B, False, 0.5 * sum(B.u_range))
     bu = _axis(pub, arc_ub, breaks, grid.cell, 1)
     bv = _axis(pvb, arc_vb, (), grid.cell, 1)
+    dist_b = np.minimum(_edge_distance(B, bu, bv, pub, arc_ub, pvb, arc_vb),
+                        _corner_distance(bu, pub, arc_ub, corners)[:, None])  # fmt: skip
     edge_b = RegularGridInterpolator(
-        (bu.centres, bv.centres), _edge_distance(B, bu, bv, pub, arc_ub, pvb, arc_vb),
-        bounds_error=False, fill_value=0.0,
+        (bu.centres, bv.centres), dist_b, bounds_error=False, fill_value=0.0,
     )  # fmt: skip
     n_cu, n_cv = cu.shape
     fine_coarse = (ax_u.coarse_of[:, None] * n_cv + ax_v.coarse_of[None, :]).ravel()
