@@ -49,6 +49,7 @@ __all__ = [
     "candidate_estimate",
     "flank_size",
     "grid_estimate",
+    "loaded_area",
     "loaded_contact",
 ]
 
