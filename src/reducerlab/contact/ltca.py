@@ -118,6 +118,17 @@ class ContactGrid:
             raise ReducerlabError("grid.teeth: needs at least one tooth pair")
 
 
+#: cells this many times shorter along the profile near a curvature jump of the basic
+#: profile (the double arc's transition/convex joint): a pair of teeth out of phase
+#: touches in the band between the two flanks' jumps, narrower than a patch
+GRADED_FACTOR = 4
+#: half-width of the graded band, in cells
+GRADED_WINDOW = 2.0
+#: growth of the cell length beyond the graded band, per unit length (0.3: each cell at
+#: most about 30 % longer than the one before)
+GRADED_GROWTH = 0.3
+
+
 @dataclass(frozen=True)
 class _Axis:
     """Fine cell edges of one flank parameter, grouped into coarse cells."""
@@ -135,11 +146,29 @@ class _Axis:
         return 0.5 * (self.coarse_edges[:-1] + self.coarse_edges[1:])
 
 
-def _axis(param: Array, arc: Array, breaks: Sequence[float], cell: float, c: int) -> _Axis:
-    """Edges uniform in arc length with ``c`` fine cells per coarse cell, the coarse
-    edges landing on the profile's segment breaks (no cell straddles a corner)."""
+def _axis(param: Array, arc: Array, breaks: Sequence[float], cell: float, c: int,
+          graded: Sequence[float] = ()) -> _Axis:  # fmt: skip
+    """Edges in arc length with ``c`` fine cells per coarse cell, the coarse edges
+    landing on the profile's segment breaks (no cell straddles a corner). The cells are
+    ``cell`` long, except near the breaks in ``graded`` (curvature jumps): within
+    ``GRADED_WINDOW`` cells of one they are ``GRADED_FACTOR`` times shorter, and beyond
+    grow back to ``cell`` by at most ``GRADED_GROWTH`` of a cell per cell (an abrupt
+    change of the cell size shows in the pressure of a patch across it). A jump within
+    the graded band of an end of the axis lies in the flank's edge band: not graded."""
     lo, hi = float(param[0]), float(param[-1])
     inner = np.interp([b for b in breaks if lo < b < hi], param, arc)
+    w = GRADED_WINDOW * cell
+    ramp = (1.0 - 1.0 / GRADED_FACTOR) * cell / GRADED_GROWTH  # length to grow back
+    fine_at = np.interp([b for b in graded if lo < b < hi], param, arc)
+    fine_at = fine_at[(fine_at - arc[0] > w + ramp) & (arc[-1] - fine_at > w + ramp)]
+
+    def size(x: Array) -> Array:
+        """Target cell length (m) at arc length ``x``."""
+        if not fine_at.size:
+            return np.full_like(x, cell)
+        d = np.min(np.abs(x[:, None] - fine_at[None, :]), axis=1)
+        return np.minimum(cell, cell / GRADED_FACTOR + GRADED_GROWTH * np.maximum(d - w, 0.0))
+
     # breaks closer than half a fine cell to an end or to each other are not cut
     s_cuts = [arc[0]]
     for b in inner:
@@ -148,12 +177,17 @@ def _axis(param: Array, arc: Array, breaks: Sequence[float], cell: float, c: int
     s_cuts = np.array([*s_cuts, arc[-1]])
     coarse, fine, owner = [s_cuts[0]], [s_cuts[0]], []
     for s0, s1 in itertools.pairwise(s_cuts):
-        n = max(1, round((s1 - s0) / (c * cell)))
-        ce = np.linspace(s0, s1, n + 1)
-        for a, b in itertools.pairwise(ce):
+        # fine edges equidistributed in the density 1 / size, a multiple of c of them
+        x = np.linspace(s0, s1, 2001)
+        dens = 1.0 / size(x)
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * (dens[1:] + dens[:-1]) * np.diff(x))])
+        n = max(1, round(cum[-1] / c))
+        edges = np.interp(np.linspace(0.0, cum[-1], n * c + 1), cum, x)
+        edges[0], edges[-1] = s0, s1
+        for k in range(n):
             owner += [len(coarse) - 1] * c
-            fine += list(np.linspace(a, b, c + 1)[1:])
-            coarse.append(b)
+            fine += list(edges[k * c + 1 : (k + 1) * c + 1])
+            coarse.append(edges[(k + 1) * c])
     to_param = lambda s: np.interp(s, arc, param)  # noqa: E731
     return _Axis(to_param(np.array(fine)), np.array(owner), to_param(np.array(coarse)))
 
@@ -350,7 +384,13 @@ def _edge_distance(flank, ax_u: _Axis, ax_v: _Axis, pu, arc_u, pv, arc_v) -> Arr
     hu = float(np.mean(np.diff(su))) if len(su) > 1 else arc_u[-1]
     hv = float(np.mean(np.diff(sv))) if len(sv) > 1 else arc_v[-1]
     padded = np.pad(inside, 1, constant_values=False)
-    d = distance_transform_edt(padded, sampling=(hu, hv))[1:-1, 1:-1]
+    # nearest cell off the flank (index metric), its distance in arc length: the cells
+    # are graded along the profile near curvature jumps (``_axis``)
+    _, (iu, iv) = distance_transform_edt(padded, sampling=(hu, hv), return_indices=True)
+    su_p = np.concatenate([[su[0] - hu], su, [su[-1] + hu]])
+    sv_p = np.concatenate([[sv[0] - hv], sv, [sv[-1] + hv]])
+    iu, iv = iu[1:-1, 1:-1], iv[1:-1, 1:-1]
+    d = np.hypot(su[:, None] - su_p[iu], sv[None, :] - sv_p[iv])
     return d - 0.5 * min(hu, hv)  # from the cell centre to the edge, not the next centre
 
 
@@ -460,7 +500,11 @@ def loaded_contact(
     pu, arc_u = _arc(A, True, 0.5)
     pv, arc_v = _arc(A, False, 0.5 * sum(A.u_range))
     breaks = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "breaks", ()))
-    ax_u = _axis(pu, arc_u, breaks, grid.cell, grid.coarse)
+    # a profile corner (tangent discontinuity) is an edge of the flank surface like its
+    # boundary; curvature-only breaks are not (``BasicProfile.corners``)
+    corners = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "corners", ()))
+    graded = [b for b in breaks if b not in corners]
+    ax_u = _axis(pu, arc_u, breaks, grid.cell, grid.coarse, graded)
     ax_v = _axis(pv, arc_v, (), grid.cell, grid.coarse)
     T_B = torque * pair.torque_ratio
     # fine cell geometry is the same for every tooth (tooth k = tooth 0 turned)
@@ -469,15 +513,12 @@ def loaded_contact(
     cu, cv = np.meshgrid(ax_u.coarse_centres, ax_v.coarse_centres, indexing="ij")
     band = grid.edge_band if grid.edge_band is not None else 2.0 * grid.cell
     B = pair.flank_b
-    # a profile corner (tangent discontinuity) is an edge of the flank surface like its
-    # boundary; curvature-only breaks are not (``BasicProfile.corners``)
-    corners = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "corners", ()))
     dist_a = np.minimum(_edge_distance(A, ax_u, ax_v, pu, arc_u, pv, arc_v),
                         _corner_distance(ax_u, pu, arc_u, corners)[:, None])  # fmt: skip
     edge_a = (dist_a < band).ravel()
     pub, arc_ub = _arc(B, True, 0.5)
     pvb, arc_vb = _arc(B, False, 0.5 * sum(B.u_range))
-    bu = _axis(pub, arc_ub, breaks, grid.cell, 1)
+    bu = _axis(pub, arc_ub, breaks, grid.cell, 1, graded)
     bv = _axis(pvb, arc_vb, (), grid.cell, 1)
     dist_b = np.minimum(_edge_distance(B, bu, bv, pub, arc_ub, pvb, arc_vb),
                         _corner_distance(bu, pub, arc_ub, corners)[:, None])  # fmt: skip
