@@ -436,9 +436,18 @@ def grid_estimate(pair: MeshPair, grid: ContactGrid, control: str = CELL_CONTROL
     Work: fine cells on the larger flank, bounded by :data:`MAX_GRID_CELLS`; memory:
     :data:`GRID_BYTES` per cell, both flanks."""
     cells = []
+    prof = getattr(getattr(pair.flank_a, "crown", None), "profile", None)
+    lo, hi = pair.flank_a.u_range
+    jumps = [b for b in getattr(prof, "breaks", ()) if lo < b < hi]
+    jumps = [b for b in jumps if b not in getattr(prof, "corners", ())]
+    # rows a graded curvature jump adds (``_axis``): the band's 2 GRADED_WINDOW cells
+    # at 1/GRADED_FACTOR, and the ramps back, ln(F)/GROWTH cells where (1 - 1/F)/GROWTH
+    # would do, on each side
+    F = GRADED_FACTOR
+    extra = 2.0 * (GRADED_WINDOW * (F - 1) + (math.log(F) - (1 - 1 / F)) / GRADED_GROWTH)
     for flank in (pair.flank_a, pair.flank_b):
         su, sv = flank_size(flank)
-        nu = math.ceil(su / grid.cell) + grid.coarse
+        nu = math.ceil(su / grid.cell) + grid.coarse + math.ceil(extra * len(jumps))
         nv = math.ceil(sv / grid.cell) + grid.coarse
         cells.append(float(nu) * float(nv))
     return Estimate(
