@@ -109,6 +109,80 @@ def test_double_circular_arc_gbt12759():
     assert p.fillet_radius / M == pytest.approx(0.403, abs=1e-3)
 
 
+def test_double_arc_rack_against_the_standards_printed_values():
+    """GB/T 12759-1991 basic rack, m_n 1.5-3 mm (values from memory of the standard's
+    table, docs/tooth_surfaces.md): the derived quantities it prints follow from its
+    coefficients. Tolerances: the standard prints 4 decimals (5e-5 m_n rounding, 1e-4
+    allowed); angles to the second of arc, and its coefficients' rounding moves them by
+    a few seconds (measured 5-6"), 15" allowed."""
+    p = DoubleCircularArcProfile(M)
+    k = GBT12759_1991
+    a = k.pressure_angle
+    # contact point height h_k* = 0.5450 (printed) on both arcs
+    assert k.convex_radius * math.sin(a) + k.convex_centre_height == pytest.approx(0.5450, abs=1e-4)
+    assert k.concave_radius * math.sin(a) - k.concave_centre_height == pytest.approx(
+        0.5450, abs=1e-4
+    )
+    # convex chordal thickness at h_k: s_a* = 1.1173; backlash j* = 0.06 = concave space
+    # width at h_k minus s_a*
+    # (l_a*, rounded to 1e-4, enters twice: +-1e-4, plus the print's 5e-5: 1.5e-4)
+    s_a = 2 * (k.convex_radius * math.cos(a) - k.convex_centre_offset)
+    assert s_a == pytest.approx(1.1173, abs=1.5e-4)
+    e_f = 2 * (k.concave_radius * math.cos(a) - k.concave_centre_offset)
+    assert e_f - s_a == pytest.approx(0.06, abs=2e-4)  # l_a*, l_f* each twice
+    # process angles delta_1 = 6 deg 20' 52", delta_2 = 9 deg 25' 31"
+    d1, d2 = (math.degrees(x) * 3600 for x in p.process_angles)
+    assert d1 == pytest.approx(6 * 3600 + 20 * 60 + 52, abs=15)
+    assert d2 == pytest.approx(9 * 3600 + 25 * 60 + 31, abs=15)
+    # the profile's own points: the convex arc ends at h_ja*, the concave at -h_jf*, the
+    # flank at the tip and root heights, contact normals at 24 deg on both arcs
+    b = p.breaks
+    x = p.evaluate(np.array([b[1], b[2], 0.0, 1.0])).x / M
+    np.testing.assert_allclose(x, [-k.transition_concave_height, k.transition_convex_height,
+                                   -k.dedendum, k.addendum], atol=1e-12)  # fmt: skip
+    for lo, hi, h in ((b[2], 1.0, 0.5451), (b[0], b[1], -0.5451)):
+        u = np.linspace(lo, hi, 20001)
+        q = p.evaluate(u)
+        i = np.argmin(abs(q.x - h * M))
+        assert math.degrees(math.atan2(abs(q.nx[i]), q.ny[i])) == pytest.approx(24, abs=0.01)
+    # transition radius: printed 0.5031; the arc tangent to the convex end and through
+    # the concave end comes out 0.5049 (0.36 % off, docs/assumptions.md)
+    assert p.transition_radius / M == pytest.approx(0.5031, rel=0.005)
+
+
+def test_double_arc_corners_are_the_breaks_where_the_tangent_turns():
+    """Tangency of GB/T 12759's joints: fillet/concave and transition/convex tangent
+    (curvature jumps only: 1/0.403 -> 1/1.42 and 1/0.505 -> 1/1.3 per m_n), the
+    concave/transition joint a corner. Its turn is the angle between the transition
+    arc's tangent and the concave arc's at -h_jf*, computed here from the centres
+    independently of the profile code."""
+    p = DoubleCircularArcProfile(M)
+    assert len(p.breaks) == 3 and len(p.turns) == 3
+    assert p.corners == (p.breaks[1],)  # concave -> transition only
+    assert p.turns[0] < 1e-10 and p.turns[2] < 1e-10
+    # curvature does jump at the tangent joints (they are breaks, not corners)
+    for bk, (r0, r1) in zip((p.breaks[0], p.breaks[2]),
+                            ((p.fillet_radius, 1.42 * M), (p.transition_radius, 1.3 * M)),
+                            strict=True):  # fmt: skip
+        c = _curvature(p, np.array([bk - 2e-3, bk + 2e-3]))
+        np.testing.assert_allclose(c, [1 / r0, 1 / r1], rtol=1e-4)
+    # independent turn: tangents of the two circles at the concave end P2
+    k = GBT12759_1991
+    F = np.array([k.concave_centre_height, math.pi / 2 + k.concave_centre_offset])
+    cj = math.asin((k.concave_centre_height + k.transition_concave_height) / k.concave_radius)
+    P2 = F - k.concave_radius * np.array([math.sin(cj), math.cos(cj)])
+    bj = math.asin((k.transition_convex_height - k.convex_centre_height) / k.convex_radius)
+    n1 = np.array([math.sin(bj), math.cos(bj)])
+    P1 = np.array([k.convex_centre_height, -k.convex_centre_offset]) + k.convex_radius * n1
+    C = P1 + p.transition_radius / M * n1  # transition centre, outside the tooth
+    r_c, r_t = P2 - F, P2 - C  # radii to P2 of both circles
+    turn = math.acos(abs(r_c @ r_t) / (np.linalg.norm(r_c) * np.linalg.norm(r_t)))
+    assert p.turns[1] == pytest.approx(turn, abs=1e-9)
+    assert math.degrees(p.turns[1]) == pytest.approx(46.02, abs=0.01)
+    # the involute profile has no corner
+    assert InvoluteProfile(M, A20).corners == ()
+
+
 def test_flanks_mirror_and_normals_outward():
     p = DoubleCircularArcProfile(M)
     u = np.linspace(0, 1, 101)

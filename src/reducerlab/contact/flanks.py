@@ -123,6 +123,14 @@ class BevelFlank:
         """The gear's blank (face and root cones, toe and heel), ``geometry.solid``."""
         return default_blank(self.crown, self.gear, addendum=self.addendum)
 
+    @property
+    def corners(self) -> tuple[float, ...]:
+        """Values of ``u`` inside ``u_range`` where the basic profile has a corner
+        (``BasicProfile.corners``): the flank is a smooth piece between two of them, and
+        the surface beyond a corner is another piece (an edge runs along it)."""
+        lo, hi = self.u_range
+        return tuple(c for c in self.crown.profile.corners if lo < c < hi)
+
     def evaluate(self, u: Array, v: Array) -> tuple[Array, Array]:
         lo, hi = self.crown.rho_range
         uu = np.clip(np.asarray(u, float).ravel(), 0.0, 1.0)
@@ -400,7 +408,16 @@ def separations(
     su, sv = su.ravel(), sv.ravel()
     Sq, _, _ = _eval_b(B, pb, ang_b, su, sv)
     _, j = cKDTree(Sq).query(P)
-    x = np.stack([su[j], sv[j], np.einsum("ij,ij->i", Sq[j] - P, N)], axis=1)
+    # Both flanks come from one basic profile: a point of A on the smooth piece between
+    # two profile corners mates with the same piece of B. Newton stays on it, or it
+    # would cross B's corner onto the next piece, which the normal line also meets
+    # (behind A's surface, through A's own corner: a spurious overlap).
+    cuts = np.array([lo, *getattr(B, "corners", ()), hi])
+    piece = np.clip(np.searchsorted(cuts, uu, side="right") - 1, 0, len(cuts) - 2)
+    u_lo = np.where(piece == 0, lo - 0.05, cuts[piece])
+    u_hi = np.where(piece == len(cuts) - 2, hi + 0.05, cuts[piece + 1])
+    x = np.stack([np.clip(su[j], u_lo, u_hi), sv[j], np.einsum("ij,ij->i", Sq[j] - P, N)],
+                 axis=1)  # fmt: skip
     h = 1e-6
     res = np.full(len(P), np.inf)
     act = np.arange(len(P))  # points still iterating (a converged point stays put)
@@ -420,7 +437,7 @@ def separations(
         dx = np.where(np.isfinite(dx), dx, 0.0)
         dx[:, :2] = np.clip(dx[:, :2], -0.2, 0.2)
         xa = xa + dx
-        xa[:, 0] = np.clip(xa[:, 0], lo - 0.05, hi + 0.05)
+        xa[:, 0] = np.clip(xa[:, 0], u_lo[act], u_hi[act])
         xa[:, 1] = np.clip(xa[:, 1], -0.05, 1.05)
         x[act] = xa
     else:  # the residual after the last step

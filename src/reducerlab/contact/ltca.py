@@ -49,6 +49,7 @@ __all__ = [
     "candidate_estimate",
     "flank_size",
     "grid_estimate",
+    "loaded_area",
     "loaded_contact",
 ]
 
@@ -117,6 +118,17 @@ class ContactGrid:
             raise ReducerlabError("grid.teeth: needs at least one tooth pair")
 
 
+#: cells this many times shorter along the profile near a curvature jump of the basic
+#: profile (the double arc's transition/convex joint): a pair of teeth out of phase
+#: touches in the band between the two flanks' jumps, narrower than a patch
+GRADED_FACTOR = 4
+#: half-width of the graded band, in cells
+GRADED_WINDOW = 2.0
+#: growth of the cell length beyond the graded band, per unit length (0.3: each cell at
+#: most about 30 % longer than the one before)
+GRADED_GROWTH = 0.3
+
+
 @dataclass(frozen=True)
 class _Axis:
     """Fine cell edges of one flank parameter, grouped into coarse cells."""
@@ -134,11 +146,29 @@ class _Axis:
         return 0.5 * (self.coarse_edges[:-1] + self.coarse_edges[1:])
 
 
-def _axis(param: Array, arc: Array, breaks: Sequence[float], cell: float, c: int) -> _Axis:
-    """Edges uniform in arc length with ``c`` fine cells per coarse cell, the coarse
-    edges landing on the profile's segment breaks (no cell straddles a corner)."""
+def _axis(param: Array, arc: Array, breaks: Sequence[float], cell: float, c: int,
+          graded: Sequence[float] = ()) -> _Axis:  # fmt: skip
+    """Edges in arc length with ``c`` fine cells per coarse cell, the coarse edges
+    landing on the profile's segment breaks (no cell straddles a corner). The cells are
+    ``cell`` long, except near the breaks in ``graded`` (curvature jumps): within
+    ``GRADED_WINDOW`` cells of one they are ``GRADED_FACTOR`` times shorter, and beyond
+    grow back to ``cell`` by at most ``GRADED_GROWTH`` of a cell per cell (an abrupt
+    change of the cell size shows in the pressure of a patch across it). A jump within
+    the graded band of an end of the axis lies in the flank's edge band: not graded."""
     lo, hi = float(param[0]), float(param[-1])
     inner = np.interp([b for b in breaks if lo < b < hi], param, arc)
+    w = GRADED_WINDOW * cell
+    ramp = (1.0 - 1.0 / GRADED_FACTOR) * cell / GRADED_GROWTH  # length to grow back
+    fine_at = np.interp([b for b in graded if lo < b < hi], param, arc)
+    fine_at = fine_at[(fine_at - arc[0] > w + ramp) & (arc[-1] - fine_at > w + ramp)]
+
+    def size(x: Array) -> Array:
+        """Target cell length (m) at arc length ``x``."""
+        if not fine_at.size:
+            return np.full_like(x, cell)
+        d = np.min(np.abs(x[:, None] - fine_at[None, :]), axis=1)
+        return np.minimum(cell, cell / GRADED_FACTOR + GRADED_GROWTH * np.maximum(d - w, 0.0))
+
     # breaks closer than half a fine cell to an end or to each other are not cut
     s_cuts = [arc[0]]
     for b in inner:
@@ -147,12 +177,17 @@ def _axis(param: Array, arc: Array, breaks: Sequence[float], cell: float, c: int
     s_cuts = np.array([*s_cuts, arc[-1]])
     coarse, fine, owner = [s_cuts[0]], [s_cuts[0]], []
     for s0, s1 in itertools.pairwise(s_cuts):
-        n = max(1, round((s1 - s0) / (c * cell)))
-        ce = np.linspace(s0, s1, n + 1)
-        for a, b in itertools.pairwise(ce):
+        # fine edges equidistributed in the density 1 / size, a multiple of c of them
+        x = np.linspace(s0, s1, 2001)
+        dens = 1.0 / size(x)
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * (dens[1:] + dens[:-1]) * np.diff(x))])
+        n = max(1, round(cum[-1] / c))
+        edges = np.interp(np.linspace(0.0, cum[-1], n * c + 1), cum, x)
+        edges[0], edges[-1] = s0, s1
+        for k in range(n):
             owner += [len(coarse) - 1] * c
-            fine += list(np.linspace(a, b, c + 1)[1:])
-            coarse.append(b)
+            fine += list(edges[k * c + 1 : (k + 1) * c + 1])
+            coarse.append(edges[(k + 1) * c])
     to_param = lambda s: np.interp(s, arc, param)  # noqa: E731
     return _Axis(to_param(np.array(fine)), np.array(owner), to_param(np.array(coarse)))
 
@@ -186,7 +221,9 @@ class PositionContact:
         Largest separation admitted into the grid (m).
     edge : ndarray of bool (n,)
         Cells within ``ContactGrid.edge_band`` of an edge of gear A's flank or opposite
-        an edge of gear B's flank: tip, root end of the active flank, toe or heel.
+        an edge of gear B's flank: tip, root end of the active flank, toe, heel, or a
+        corner of the basic profile (``BasicProfile.corners``: the double arc's
+        concave/transition joint).
     """
 
     phi: float
@@ -223,13 +260,103 @@ class PositionContact:
 
     @property
     def contact_area(self) -> float:
-        """Area of the loaded cells (m^2)."""
+        """Area (m^2) where the pressure field is positive: the boundary of each patch is
+        located inside its boundary cells (:func:`loaded_area`), not at whole cells."""
+        return loaded_area(self.uv, self.tooth, self.area, self.force)
+
+    @property
+    def loaded_cell_area(self) -> float:
+        """Area of the loaded cells, whole (m^2): the bound of :attr:`contact_area` from
+        above on the grid (a boundary cell counts fully)."""
         return float(self.area[self.force > 0].sum())
 
     @property
     def force_vector(self) -> Array:
         """Resultant contact force on gear A (N), fixed frame: ``-sum F_i n_i``."""
         return -(self.force[:, None] * self.normals).sum(axis=0)
+
+
+def _reach(q0: Array, q1: Array, q2: Array) -> Array:
+    """How far (in cell spacings, 0..1) beyond the centre of the last loaded cell of a
+    grid line the field ``q`` reaches zero, from its values ``q0, q1, q2`` at that cell
+    and the next two inward (``nan`` where missing): the zero of the quadratic through
+    the three, else of the line through two, else half a cell."""
+    c2 = 0.5 * (q0 - 2.0 * q1 + q2)
+    c1 = q0 - q1 + c2  # q(s) = q0 + c1 s + c2 s^2 at s = 0, -1, -2 (outward s > 0)
+    with np.errstate(all="ignore"):
+        disc = c1 * c1 - 4.0 * c2 * q0
+        # the smallest positive root of c2 s^2 + c1 s + q0 = 0 (q0 > 0)
+        r_plus = (-c1 + np.sqrt(disc)) / (2.0 * c2)
+        r_minus = (-c1 - np.sqrt(disc)) / (2.0 * c2)
+        roots = np.stack([r_plus, r_minus])
+        roots = np.where(np.isfinite(roots) & (roots > 0), roots, np.inf).min(axis=0)
+        quad = np.where(np.abs(c2) > 1e-12 * np.abs(q0), roots, q0 / (q1 - q0) * -1.0)
+        lin = np.where(q0 < q1, q0 / (q1 - q0), np.inf)
+    # a field still rising outward has no zero within reach: the whole next cell
+    out = np.where(np.isfinite(q2), quad, np.where(np.isfinite(q1), lin, 0.5))
+    return np.clip(np.nan_to_num(out, nan=0.5, posinf=1.0), 0.0, 1.0)
+
+
+def loaded_area(uv: Array, tooth: NDArray[np.int64], area: Array, force: Array) -> float:
+    """Area (m^2) where the pressure field of a contact grid is positive.
+
+    The cells of each tooth pair lie on a tensor grid of flank parameters ``uv``. Along
+    every grid line (both directions) each run of loaded cells ends where ``q = p^2``,
+    extrapolated from the run's last cells, reaches zero (:func:`_reach`; Hertz:
+    ``p^2 = p0^2 (1 - x^2/a^2 - y^2/b^2)`` is a quadratic in position, so polynomial
+    extrapolation of ``q`` finds the edge that ``p``, falling like a square root, would
+    overshoot), within the boundary cell or the next; a run that ends at the grid's
+    edge (the flank's edge) ends with its cell. Each cell contributes its area times the
+    fraction of it inside the runs; the area is the mean of the two directions.
+
+    Parameters
+    ----------
+    uv : ndarray (n, 2)
+        Flank parameters of the cell centres (a tensor grid per tooth pair).
+    tooth : ndarray of int (n,)
+        Tooth pair of each cell.
+    area, force : ndarray (n,)
+        Cell areas (m^2) and normal forces (N).
+    """
+    total = 0.0
+    loaded_all = force > 0
+    for k in np.unique(tooth[loaded_all]):
+        m = tooth == k
+        _, iu = np.unique(uv[m, 0], return_inverse=True)
+        _, iv = np.unique(uv[m, 1], return_inverse=True)
+        shape = (int(iu.max()) + 1, int(iv.max()) + 1)
+        p = np.zeros(shape)
+        a = np.full(shape, np.nan)  # nan: not a cell of the grid
+        p[iu, iv] = force[m] / area[m]
+        a[iu, iv] = area[m]
+        for axis in (0, 1):
+            P = np.moveaxis(p, axis, 0)
+            A = np.moveaxis(a, axis, 0)
+            q = np.where(P > 0, P * P, np.nan)
+            frac = np.where(P > 0, 1.0, 0.0)
+            n = P.shape[0]
+            for step in (1, -1):
+                # last loaded cell of a run toward +step: loaded, next one not loaded
+                nxt = np.zeros_like(P, dtype=bool)  # next cell exists and is unloaded
+                q1 = np.full_like(q, np.nan)
+                q2 = np.full_like(q, np.nan)
+                if step > 0:
+                    nxt[:-1] = np.isfinite(A[1:]) & ~(P[1:] > 0)
+                    q1[1:], q2[2:] = q[:-1], q[:-2]
+                else:
+                    nxt[1:] = np.isfinite(A[:-1]) & ~(P[:-1] > 0)
+                    q1[:-1], q2[:-2] = q[1:], q[2:]
+                end = (P > 0) & nxt
+                r = _reach(q, q1, q2)
+                # the end cell's outer half holds min(r, 1/2), the next cell the rest
+                frac += np.where(end, np.minimum(r, 0.5) - 0.5, 0.0)
+                spill = np.where(end, np.maximum(r - 0.5, 0.0), 0.0)
+                if step > 0:
+                    frac[1:n] += spill[: n - 1]
+                else:
+                    frac[: n - 1] += spill[1:n]
+            total += 0.5 * float(np.nansum(A * frac))
+    return float(total)
 
 
 def _arc(flank, along_u: bool, fixed: float, n: int = 801) -> tuple[Array, Array]:
@@ -257,8 +384,26 @@ def _edge_distance(flank, ax_u: _Axis, ax_v: _Axis, pu, arc_u, pv, arc_v) -> Arr
     hu = float(np.mean(np.diff(su))) if len(su) > 1 else arc_u[-1]
     hv = float(np.mean(np.diff(sv))) if len(sv) > 1 else arc_v[-1]
     padded = np.pad(inside, 1, constant_values=False)
-    d = distance_transform_edt(padded, sampling=(hu, hv))[1:-1, 1:-1]
+    # nearest cell off the flank (index metric), its distance in arc length: the cells
+    # are graded along the profile near curvature jumps (``_axis``)
+    _, (iu, iv) = distance_transform_edt(padded, sampling=(hu, hv), return_indices=True)
+    su_p = np.concatenate([[su[0] - hu], su, [su[-1] + hu]])
+    sv_p = np.concatenate([[sv[0] - hv], sv, [sv[-1] + hv]])
+    iu, iv = iu[1:-1, 1:-1], iv[1:-1, 1:-1]
+    d = np.hypot(su[:, None] - su_p[iu], sv[None, :] - sv_p[iv])
     return d - 0.5 * min(hu, hv)  # from the cell centre to the edge, not the next centre
+
+
+def _corner_distance(ax: _Axis, param: Array, arc: Array, corners: Sequence[float]) -> Array:
+    """Distance (m, arc length along the profile at mid-face) of each fine cell centre of
+    ``ax`` to the nearest profile corner; ``inf`` without corners. The coarse edges land
+    on the corners (``_axis``), so no cell straddles one."""
+    s = np.interp(ax.centres, param, arc)
+    inner = [c for c in corners if param[0] < c < param[-1]]
+    if not inner:
+        return np.full(len(s), np.inf)
+    sc = np.interp(inner, param, arc)
+    return np.min(np.abs(s[:, None] - sc[None, :]), axis=1)
 
 
 def _cells(flank, u: Array, v: Array, du: Array, dv: Array) -> tuple[Array, ...]:
@@ -291,9 +436,18 @@ def grid_estimate(pair: MeshPair, grid: ContactGrid, control: str = CELL_CONTROL
     Work: fine cells on the larger flank, bounded by :data:`MAX_GRID_CELLS`; memory:
     :data:`GRID_BYTES` per cell, both flanks."""
     cells = []
+    prof = getattr(getattr(pair.flank_a, "crown", None), "profile", None)
+    lo, hi = pair.flank_a.u_range
+    jumps = [b for b in getattr(prof, "breaks", ()) if lo < b < hi]
+    jumps = [b for b in jumps if b not in getattr(prof, "corners", ())]
+    # rows a graded curvature jump adds (``_axis``): the band's 2 GRADED_WINDOW cells
+    # at 1/GRADED_FACTOR, and the ramps back, ln(F)/GROWTH cells where (1 - 1/F)/GROWTH
+    # would do, on each side
+    F = GRADED_FACTOR
+    extra = 2.0 * (GRADED_WINDOW * (F - 1) + (math.log(F) - (1 - 1 / F)) / GRADED_GROWTH)
     for flank in (pair.flank_a, pair.flank_b):
         su, sv = flank_size(flank)
-        nu = math.ceil(su / grid.cell) + grid.coarse
+        nu = math.ceil(su / grid.cell) + grid.coarse + math.ceil(extra * len(jumps))
         nv = math.ceil(sv / grid.cell) + grid.coarse
         cells.append(float(nu) * float(nv))
     return Estimate(
@@ -355,7 +509,11 @@ def loaded_contact(
     pu, arc_u = _arc(A, True, 0.5)
     pv, arc_v = _arc(A, False, 0.5 * sum(A.u_range))
     breaks = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "breaks", ()))
-    ax_u = _axis(pu, arc_u, breaks, grid.cell, grid.coarse)
+    # a profile corner (tangent discontinuity) is an edge of the flank surface like its
+    # boundary; curvature-only breaks are not (``BasicProfile.corners``)
+    corners = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "corners", ()))
+    graded = [b for b in breaks if b not in corners]
+    ax_u = _axis(pu, arc_u, breaks, grid.cell, grid.coarse, graded)
     ax_v = _axis(pv, arc_v, (), grid.cell, grid.coarse)
     T_B = torque * pair.torque_ratio
     # fine cell geometry is the same for every tooth (tooth k = tooth 0 turned)
@@ -364,14 +522,17 @@ def loaded_contact(
     cu, cv = np.meshgrid(ax_u.coarse_centres, ax_v.coarse_centres, indexing="ij")
     band = grid.edge_band if grid.edge_band is not None else 2.0 * grid.cell
     B = pair.flank_b
-    edge_a = (_edge_distance(A, ax_u, ax_v, pu, arc_u, pv, arc_v) < band).ravel()
+    dist_a = np.minimum(_edge_distance(A, ax_u, ax_v, pu, arc_u, pv, arc_v),
+                        _corner_distance(ax_u, pu, arc_u, corners)[:, None])  # fmt: skip
+    edge_a = (dist_a < band).ravel()
     pub, arc_ub = _arc(B, True, 0.5)
     pvb, arc_vb = _arc(B, False, 0.5 * sum(B.u_range))
-    bu = _axis(pub, arc_ub, breaks, grid.cell, 1)
+    bu = _axis(pub, arc_ub, breaks, grid.cell, 1, graded)
     bv = _axis(pvb, arc_vb, (), grid.cell, 1)
+    dist_b = np.minimum(_edge_distance(B, bu, bv, pub, arc_ub, pvb, arc_vb),
+                        _corner_distance(bu, pub, arc_ub, corners)[:, None])  # fmt: skip
     edge_b = RegularGridInterpolator(
-        (bu.centres, bv.centres), _edge_distance(B, bu, bv, pub, arc_ub, pvb, arc_vb),
-        bounds_error=False, fill_value=0.0,
+        (bu.centres, bv.centres), dist_b, bounds_error=False, fill_value=0.0,
     )  # fmt: skip
     n_cu, n_cv = cu.shape
     fine_coarse = (ax_u.coarse_of[:, None] * n_cv + ax_v.coarse_of[None, :]).ravel()

@@ -36,6 +36,7 @@ from scipy.optimize import brentq
 from ..errors import DesignError
 
 __all__ = [
+    "CORNER_TOLERANCE",
     "GBT12759_1991",
     "BasicProfile",
     "CallableProfile",
@@ -49,6 +50,11 @@ __all__ = [
 ]
 
 Array = NDArray[np.float64]
+
+#: turn of the tangent (rad) above which a segment break is a corner: tangent pieces
+#: constructed here meet to ~1e-12 rad (round-off of their centres), a real corner
+#: turns by degrees
+CORNER_TOLERANCE = 1e-8
 
 
 class ProfileError(DesignError):
@@ -204,6 +210,19 @@ class BasicProfile(ABC):
     def breaks(self) -> tuple[float, ...]:
         """Values of ``u`` where smooth pieces meet (corners or curvature jumps)."""
         return ()
+
+    @property
+    def turns(self) -> tuple[float, ...]:
+        """Angle (rad, >= 0) by which the tangent turns at each of :attr:`breaks`: 0 where
+        the pieces are tangent (a curvature jump only), > 0 at a corner."""
+        return ()
+
+    @property
+    def corners(self) -> tuple[float, ...]:
+        """The :attr:`breaks` where the tangent is discontinuous (turn above
+        :data:`CORNER_TOLERANCE`): edges of the flank surface, not curvature jumps."""
+        return tuple(b for b, t in zip(self.breaks, self.turns, strict=True)
+                     if t > CORNER_TOLERANCE)  # fmt: skip
 
     # -- evaluation ------------------------------------------------------------------
     def evaluate(self, u: ArrayLike, flank: int = 1) -> ProfilePoints:
@@ -361,6 +380,17 @@ class _PiecewiseProfile(BasicProfile):
     @property
     def breaks(self) -> tuple[float, ...]:
         return tuple(float(e) for e in self._edges[1:-1])
+
+    @property
+    def turns(self) -> tuple[float, ...]:
+        out = []
+        for a, b in zip(self._segments[:-1], self._segments[1:], strict=True):
+            _, _, dx0, dy0 = a.eval(np.array([1.0]))
+            _, _, dx1, dy1 = b.eval(np.array([0.0]))
+            cross = float(dx0[0] * dy1[0] - dy0[0] * dx1[0])
+            dot = float(dx0[0] * dx1[0] + dy0[0] * dy1[0])
+            out.append(abs(math.atan2(cross, dot)))
+        return tuple(out)
 
     @property
     def segment_names(self) -> tuple[str, ...]:
@@ -597,11 +627,14 @@ class _DoubleArcRack:
 #: normal modules 1.5-3 mm (the standard tabulates slightly different x_a*, x_f*, l_a*,
 #: l_f* for larger modules): alpha = 24 deg, h* = 2, h_a* = 0.9, h_f* = 1.1,
 #: rho_a* = 1.3, rho_f* = 1.42, x_a* = 0.0163, x_f* = 0.0325, l_a* = 0.6289,
-#: l_f* = 0.7086, h_ja* = 0.16, h_jf* = 0.2. They were not retrieved from the standard's
-#: text here (see docs/tooth_surfaces.md); they are self-consistent: the convex and
-#: concave contact points both lie at h_k* = rho_a* sin(alpha) + x_a* =
-#: rho_f* sin(alpha) - x_f* = 0.5451, the convex chordal thickness there is
-#: s_a* = 2 (rho_a* cos(alpha) - l_a*) = 1.1174 and the backlash j* = 0.06.
+#: l_f* = 0.7086, h_ja* = 0.16, h_jf* = 0.2; printed derived values s_a* = 1.1173,
+#: h_k* = 0.5450, j* = 0.06, process angles delta_1 = 6 deg 20' 52" (convex end) and
+#: delta_2 = 9 deg 25' 31" (concave end), transition radius r_j* = 0.5031. They are from
+#: memory of the standard's table (no copy of its text was reachable here: see
+#: docs/tooth_surfaces.md and docs/assumptions.md) and self-consistent: both contact
+#: points lie at h_k* = rho_a* sin(alpha) + x_a* = rho_f* sin(alpha) - x_f* = 0.5451, the
+#: convex chordal thickness there is s_a* = 2 (rho_a* cos(alpha) - l_a*) = 1.1174 and the
+#: backlash j* = 0.06 (tests/test_geometry_profiles.py checks each).
 GBT12759_1991 = _DoubleArcRack(
     pressure_angle=math.radians(24.0),
     addendum=0.9,
@@ -629,9 +662,20 @@ class DoubleCircularArcProfile(_PiecewiseProfile):
     2. concave arc: radius ``rho_f* = 1.42``, centre ``(x, y) = (x_f*, pi/2 + l_f*)``,
        up to ``x = -h_jf*``;
     3. transition arc: tangent to the convex arc at ``x = h_ja*`` and through the end of
-       the concave arc (radius follows, 0.505; the standard prints 0.5031);
+       the concave arc at ``x = -h_jf*`` (radius follows, 0.5049; the standard prints
+       0.5031);
     4. convex arc: radius ``rho_a* = 1.3``, centre ``(x_a*, -l_a*)``, up to the tip
        ``x = h_a*``.
+
+    Joints 1-2 and 3-4 are tangent (curvature jumps only); joint 2-3 is a **corner**
+    (the tangent turns by 46 deg, :attr:`corners`). It is not a choice: with the
+    standard's coefficients the convex arc's normal at ``h_ja*`` (process angle
+    ``delta_1`` = 6.35 deg) and the concave arc's at ``-h_jf*`` (``delta_2`` = 9.42 deg)
+    differ by 3 deg while the chord between the two ends runs at 31 deg to them, so no
+    single arc (the standard's one transition radius ``r_j*``) is tangent to both: one
+    joint is a corner, and the radius printed (0.5031) is that of the arc tangent to the
+    convex end (0.5049 here; tangent to the concave end instead it would be 0.573).
+    The contact analysis treats a corner as a flank edge (``contact.ltca``).
 
     The coefficients (:data:`GBT12759_1991`) are scaled by the normal module.
 
@@ -686,6 +730,9 @@ class DoubleCircularArcProfile(_PiecewiseProfile):
                 "double_arc.rack", "no transition arc between convex and concave", rt
             )
         ct = p1 + rt * u1
+        #: process angles (rad): the normals of the convex arc at h_ja* and of the
+        #: concave arc at -h_jf* against the pitch line's normal (GB/T 12759 delta_1, 2)
+        self.process_angles = (b_j, c_j)
         self.transition_radius = rt * m
         self.fillet_radius = rg * m
         self.contact_height = (ra * math.sin(k.pressure_angle) + xa) * m
