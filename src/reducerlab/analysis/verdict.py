@@ -11,6 +11,8 @@ at risk over its operating range and at its operating point, and why.
 * the nonlinear response at the operating point (:func:`.response.response`, every
   mesh line): dynamic load factor, tooth separation, back-side impacts and the motion
   class of its Poincaré points (:func:`.motion.classify`);
+* the load capacity at the design's load (:mod:`.capacity_reasons`: ISO 6336 / the
+  bevel pairs' virtual cylindrical gears; a safety factor below its minimum is a risk),
 * reasons a caller adds (``extra_reasons``, a later ``run`` pipeline's consistency
   checks),
 
@@ -404,6 +406,7 @@ def verdict(
     run_response: bool = True,
     speed_range: tuple[float, float] | None = None,
     response_options: Mapping[str, Any] | None = None,
+    capacity: bool = True,
 ) -> Verdict:
     """Whether a drive is at risk over its operating range and at its operating point.
 
@@ -433,6 +436,9 @@ def verdict(
         ``(min, max)`` input speeds (rad/s) of the resonance check.
     response_options : mapping, optional
         Keyword arguments of :func:`.response.response` (``periods``, ``keep``, ...).
+    capacity : bool
+        Judge the load capacity of a design's gear pairs (:mod:`.capacity_reasons`;
+        designs of the types the rating covers).
 
     Returns
     -------
@@ -442,8 +448,8 @@ def verdict(
         * ``rule``: what was checked (``"resonance-crossing"``, ``"resonance-near"``,
           ``"resonance"``, ``"unstable"``, ``"body-crossing"``, ``"body-near"``,
           ``"body-coincidence"``, ``"body"``, ``"dynamic-load-factor"``,
-          ``"separation"``, ``"back-impacts"``, ``"motion"``, ``"response"``, or a
-          caller's own);
+          ``"separation"``, ``"back-impacts"``, ``"motion"``, ``"response"``,
+          ``"capacity"``, or a caller's own);
         * ``status``: ``"risk"`` (makes the verdict fail), ``"note"`` (said, not
           failed: a crossing the excitation does not drive, an unloaded drive) or
           ``"ok"`` (a check passed);
@@ -496,6 +502,10 @@ def verdict(
                 f"verdict: responses must be ResponseResult objects, got {type(r).__name__}"
             )
         reasons += _response_reasons(r, t)
+    if capacity and design is not None:
+        from .capacity_reasons import capacity_reasons
+
+        reasons += capacity_reasons(design)
     reasons += extra
     reasons.sort(key=lambda r: STATUSES.index(r["status"]))
     return Verdict(reasons, t, resonance, responses, title, model.speed * RPM)
