@@ -1,4 +1,5 @@
-"""Loaded tooth contact analysis of a nutation design's gear pair (papers 001, 000 §2.3).
+"""Loaded tooth contact analysis of a nutation design's gear pair (papers 001, 000 §2.3)
+or of a spur ``gear_pair`` (pinion and wheel; ``analysis.contact_setup``).
 
 ``contact_analysis(design, pair, power=...)`` generates both gears of the pair from the
 design's ``[surface]`` table (paper 001), builds the finite-element bending compliance
@@ -342,13 +343,16 @@ def contact_analysis(
 
     Parameters
     ----------
-    design : NutationDesign
-        With ``[surface]`` (and ``[material]``, default paper 000's steel).
+    design : NutationDesign or GearPairDesign
+        A nutation design with ``[surface]`` (and ``[material]``, default paper 000's
+        steel), or a spur ``gear_pair`` with ``mesh.face_width`` (steel; pinion = the
+        "external" gear A, wheel = the "internal" gear B; lever ``r_b2``;
+        ``analysis.contact_setup``).
     pair : int
-        1 (gears 1-2) or 2 (gears 3-4).
+        1 (gears 1-2) or 2 (gears 3-4); 1 for a gear_pair.
     power, torque : float
-        Exactly one: power (W) at the design's ``input_speed`` on the external gear, or
-        the torque on the external gear (N m).
+        Exactly one: power (W) at the design's input speed on the external gear (the
+        pinion), or the torque on it (N m).
     positions : int
         Positions over one mesh cycle (one pitch of the external gear), >= 2 order + 1.
     order : int
@@ -378,12 +382,10 @@ def contact_analysis(
     stage, progress : callable, optional
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
     """
-    from ..contact.compliance import compliance_estimate
-    from ..contact.halfspace import combined_modulus
     from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
-    from ..fe import Material
-    from .contact_workers import contact_pool, contact_processes, tooth_compliances
+    from .contact_setup import pair_setup
+    from .contact_workers import contact_pool, contact_processes
 
     t0 = time.perf_counter()
     say = stage or (lambda _s: None)
@@ -396,34 +398,29 @@ def contact_analysis(
         raise ReducerlabError(
             f"order: {order} harmonics need positions >= {2 * order + 1}; got {positions}"
         )
-    mp = contact_pair(design, pair, profile=profile, misalignment=misalignment)
-    m_n = mp.crown.profile.module
+    setup = pair_setup(design, pair, profile=profile, misalignment=misalignment)
+    mp, m_n = setup.mesh_pair, setup.module
     if cell is not None and not (
         isinstance(cell, (int, float)) and math.isfinite(cell) and 0 < cell <= 0.5 * m_n
     ):
         raise ReducerlabError(
             f"cell: must be a length in (0, m_n/2] = (0, {0.5 * m_n * 1e3:.4g} mm]; got {cell!r}"
         )
-    mat = design.material
-    material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
-    E, nu = material.E, material.nu
-    E_star = combined_modulus(E, nu, E, nu)
-    external = getattr(design, f"gear{2 * pair}")
-    check_load(mp, T_a, external.mean_radius, E_star, design.operating_speed, power is not None)
+    nu, E_star = setup.material.nu, setup.E_star
+    check_load(mp, T_a, setup.load_radius, E_star, design.operating_speed, power is not None)
     if cell is not None:
         grid_estimate(mp, ContactGrid(float(cell))).check()
     n = contact_processes(workers, rigid=rigid, positions=positions)
     fe = compliance is None and not rigid
     if fe:
-        compliance_estimate(mp, tooth_size).check()
-    pitch = 2 * math.pi / mp.external.teeth
-    phis = pitch * np.arange(positions) / positions
+        setup.compliance_estimate(tooth_size).check()
+    phis = setup.start + setup.pitch * np.arange(positions) / positions
     with contact_pool(n) as pool:
         comp_a, comp_b = None, None
         if compliance is not None and not rigid:
             comp_a, comp_b = compliance
         elif fe:
-            comp_a, comp_b = tooth_compliances(mp, material, tooth_size, say, pool)
+            comp_a, comp_b = setup.compliances(tooth_size, say, pool)
         kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": E_star}
         s0 = ContactGrid.s_max
         if cell is None and rigid:
@@ -444,25 +441,22 @@ def contact_analysis(
             post = functools.partial(_stresses, nu=nu, cell=h)
             runs, (vm, depth) = pool.positions((mp, T_a), phis, {"grid": grid, **kw}, progress,
                                                post)  # fmt: skip
-    # lever of the lumped model's mesh on the internal gear (paper 000 Eq. 2-4)
-    internal_gear = getattr(design, f"gear{2 * pair - 1}")
-    a_y = math.cos(design.helix_angle) * math.cos(design.normal_pressure_angle)
-    arm = a_y * internal_gear.mean_radius
+    # lever of the lumped model's mesh on gear B (paper 000 Eq. 2-4; spur: r_b2)
+    arm = setup.arm
     T_b = runs[0].torque
     approach = np.array([r.loaded_te for r in runs])
     k = T_b / (arm**2 * approach)
     fit = fit_fourier(k, order)
-    kin = design.kinematics()
-    f_mesh = list(kin.mesh_frequencies(design.operating_speed).values())[pair - 1]
+    f_mesh = setup.mesh_frequency
     force = np.array([r.force_vector for r in runs])
     cells = _cells_dataset(runs)
     ds = xr.Dataset(
         {
             "angle": ("position", phis, {"units": "rad"}),
-            "time": ("position", np.arange(positions) / (positions * f_mesh), {"units": "s"}),
+            "time": ("position", _times(positions, f_mesh), {"units": "s"}),
             "unloaded_te": ("position", [r.unloaded_te for r in runs], {"units": "rad"}),
             "loaded_te": ("position", approach + [r.unloaded_te for r in runs], {"units": "rad"}),
-            "te": ("position", approach * internal_gear.mean_radius, {"units": "m"}),
+            "te": ("position", approach * setup.te_radius, {"units": "m"}),
             "stiffness": ("position", k, {"units": "N/m"}),
             "stiffness_fit": (
                 "position",
@@ -494,8 +488,8 @@ def contact_analysis(
         attrs={"title": f"Loaded tooth contact, pair {pair}", **provenance(design.provenance)},
     )
     ds.attrs.update(
-        pair=int(pair), profile=profile or design.surface.profile,
-        teeth_external=mp.external.teeth, teeth_internal=mp.internal.teeth,
+        pair=int(pair), profile=setup.profile, pair_kind=setup.kind,
+        teeth_external=setup.teeth[0], teeth_internal=setup.teeth[1],
         torque_external=T_a, torque_internal=T_b, speed=float(design.input_speed),
         mesh_frequency=f_mesh, k_mean=fit.mean, fit_residual=fit.residual, order=order,
         cell_m=h, rigid=int(rigid), lever_arm_m=arm,
@@ -507,6 +501,13 @@ def contact_analysis(
     out = ContactResult(ds)
     out.compliance = None if comp_a is None else (comp_a, comp_b)
     return out
+
+
+def _times(positions: int, f_mesh: float) -> NDArray:
+    """Time of each position (s) at the mesh frequency; NaN for a design at rest."""
+    if not f_mesh:
+        return np.full(positions, np.nan)
+    return np.arange(positions) / (positions * f_mesh)
 
 
 def _stresses(runs: list, nu: float, cell: float) -> tuple[NDArray, NDArray]:
