@@ -32,9 +32,16 @@ from typing import Any
 import numpy as np
 
 from ..budget import Estimate
+from ..design import Design
 from ..errors import ReducerlabError
 
-__all__ = ["PairSetup", "pair_setup", "spur_compliance_estimate"]
+__all__ = [
+    "PairSetup",
+    "check_misalignment",
+    "contact_pair",
+    "pair_setup",
+    "spur_compliance_estimate",
+]
 
 Stage = Callable[[str], None]
 
@@ -114,6 +121,59 @@ class PairSetup:
         return tooth_compliances(self.mesh_pair, self.material, tooth_size, say, pool)
 
 
+def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
+                 misalignment: Any = None, flank: int = 1) -> Any:  # fmt: skip
+    """The :class:`~reducerlab.contact.flanks.NutationPair` of pair ``pair`` (1 or 2):
+    its external gear (2 or 4) and its nutating internal gear (1 or 3)."""
+    from ..contact.flanks import Misalignment, NutationPair
+
+    if not (isinstance(design, Design) and design.has_tooth_surfaces):
+        raise ReducerlabError(
+            "surface: the design has no [surface] table (profile, face_width), which the "
+            "contact analysis needs to generate the teeth; see examples/nutation_surface.toml"
+        )
+    pairs = design.gear_count // 2
+    if isinstance(pair, bool) or pair not in range(1, pairs + 1):
+        raise ReducerlabError(
+            f"pair: must be 1..{pairs} for a {design.sides}-sided drive; got {pair!r}"
+        )
+    misalignment = misalignment or Misalignment()
+    check_misalignment(misalignment, design.surface_module(2 * pair))
+    crown, ext = design.tooth_generation(2 * pair, profile)
+    _, internal = design.tooth_generation(2 * pair - 1, profile)
+    return NutationPair(crown, ext, internal, flank, misalignment)
+
+
+#: the command-line option of each length of a misalignment
+_MISALIGNMENT_OPTIONS = {"axial_a": "--axial-external", "axial_b": "--axial-internal",
+                         "offset": "--offset"}  # fmt: skip
+
+
+def check_misalignment(misalignment: Any, module: float) -> None:
+    """Refuse a misalignment whose shifts are not assembly errors.
+
+    Each shift (``axial_a``, ``axial_b``, ``offset``, m) must lie within one normal
+    module ``module`` (m) of the nominal place, as the shaft angle's error lies within
+    2 deg (:class:`~reducerlab.contact.flanks.Misalignment`): a shift of a whole module
+    moves the flanks by about the working depth of the teeth (2 modules) times the sine
+    of the pitch cone or pressure angle, so beyond it the teeth are out of mesh or
+    driven into one another, and the contact grid would search whole flanks for minutes.
+
+    Raises
+    ------
+    ReducerlabError
+        Naming the field, its option, the shift and the bound.
+    """
+    for name, option in _MISALIGNMENT_OPTIONS.items():
+        v = getattr(misalignment, name)
+        if abs(v) > module:
+            raise ReducerlabError(
+                f"misalignment.{name} ({option}): must be within +-{module * 1e3:.4g} mm (one "
+                "normal module: an assembly error; a larger shift takes the teeth out of mesh "
+                f"or into one another); got {v * 1e3:.4g} mm"
+            )
+
+
 def _material(design: Any) -> Any:
     """The design's ``[material]`` as an ``fe.Material``, else steel."""
     from ..fe import Material
@@ -143,8 +203,6 @@ def pair_setup(
 
     if isinstance(design, GearPairDesign):
         return _spur_setup(design, pair, profile, misalignment)
-    from .contact import contact_pair
-
     mp = contact_pair(design, pair, profile=profile, misalignment=misalignment)
     material = _material(design)
     E_star = combined_modulus(material.E, material.nu, material.E, material.nu)

@@ -234,6 +234,8 @@ def te_sweep(
     harmonics: int = 3,
     cell: float | None = None,
     tooth_size: float | None = None,
+    profile: str | None = None,
+    misalignment: Any = None,
     compliance: tuple[Any, Any] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
@@ -264,6 +266,8 @@ def te_sweep(
         Contact cell (m); default from a pilot position at the design load.
     tooth_size : float, optional
         Finite-element tooth elements (m).
+    profile, misalignment : optional
+        As :func:`~reducerlab.analysis.contact.contact_analysis` (nutation pairs).
     compliance : (ToothCompliance, ToothCompliance), optional
         Both gears' tooth compliances from an earlier run of the same pair.
     stage, progress : callable, optional
@@ -301,7 +305,7 @@ def te_sweep(
             f"positions: {harmonics} mesh harmonics need >= {2 * harmonics + 1}; got {positions}"
         )
     sweep_estimate(positions, T.size).check()
-    setup = pair_setup(design, pair)
+    setup = pair_setup(design, pair, profile=profile, misalignment=misalignment)
     mp, m_n = setup.mesh_pair, setup.module
     if cell is not None and not (
         isinstance(cell, int | float) and math.isfinite(cell) and 0 < cell <= 0.5 * m_n
