@@ -187,6 +187,8 @@ class PositionContact:
     edge : ndarray of bool (n,)
         Cells within ``ContactGrid.edge_band`` of an edge of gear A's flank or opposite
         an edge of gear B's flank: tip, root end of the active flank, toe or heel.
+    lever : ndarray (n,), optional
+        Normal approach of each cell per unit rotation of gear B (m/rad).
     """
 
     phi: float
@@ -202,6 +204,16 @@ class PositionContact:
     force: Array
     s_max: float
     edge: NDArray[np.bool_]
+    lever: Array | None = None
+
+    @property
+    def grid_unloaded_te(self) -> float:
+        """Unloaded transmission error of the contact grid's cells (rad):
+        ``unloaded_te + min(separation / lever)``, the limit of the loaded TE as the
+        load vanishes (``unloaded_te`` is the least over the coarse points too)."""
+        if self.lever is None:
+            raise ReducerlabError("grid_unloaded_te: the result has no levers")
+        return self.unloaded_te + float(np.min(self.separation / self.lever))
 
     @property
     def interior_peak_pressure(self) -> float:
@@ -480,7 +492,7 @@ def loaded_contact(
             PositionContact(
                 float(phi), float(psi0), float(s_t.approach), t_b, P, N, teeth,
                 np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1), area, g[keep], s_t.force,
-                s_max, edge,
+                s_max, edge, lam,
             )
             for s_t, t_b in solved
         ]  # fmt: skip

@@ -1,0 +1,189 @@
+"""Loaded transmission error against torque (issue 29): ``analysis.te_sweep`` and the
+spur ``gear_pair`` design in ``contact_analysis``.
+
+Oracles:
+
+* the sweep's rows against independent single-load ``contact_analysis`` runs on the
+  same contact cell (a different contact grid, cold started): the exact solution of the
+  same complementarity problem, so equal to round-off;
+* the limit of zero load: the loaded TE tends to the unloaded TE of the tooth contact
+  analysis (the elastic approach ``psi(T)`` vanishes with ``T``), linearly up to the
+  Hertzian exponent (approach ~ ``T^0.9`` for a line contact);
+* ISO 6336-1:2019 clause 9 (method B) single stiffness ``c'`` and mesh stiffness
+  ``c_gamma_alpha`` (``contact.iso6336``): the TE slope against the normal force per unit
+  face width, ``d(TE)/d(F_n / b) = 1 / c``, in the single-contact zone (``c'``) and over
+  the cycle (``c_gamma_alpha``), at the theoretical level ``C_M = 1`` as
+  ``tests/published/test_iso6336_ltca.py`` argues.
+
+Cost: one finite-element tooth model (pinion = wheel, z = 20, m = 3 mm, b = 10 mm, rim
+3.5 m), one sweep of 7 positions x 6 torques, one single-load run of 7 positions.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from reducerlab.analysis.contact import contact_analysis
+from reducerlab.analysis.contact_setup import pair_setup, spur_compliance_estimate
+from reducerlab.analysis.te_sweep import (
+    MAX_LOADS,
+    TESweepResult,
+    design_load,
+    mesh_harmonics,
+    sweep_estimate,
+    sweep_torques,
+    te_sweep,
+)
+from reducerlab.contact.flanks import Misalignment
+from reducerlab.contact.iso6336 import (
+    ISO_STIFFNESS_TO_SI,
+    mesh_stiffness_c_gamma,
+    single_pair_stiffness,
+)
+from reducerlab.drives import load_design
+from reducerlab.errors import BudgetError, ReducerlabError
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "gear_pair.toml"
+#: pinion = wheel (one FE model), 10 mm face: 60 N m on r = 30 mm is 200 N/mm, inside
+#: ISO 6336-1 method B's range (>= 100 N/mm)
+CHANGES = {"pinion.teeth": 20, "gear.teeth": 20, "mesh.face_width": 0.010,
+           "mesh.stiffness_harmonics": [], "mesh.stiffness_phases": []}  # fmt: skip
+#: contact cell 0.1 mm: ~2-3 cells across the Hertz band (2 b_H ~ 0.25 mm); halving it
+#: moves the spur pair's stiffness by 0.7 % (tests/published/test_iso6336_ltca.py)
+CELL = 1e-4
+POSITIONS = 7  # one mesh cycle, the least that carries mesh orders 1..3
+#: the sweep's torques over the design load: the light loads for the zero-load limit,
+#: the design load and 1.5 times it
+LEVELS = (0.0, 0.01, 0.02, 0.5, 1.0, 1.5)
+#: ISO 6336-1 method B is a regression of Weber/Schmidt-type theory, commonly read as
+#: good to +-15..20 %; the published LTCA test asserts +-15 % (see it for the model
+#: differences: free face ends, clamped bore, loaded path extension)
+ISO_TOL = 0.15
+
+
+@pytest.fixture(scope="module")
+def design():
+    return load_design(EXAMPLE).with_values(CHANGES)
+
+
+@pytest.fixture(scope="module")
+def sweep(design):
+    calls = []
+    T_d = design_load(design)
+    res = te_sweep(design, torques=[f * T_d for f in LEVELS], positions=POSITIONS, cell=CELL,
+                   partial=calls.append)  # fmt: skip
+    return res, calls
+
+
+def test_spur_design_load_and_setup(design):
+    assert design_load(design) == pytest.approx(60.0)  # [operating] torque on the pinion
+    s = pair_setup(design)
+    sp = design.spur_pair()
+    assert s.kind == "spur" and s.arm == s.te_radius == sp.wheel.base_radius
+    assert s.pitch == pytest.approx(2 * np.pi / 20)
+    assert s.mesh_frequency == pytest.approx(20 * 1500 / 60)  # z1 n1
+    with pytest.raises(ReducerlabError, match="pair"):
+        pair_setup(design, 2)
+    with pytest.raises(ReducerlabError, match="misalignment"):
+        pair_setup(design, misalignment=Misalignment(offset=1e-5))
+    with pytest.raises(ReducerlabError, match="profile"):
+        pair_setup(design, profile="double-arc")
+    with pytest.raises(ReducerlabError, match="face_width"):
+        pair_setup(load_design(EXAMPLE).with_values({"mesh.face_width": None}))
+
+
+def test_work_is_estimated_and_refused_beyond_its_bound(design):
+    with pytest.raises(ReducerlabError, match="loads"):
+        sweep_torques(60.0, MAX_LOADS + 1, 1.5)
+    with pytest.raises(BudgetError, match="position-torque solves"):
+        sweep_estimate(400, 41).check()
+    with pytest.raises(BudgetError, match="position-torque solves"):
+        te_sweep(design, loads=41, positions=200)  # before any FE work
+    with pytest.raises(BudgetError, match="DOFs"):
+        spur_compliance_estimate(design.spur_pair().pinion, 0.01e-3).check()
+    # the estimate against the model it sizes: 73584 DOFs measured for this gear at
+    # 0.3 m (gmsh); never below it, within a factor 3
+    dofs = spur_compliance_estimate(design.spur_pair().pinion).work
+    assert 1.0 < dofs / 73584 < 3.0  # on the high side, as mesh_estimate; measured 2.04
+    np.testing.assert_allclose(sweep_torques(60.0, 6, 1.5), [0, 18, 36, 54, 72, 90])
+    # the harmonics of a pure cosine of order 2 (amplitude 3) over one cycle
+    x = 3.0 * np.cos(2 * 2 * np.pi * np.arange(8) / 8 + 0.4)
+    np.testing.assert_allclose(mesh_harmonics(x, 3), [0, 3, 0], atol=1e-12)
+
+
+def test_sweep_rows_equal_single_load_runs(design, sweep):
+    res, calls = sweep
+    T = res.torques
+    assert res.data["te"].shape == (len(LEVELS), POSITIONS)
+    # partial results came as the positions were done, the last with all but a chunk
+    assert calls and all(isinstance(c, TESweepResult) for c in calls)
+    assert [c.attrs["positions_done"] for c in calls] == sorted(
+        c.attrs["positions_done"] for c in calls
+    )
+    assert res.attrs["positions_done"] == POSITIONS
+    r_b2 = design.spur_pair().wheel.base_radius
+    i = LEVELS.index(1.0)
+    one = contact_analysis(design, torque=float(T[i]), positions=POSITIONS, order=3,
+                           cell=CELL, compliance=res.compliance, workers=1)  # fmt: skip
+    # same cell, same exact complementarity solution: to round-off (the single run's
+    # grid is smaller and cold-started; both KKT points hold to 1e-10 relative)
+    np.testing.assert_allclose(res.data["te"].values[i], one.data["loaded_te"].values * r_b2,
+                               rtol=1e-8)  # fmt: skip
+    np.testing.assert_allclose(res.data["unloaded_te"].values,
+                               one.data["unloaded_te"].values * r_b2, rtol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(res.data["stiffness"].values[i], one.data["stiffness"].values,
+                               rtol=1e-8)  # fmt: skip
+    np.testing.assert_allclose(res.data["peak_pressure"].values[i],
+                               one.data["peak_pressure"].values, rtol=1e-8)  # fmt: skip
+    # at zero torque the TE is the unloaded TE of the contact grid: above the TCA's
+    # (least over coarse points and cells) by the sampling of the conjugate contact
+    # line, at most (h/2)^2 / (2 rho_red) = 0.24 um at the pitch point (rho_red =
+    # 5.13 mm), 0.29 um at rho_red = 4.25 mm (roll lengths 6 and 14.5 mm, beyond the
+    # positions sampled): measured 0.23 um
+    zero = res.data["te"].values[0]
+    np.testing.assert_allclose(zero, res.data["grid_unloaded_te"].values, rtol=1e-12)
+    gap = zero - res.data["unloaded_te"].values
+    assert np.all(gap >= -1e-15) and np.all(gap < 0.3e-6)
+    # the result round-trips through netCDF and draws itself
+    assert "p-p(um)" in res.table()
+    assert res.figure().axes
+    assert 1e-6 < res.to_dict()["torques"][i]["peak_to_peak_um"] * 1e-6 < 1e-4
+
+
+def test_light_load_te_tends_to_the_unloaded_te(sweep):
+    res, _ = sweep
+    te = res.data["te"].values
+    pp = res.peak_to_peak
+    light, design_row = LEVELS.index(0.01), LEVELS.index(1.0)
+    # the approach shrinks with the load: at 1 % of the design load the loaded TE lies
+    # within 3 % of the design load's approach of the unloaded TE (Hertzian line
+    # contact: approach ~ T^0.9, 0.01^0.9 = 1.6 %; 3 % leaves room for the
+    # discretisation of the contact band, a few cells wide at light load)
+    approach_d = np.max(te[design_row] - te[0])
+    assert np.max(np.abs(te[light] - te[0])) < 0.03 * approach_d
+    assert abs(pp[light] - pp[0]) < 0.03 * (pp[design_row] - pp[0])
+    # and monotonically: 2 % lies between 1 % and the design load
+    assert abs(pp[light] - pp[0]) < abs(pp[light + 1] - pp[0]) < abs(pp[design_row] - pp[0])
+
+
+def test_te_slope_against_iso_6336_stiffness(design, sweep):
+    res, _ = sweep
+    sp = design.spur_pair()
+    b, r_b2 = sp.pinion.face_width, sp.wheel.base_radius
+    i, j = LEVELS.index(1.0), LEVELS.index(1.5)
+    T = res.torques
+    # normal force along the line of action F_n = T_B / r_b2 per unit face width
+    dw = (T[j] - T[i]) * res.attrs["torque_ratio"] / r_b2 / b
+    dte = res.data["te"].values[j] - res.data["te"].values[i]
+    c = dw / dte / ISO_STIFFNESS_TO_SI  # N/(mm um) at each position
+    pairs = res.data["pairs"].values
+    single = (pairs[i] == 1) & (pairs[j] == 1)
+    assert single.sum() >= 2 and (pairs[i] == 2).sum() >= 2  # both zones sampled
+    w = 0.5 * (T[i] + T[j]) / sp.pinion.reference_radius / b  # F_t / b, N/m
+    c_prime = single_pair_stiffness(sp.pinion, sp.wheel, correction=1.0, specific_load=w)
+    c_gamma = mesh_stiffness_c_gamma(sp.pinion, sp.wheel, correction=1.0, specific_load=w)
+    assert c[single].mean() == pytest.approx(c_prime, rel=ISO_TOL)
+    assert c.mean() == pytest.approx(c_gamma, rel=ISO_TOL)
