@@ -163,8 +163,8 @@ def test_light_load_te_tends_to_the_unloaded_te(sweep):
     # contact: approach ~ T^0.9, 0.01^0.9 = 1.6 %; 3 % leaves room for the
     # discretisation of the contact band, a few cells wide at light load)
     approach_d = np.max(te[design_row] - te[0])
-    assert np.max(np.abs(te[light] - te[0])) < 0.03 * approach_d
-    assert abs(pp[light] - pp[0]) < 0.03 * (pp[design_row] - pp[0])
+    assert np.max(np.abs(te[light] - te[0])) < 0.03 * approach_d  # measured 1.2 %
+    assert abs(pp[light] - pp[0]) < 0.03 * (pp[design_row] - pp[0])  # measured 0.44 %
     # and monotonically: 2 % lies between 1 % and the design load
     assert abs(pp[light] - pp[0]) < abs(pp[light + 1] - pp[0]) < abs(pp[design_row] - pp[0])
 
@@ -185,5 +185,10 @@ def test_te_slope_against_iso_6336_stiffness(design, sweep):
     w = 0.5 * (T[i] + T[j]) / sp.pinion.reference_radius / b  # F_t / b, N/m
     c_prime = single_pair_stiffness(sp.pinion, sp.wheel, correction=1.0, specific_load=w)
     c_gamma = mesh_stiffness_c_gamma(sp.pinion, sp.wheel, correction=1.0, specific_load=w)
+    # the slope is the tangent stiffness, a little above the secant one (Hertzian
+    # flattening stiffens with load): measured c 15.39 against c'_th C_B 14.36 N/(mm um)
+    # (+7.2 %; secant at the design load +2.2 %), cycle mean 20.52 against
+    # c_gamma_alpha 20.36 (+0.8 %; secant -2.8 %)
     assert c[single].mean() == pytest.approx(c_prime, rel=ISO_TOL)
     assert c.mean() == pytest.approx(c_gamma, rel=ISO_TOL)
+    assert c[single].mean() > single_pair_stiffness(sp.pinion, sp.wheel, specific_load=w)
