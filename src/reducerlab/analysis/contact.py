@@ -18,6 +18,7 @@ the input shaft at 1500 rpm, 1 kW and 3 kW).
 from __future__ import annotations
 
 import functools
+import json
 import math
 import time
 from collections.abc import Callable
@@ -288,6 +289,7 @@ def contact_analysis(
     workers: int | None = None,
     stage: Stage | None = None,
     progress: Callable[[int, int], None] | None = None,
+    modifications: Any = None,
 ) -> ContactResult:
     """Loaded tooth contact analysis of one gear pair over a mesh cycle.
 
@@ -331,6 +333,11 @@ def contact_analysis(
         one process, to rounding.
     stage, progress : callable, optional
         ``stage(text)`` at each preparation step; ``progress(done, total)`` per position.
+    modifications : contact.modifications.PairModifications, optional
+        Flank modifications of the external (``a``) and internal (``b``) gear; default
+        the design's (``[gearN.modifications]``, ``surface.flank_modifications``). The
+        tooth compliance is that of the unmodified teeth: ``compliance`` from a run with
+        other modifications serves unchanged.
     """
     from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
@@ -348,7 +355,8 @@ def contact_analysis(
         raise ReducerlabError(
             f"order: {order} harmonics need positions >= {2 * order + 1}; got {positions}"
         )
-    setup = pair_setup(design, pair, profile=profile, misalignment=misalignment)
+    setup = pair_setup(design, pair, profile=profile, misalignment=misalignment,
+                       modifications=modifications)  # fmt: skip
     mp, m_n = setup.mesh_pair, setup.module
     if cell is not None and not (
         isinstance(cell, (int, float)) and math.isfinite(cell) and 0 < cell <= 0.5 * m_n
@@ -443,6 +451,7 @@ def contact_analysis(
         torque_external=T_a, torque_internal=T_b, speed=float(design.input_speed),
         mesh_frequency=f_mesh, k_mean=fit.mean, fit_residual=fit.residual, order=order,
         cell_m=h, rigid=int(rigid), lever_arm_m=arm,
+        modifications=json.dumps(mp.modifications.to_dict()),
         fe_dofs=0 if comp_a is None else comp_a.dofs + comp_b.dofs,
         seconds=time.perf_counter() - t0,
         frame="x: normal of the plane of the two axes (tangential at the mesh); y: along the "

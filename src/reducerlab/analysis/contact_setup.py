@@ -98,14 +98,15 @@ class PairSetup:
     gears: tuple[str, str]
 
     def compliance_estimate(self, tooth_size: float | None) -> Estimate:
-        """The work and memory of both gears' finite-element tooth models."""
+        """The work and memory of both gears' finite-element tooth models (of the
+        unmodified teeth: the modifications do not change the compliance)."""
         if self.kind == "spur":
             p = self.mesh_pair.pair
             gear = max((p.pinion, p.wheel), key=lambda g: g.tip_radius)
             return spur_compliance_estimate(gear, tooth_size)
         from ..contact.compliance import compliance_estimate
 
-        return compliance_estimate(self.mesh_pair, tooth_size)
+        return compliance_estimate(self.mesh_pair.unmodified, tooth_size)
 
     def compliances(self, tooth_size: float | None, say: Stage, pool: Any) -> tuple[Any, Any]:
         """Both gears' tooth compliances (gear A, gear B): nutation pairs at once on
@@ -113,19 +114,23 @@ class PairSetup:
         process, one finite-element model when pinion and wheel are equal."""
         if self.kind == "spur":
             say("finite-element compliance of the pinion's and the wheel's teeth")
-            return self.mesh_pair.tooth_compliances(
+            return self.mesh_pair.unmodified.tooth_compliances(
                 material=self.material, tooth_size=tooth_size, stage=say
             )
         from .contact_workers import tooth_compliances
 
-        return tooth_compliances(self.mesh_pair, self.material, tooth_size, say, pool)
+        return tooth_compliances(self.mesh_pair.unmodified, self.material, tooth_size, say, pool)
 
 
 def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
-                 misalignment: Any = None, flank: int = 1) -> Any:  # fmt: skip
+                 misalignment: Any = None, flank: int = 1,
+                 modifications: Any = None) -> Any:  # fmt: skip
     """The :class:`~reducerlab.contact.flanks.NutationPair` of pair ``pair`` (1 or 2):
-    its external gear (2 or 4) and its nutating internal gear (1 or 3)."""
+    its external gear (2 or 4) and its nutating internal gear (1 or 3), with the flank
+    modifications ``modifications`` (``contact.modifications.PairModifications``;
+    default the design's, ``analysis.flank_modifications.design_modifications``)."""
     from ..contact.flanks import Misalignment, NutationPair
+    from .flank_modifications import checked, design_modifications
 
     if not (isinstance(design, Design) and design.has_tooth_surfaces):
         raise ReducerlabError(
@@ -141,7 +146,13 @@ def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
     check_misalignment(misalignment, design.surface_module(2 * pair))
     crown, ext = design.tooth_generation(2 * pair, profile)
     _, internal = design.tooth_generation(2 * pair - 1, profile)
-    return NutationPair(crown, ext, internal, flank, misalignment)
+    plain = NutationPair(crown, ext, internal, flank, misalignment)
+    if modifications is None:
+        modifications = design_modifications(design, pair, plain.flank_a, plain.flank_b)
+    if modifications.none:
+        return plain
+    return checked(NutationPair(crown, ext, internal, flank, misalignment, None, modifications),
+                   design, pair)  # fmt: skip
 
 
 #: the command-line option of each length of a misalignment
@@ -187,10 +198,17 @@ def _material(design: Any) -> Any:
 
 
 def pair_setup(
-    design: Any, pair: int = 1, *, profile: str | None = None, misalignment: Any = None
+    design: Any,
+    pair: int = 1,
+    *,
+    profile: str | None = None,
+    misalignment: Any = None,
+    modifications: Any = None,
 ) -> PairSetup:
     """The :class:`PairSetup` of pair ``pair`` of ``design`` (a nutation design with
-    ``[surface]``, or a ``gear_pair`` design with ``mesh.face_width``).
+    ``[surface]``, or a ``gear_pair`` design with ``mesh.face_width``), with the flank
+    modifications ``modifications`` (``contact.modifications.PairModifications``;
+    default the design's, ``analysis.flank_modifications``).
 
     Raises
     ------
@@ -202,8 +220,9 @@ def pair_setup(
     from ..drives.gear_pair import GearPairDesign
 
     if isinstance(design, GearPairDesign):
-        return _spur_setup(design, pair, profile, misalignment)
-    mp = contact_pair(design, pair, profile=profile, misalignment=misalignment)
+        return _spur_setup(design, pair, profile, misalignment, modifications)
+    mp = contact_pair(design, pair, profile=profile, misalignment=misalignment,
+                      modifications=modifications)  # fmt: skip
     material = _material(design)
     E_star = combined_modulus(material.E, material.nu, material.E, material.nu)
     external = getattr(design, f"gear{2 * pair}")
@@ -219,9 +238,11 @@ def pair_setup(
     )  # fmt: skip
 
 
-def _spur_setup(design: Any, pair: int, profile: str | None, misalignment: Any) -> PairSetup:
+def _spur_setup(
+    design: Any, pair: int, profile: str | None, misalignment: Any, modifications: Any
+) -> PairSetup:
     from ..contact.halfspace import combined_modulus
-    from ..contact.spur_pair import SpurMeshPair
+    from .flank_modifications import spur_mesh_pair
 
     if isinstance(pair, bool) or pair != 1:
         raise ReducerlabError(f"pair: a gear_pair design has one pair (1); got {pair!r}")
@@ -234,8 +255,8 @@ def _spur_setup(design: Any, pair: int, profile: str | None, misalignment: Any) 
             "misalignment: not available for a spur gear_pair (the parallel-axis pair is "
             "analysed at its nominal centre distance)"
         )
-    sp = design.spur_pair()  # DesignError naming mesh.face_width / the shifts
-    mp = SpurMeshPair(sp)
+    mp = spur_mesh_pair(design, modifications)  # DesignError naming the field
+    sp = mp.pair
     material = _material(design)
     E_star = combined_modulus(material.E, material.nu, material.E, material.nu)
     speed = design.operating_speed

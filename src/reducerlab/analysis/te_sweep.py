@@ -249,6 +249,7 @@ def te_sweep(
     tooth_size: float | None = None,
     profile: str | None = None,
     misalignment: Any = None,
+    modifications: Any = None,
     compliance: tuple[Any, Any] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
@@ -281,6 +282,9 @@ def te_sweep(
         Finite-element tooth elements (m).
     profile, misalignment : optional
         As :func:`~reducerlab.analysis.contact.contact_analysis` (nutation pairs).
+    modifications : contact.modifications.PairModifications, optional
+        Flank modifications of gears A and B; default the design's. The compliance is
+        the unmodified teeth's: ``compliance`` from a run with other modifications serves.
     compliance : (ToothCompliance, ToothCompliance), optional
         Both gears' tooth compliances from an earlier run of the same pair.
     stage, progress : callable, optional
@@ -318,7 +322,8 @@ def te_sweep(
             f"positions: {harmonics} mesh harmonics need >= {2 * harmonics + 1}; got {positions}"
         )
     sweep_estimate(positions, T.size).check()
-    setup = pair_setup(design, pair, profile=profile, misalignment=misalignment)
+    setup = pair_setup(design, pair, profile=profile, misalignment=misalignment,
+                       modifications=modifications)  # fmt: skip
     mp, m_n = setup.mesh_pair, setup.module
     if cell is not None and not (
         isinstance(cell, int | float) and math.isfinite(cell) and 0 < cell <= 0.5 * m_n

@@ -20,8 +20,9 @@ and the lever ``lam = -dt/dpsi`` of a rigid rotation ``psi`` of gear B about its
 
 from __future__ import annotations
 
+import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Protocol
 
 import numpy as np
@@ -33,6 +34,7 @@ from ..geometry.bevel_surface import BevelGear, axis_frame, envelope
 from ..geometry.solid import cone_coordinates, default_blank
 from ..geometry.spiral import CrownGear
 from ..kinematics.rotations import rot_x, rot_z
+from .modifications import PairModifications, modified
 
 __all__ = [
     "BevelFlank",
@@ -103,6 +105,13 @@ class BevelFlank:
     @property
     def teeth(self) -> int:
         return self.gear.teeth
+
+    @property
+    def tip_end(self) -> int:
+        """Which end of ``u_range`` is the tooth's tip: +1 (``u_hi``) for the external
+        gear, -1 (``u_lo``) for the internal gear (the crown profile runs from the
+        external gear's root to its tip, and from the internal gear's tip to its root)."""
+        return 1 if self.gear.kind == "external" else -1
 
     @property
     def blank(self):
@@ -210,6 +219,10 @@ class NutationPair:
     external gear has turned by ``phi_C / sin(delta_A)`` and the internal gear by
     ``phi_C / sin(delta_B)`` (``x_0 = B(delta)^T Rz(phi_i) x_i``), so the unloaded pair
     is conjugate. The mesh position is gear A's angle ``phi``.
+
+    ``modifications`` (``contact.modifications``) removes material from the loaded
+    flanks (crowning, tip and root relief): the flanks ``flank_a``, ``flank_b`` are then
+    the modified ones, and ``unmodified`` is the pair without them.
     """
 
     crown: CrownGear
@@ -218,6 +231,7 @@ class NutationPair:
     flank: int = 1
     misalignment: Misalignment = field(default_factory=Misalignment)
     addendum: float | None = None
+    modifications: PairModifications = field(default_factory=PairModifications)
 
     def __post_init__(self) -> None:
         if self.external.kind != "external" or self.internal.kind != "internal":
@@ -231,14 +245,30 @@ class NutationPair:
                     f"pair: the crown gear (z_C = {self.crown.teeth:.6g}) does not generate the "
                     f"{g.kind} gear of {g.teeth} teeth (z_C sin(delta) = {z:.6g})"
                 )
+        if not isinstance(self.modifications, PairModifications):
+            raise ReducerlabError(
+                "modifications: must be a PairModifications (contact.modifications); got "
+                f"{type(self.modifications).__name__}"
+            )
+
+    @functools.cached_property
+    def flank_a(self) -> Flank:
+        """The external gear's loaded flank (modified by ``modifications.a``)."""
+        plain = BevelFlank(self.crown, self.external, self.flank, self.addendum)
+        return modified(plain, self.modifications.a, "modifications.a")
+
+    @functools.cached_property
+    def flank_b(self) -> Flank:
+        """The internal gear's loaded flank (modified by ``modifications.b``)."""
+        plain = BevelFlank(self.crown, self.internal, self.flank, self.addendum)
+        return modified(plain, self.modifications.b, "modifications.b")
 
     @property
-    def flank_a(self) -> BevelFlank:
-        return BevelFlank(self.crown, self.external, self.flank, self.addendum)
-
-    @property
-    def flank_b(self) -> BevelFlank:
-        return BevelFlank(self.crown, self.internal, self.flank, self.addendum)
+    def unmodified(self) -> NutationPair:
+        """The same pair without flank modifications (the tooth compliance's pair)."""
+        if self.modifications.none:
+            return self
+        return replace(self, modifications=PairModifications())
 
     @property
     def torque_ratio(self) -> float:

@@ -21,9 +21,10 @@ Units: SI (m, N, Pa, rad).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,7 +33,8 @@ from ..errors import ReducerlabError
 from ..fe.elasticity import STEEL, Material
 from ..geometry.spur import SpurGear, SpurPair
 from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
-from .flanks import GearPose
+from .flanks import Flank, GearPose
+from .modifications import PairModifications, modified
 
 __all__ = ["SpurFlank", "SpurMeshPair", "spur_tooth_compliance"]
 
@@ -78,6 +80,13 @@ class SpurFlank:
         """Number of teeth ``z``."""
         return self.gear.teeth
 
+    def profile_position(self, u: Array) -> Array:
+        """Roll length (m) from the root form circle at profile parameters ``u``: the
+        position along the line of action by which ISO 21771 measures profile
+        modifications (``contact.modifications``)."""
+        g = self.gear
+        return np.asarray(u, float) * (g.tip_roll - g.form_roll)
+
     def evaluate(self, u: Array, v: Array) -> tuple[Array, Array]:
         """Points (m) and unit outward normals, shape (n, 3), gear frame.
 
@@ -117,6 +126,9 @@ class SpurMeshPair:
     ----------
     pair : SpurPair
         Pinion (gear A) and wheel (gear B) at their working centre distance.
+    modifications : PairModifications, optional
+        Flank modifications of the pinion (``a``) and the wheel (``b``),
+        ``contact.modifications``; default none.
 
     The mesh position ``phi`` is the pinion's rotation (rad) of :meth:`SpurPair.pose`:
     at ``phi = 0`` flank +1 of pinion tooth 0 touches flank +1 of wheel tooth 0. Both
@@ -124,20 +136,33 @@ class SpurMeshPair:
     """
 
     pair: SpurPair
+    modifications: PairModifications = field(default_factory=PairModifications)
 
     def __post_init__(self) -> None:
         if not isinstance(self.pair, SpurPair):
             raise ReducerlabError(f"pair: must be a SpurPair; got {type(self.pair).__name__}")
+        if not isinstance(self.modifications, PairModifications):
+            raise ReducerlabError(
+                "modifications: must be a PairModifications (contact.modifications); got "
+                f"{type(self.modifications).__name__}"
+            )
+
+    @functools.cached_property
+    def flank_a(self) -> Flank:
+        """Flank +1 of the pinion (modified by ``modifications.a``)."""
+        return modified(SpurFlank(self.pair.pinion, 1), self.modifications.a, "modifications.a")
+
+    @functools.cached_property
+    def flank_b(self) -> Flank:
+        """Flank +1 of the wheel (modified by ``modifications.b``)."""
+        return modified(SpurFlank(self.pair.wheel, 1), self.modifications.b, "modifications.b")
 
     @property
-    def flank_a(self) -> SpurFlank:
-        """Flank +1 of the pinion."""
-        return SpurFlank(self.pair.pinion, 1)
-
-    @property
-    def flank_b(self) -> SpurFlank:
-        """Flank +1 of the wheel."""
-        return SpurFlank(self.pair.wheel, 1)
+    def unmodified(self) -> SpurMeshPair:
+        """The same pair without flank modifications."""
+        if self.modifications.none:
+            return self
+        return replace(self, modifications=PairModifications())
 
     @property
     def torque_ratio(self) -> float:

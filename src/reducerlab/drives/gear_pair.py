@@ -41,6 +41,7 @@ from ..errors import DesignError, ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 from ..model.laws import TimeLaw
+from .modification_specs import Layout, ModificationSpec
 
 if TYPE_CHECKING:
     from ..geometry.spur import SpurPair
@@ -62,13 +63,16 @@ Shift = Annotated[Real, Field(ge=-1.0, le=2.0)]
 
 
 class Gear(Spec):
-    """One gear body; ``shift`` is its profile shift coefficient ``x`` (ISO 21771)."""
+    """One gear body; ``shift`` is its profile shift coefficient ``x`` (ISO 21771);
+    ``modifications`` its loaded flank's crowning and reliefs (``[pinion.modifications]``,
+    ``drives.modification_specs``)."""
 
     teeth: PositiveInt
     mass: Mass
     moment_of_inertia: MomentOfInertia
     bearing: Bearing
     shift: Shift = 0.0
+    modifications: ModificationSpec | None = None
 
 
 class GearMesh(Spec):
@@ -81,7 +85,9 @@ class GearMesh(Spec):
     The tooth geometry (needed by the contact analysis and the load-capacity rating, not
     by the lumped model): ``face_width`` ``b``, and the basic rack of ISO 53 in units of
     the module, ``addendum`` ``h_aP*`` (1.0), ``dedendum`` ``h_fP*`` (1.25) and
-    ``root_fillet`` ``rho_fP*`` (0.38, profile A).
+    ``root_fillet`` ``rho_fP*`` (0.38, profile A). ``flank_modifications``: ``"crowned"``
+    gives each gear without its own ``modifications`` table the default crowned layout
+    at the design load (docs/contact.md), ``"none"`` (default) leaves it unmodified.
     """
 
     module: Length
@@ -90,6 +96,7 @@ class GearMesh(Spec):
     addendum: Annotated[Real, Field(gt=0, le=1.5)] = 1.0
     dedendum: Annotated[Real, Field(gt=0, le=2.0)] = 1.25
     root_fillet: Annotated[Real, Field(ge=0, le=0.6)] = 0.38
+    flank_modifications: Layout = "none"
     stiffness: Stiffness
     damping: Damping = 0.0
     backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]

@@ -46,6 +46,7 @@ from ..geometry import InternalGearPair
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
+from .modification_specs import Layout, ModificationSpec
 
 __all__ = ["PAPER_LINE", "KHVDesign", "build_model", "relative_coordinates"]
 
@@ -58,7 +59,13 @@ TorsionalStiffness = quantity("torsional stiffness", gt=0)
 
 
 class Gears(Spec):
-    """The internal pair: planet V (external) in ring K (internal), Table 1."""
+    """The internal pair: planet V (external) in ring K (internal), Table 1.
+
+    ``planet_modifications``, ``ring_modifications``: the loaded flanks' crowning and
+    reliefs (``drives.modification_specs``); ``flank_modifications = "crowned"`` gives a
+    gear without its table the default crowned layout (docs/contact.md). They take
+    effect in the internal pair's loaded contact analysis.
+    """
 
     planet_teeth: PositiveInt
     ring_teeth: PositiveInt
@@ -71,6 +78,9 @@ class Gears(Spec):
     shift_line: Annotated[list[Real], Field(min_length=4, max_length=4)] = Field(
         default_factory=lambda: list(PAPER_LINE)
     )
+    flank_modifications: Layout = "none"
+    planet_modifications: ModificationSpec | None = None
+    ring_modifications: ModificationSpec | None = None
 
     @model_validator(mode="after")
     def _teeth(self) -> Gears:

@@ -22,6 +22,7 @@ from ..design import (
     quantity,
 )
 from ..design_files import field_rules
+from .modification_specs import Layout, ModificationSpec
 
 __all__ = [
     "Bevel",
@@ -86,6 +87,7 @@ class Bevel(Spec):
     J_z: MomentOfInertia
     mean_radius: Length
     blank: BlankSpec | None = None
+    modifications: ModificationSpec | None = None
 
 
 class Support3(Spec):
@@ -189,6 +191,10 @@ class SurfaceSpec(Spec):
         Mean spiral angle ``beta_m`` (rad); default ``helix_angle``.
     rim : float, optional
         Rim thickness of the blank beyond the root cone (m); default ``2 m_n``.
+    flank_modifications : {"none", "crowned"}
+        Flank modifications of the gears without their own ``[gearN.modifications]``
+        table: none (the conjugate flanks), or the default crowned layout at the design
+        load (``contact.modifications.crowned_layout``, docs/contact.md).
     """
 
     profile: Literal["involute", "double-arc"] = "involute"
@@ -196,3 +202,4 @@ class SurfaceSpec(Spec):
     normal_module: Length | None = None
     spiral_angle: angle_between(0, 60, closed=True) | None = None  # type: ignore[valid-type]
     rim: Length | None = None
+    flank_modifications: Layout = "none"

@@ -126,7 +126,7 @@ def compliance_stage(
     out: dict[int, Any] = {g: found[g][1] for g in gears if found[g] is not None}
     stages = [Stage(f"compliance gear {g}", keys[g], "cached") for g in gears if g in out]
     if todo:
-        mp = contact_pair(design, pair)
+        mp = contact_pair(design, pair).unmodified  # the compliance: unmodified teeth
         compliance_estimate(mp, settings.tooth_size).check()
         mat = design.material
         material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
