@@ -59,7 +59,14 @@ from ..threads import with_compute_threads
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["MAX_LOADS", "MAX_SOLVES", "TESweepResult", "design_load", "te_sweep"]
+__all__ = [
+    "MAX_LOADS",
+    "MAX_SOLVES",
+    "TESweepResult",
+    "design_load",
+    "reference_load",
+    "te_sweep",
+]
 
 Array = NDArray[np.float64]
 #: torques of one sweep at most
@@ -184,7 +191,9 @@ def design_load(design: Any, pair: int = 1) -> float:
     return float(mesh.external_torque)
 
 
-def _reference(design: Any, pair: int, power: float | None, torque: float | None) -> float:
+def reference_load(
+    design: Any, pair: int = 1, power: float | None = None, torque: float | None = None
+) -> float:
     """The design load (N m on gear A): ``torque``, ``power`` at the input speed, or the
     design's own."""
     if power is not None and torque is not None:
@@ -304,7 +313,7 @@ def te_sweep(
 
     t0 = time.perf_counter()
     say = stage or (lambda _s: None)
-    reference = _reference(design, pair, power, torque)
+    reference = reference_load(design, pair, power, torque)
     if torques is None:
         T = sweep_torques(reference, loads, top)
     else:

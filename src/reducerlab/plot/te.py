@@ -17,7 +17,7 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["plot_te_sweep"]
+__all__ = ["plot_layout", "plot_te_sweep"]
 
 
 def _figure(**kw: object) -> Figure:
@@ -55,4 +55,46 @@ def plot_te_sweep(result: Any) -> Figure:
     bx.set_title("Peak-to-peak TE and mesh harmonics")
     bx.grid(alpha=0.3)
     bx.legend(fontsize=8)
+    return fig
+
+
+def plot_layout(result: Any) -> Figure:
+    """TE peak-to-peak over lead crowning and tip relief (interpolated between the
+    candidates), each candidate marked (red x: infeasible, pressure above the limit or
+    edge contact), the infeasible region hatched, the best layout starred."""
+    from matplotlib.tri import Triangulation
+
+    ds = result.data
+    a = ds.attrs
+    c = 1e6 * ds["crowning"].values
+    r = 1e6 * ds["relief"].values
+    pp = 1e6 * ds["peak_to_peak"].values
+    ok = ds["feasible"].values.astype(bool)
+    fig = _figure(figsize=(6.4, 5.0), layout="constrained")
+    ax = fig.subplots()
+    try:
+        tri = Triangulation(c, r)
+        cs = ax.tricontourf(tri, pp, levels=14, cmap="viridis")
+        fig.colorbar(cs, ax=ax, label="TE peak-to-peak (um)")
+        if not ok.all():
+            ax.tricontourf(tri, (~ok).astype(float), levels=[0.5, 1.5], colors="none",
+                           hatches=["//"])  # fmt: skip
+    except (ValueError, RuntimeError):  # collinear candidates: markers only
+        sc = ax.scatter(c, r, c=pp, cmap="viridis")
+        fig.colorbar(sc, ax=ax, label="TE peak-to-peak (um)")
+    ax.scatter(c[ok], r[ok], marker="o", facecolors="none", edgecolors="w", label="feasible")
+    ax.scatter(c[~ok], r[~ok], marker="x", color="r",
+               label="infeasible (pressure or edge contact)")  # fmt: skip
+    if np.isfinite(a["best_crowning"]):
+        ax.scatter([1e6 * a["best_crowning"]], [1e6 * a["best_relief"]], marker="*", s=220,
+                   color="gold", edgecolors="k", zorder=5,
+                   label=f"best: {1e6 * a['best_peak_to_peak']:.3g} um")  # fmt: skip
+    ax.set_xlabel("lead crowning C_beta of each flank (um)")
+    ax.set_ylabel("tip relief C_a of each flank (um)")
+    ax.set_title(
+        f"TE p-p at {a['design_torque']:.4g} N m; p <= {a['pressure_limit'] * 1e-6:.4g} MPa, "
+        f"edge < {100 * a['edge_limit']:.3g} %",
+        fontsize=10,
+    )
+    ax.legend(fontsize=8, loc="upper right")
     return fig
