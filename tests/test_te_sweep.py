@@ -192,3 +192,57 @@ def test_te_slope_against_iso_6336_stiffness(design, sweep):
     assert c[single].mean() == pytest.approx(c_prime, rel=ISO_TOL)
     assert c.mean() == pytest.approx(c_gamma, rel=ISO_TOL)
     assert c[single].mean() > single_pair_stiffness(sp.pinion, sp.wheel, specific_load=w)
+
+
+def test_modification_layout_on_one_compliance_build(design, sweep):
+    from reducerlab.analysis.layout import modification_layout
+    from reducerlab.contact.modifications import (
+        TIP_SHARE,
+        FlankCoordinates,
+        FlankModification,
+        PairModifications,
+    )
+
+    res, _ = sweep
+    delta = 10e-6  # F_t / (b c_gamma) = 2000 N / (10 mm 20 N/(mm um))
+    # a limit between the crowned and the uncrowned single-contact pressures measured
+    # on this pair (1.61 GPa with 5 um, 1.84 GPa with 10 um, 2.12 GPa on the face ends)
+    limit = 2.0e9
+    lay = modification_layout(design, grid=2, refine=1, positions=4, cell=CELL,
+                              pressure_limit=limit, compliance=res.compliance)  # fmt: skip
+    ds = lay.data
+    assert lay.attrs["delta"] == pytest.approx(delta, rel=1e-9)
+    ok = ds["feasible"].values.astype(bool)
+    # the classification is the rule: pressure at most the limit, edge share below 1 %
+    rule = (ds["peak_pressure"].values <= limit) & (ds["edge_share"].values < 0.01)
+    np.testing.assert_array_equal(ok, rule)
+    # unmodified square-edged flanks carry load on their edges (docs/contact.md)
+    plain = (ds["crowning"].values == 0) & (ds["relief"].values == 0)
+    assert plain.sum() == 1 and ds["edge_share"].values[plain][0] > 0.01 and not ok[plain][0]
+    # the best is the least TE p-p of the feasible candidates
+    assert ok.any()
+    best = int(np.argmin(np.where(ok, ds["peak_to_peak"].values, np.inf)))
+    assert lay.best == (ds["crowning"].values[best], ds["relief"].values[best])
+    # refinement: half a coarse step (delta) around the coarse round's best
+    fine = ds["round"].values == 1
+    for name in ("crowning", "relief"):
+        x = ds[name].values
+        assert fine.any() and np.ptp(x[fine]) <= 2 * delta + 1e-12
+    # one candidate against an independent contact_analysis with those modifications
+    sp = design.spur_pair()
+    from reducerlab.contact.spur_pair import SpurFlank
+
+    c, r = lay.best
+    mods = PairModifications(*(
+        FlankModification(lead_crowning=c, tip_relief=r, relief_shape="parabolic",
+                          tip_relief_length=TIP_SHARE * FlankCoordinates.of(SpurFlank(g)).profile)
+        for g in (sp.pinion, sp.wheel)
+    ))  # fmt: skip
+    one = contact_analysis(design, torque=60.0, positions=4, order=1, cell=CELL,
+                           compliance=res.compliance, modifications=mods, workers=1)  # fmt: skip
+    te = one.data["loaded_te"].values * sp.wheel.base_radius
+    assert np.ptp(te) == pytest.approx(ds["peak_to_peak"].values[best], rel=1e-8)
+    assert one.data["peak_pressure"].values.max() == pytest.approx(
+        ds["peak_pressure"].values[best], rel=1e-8
+    )
+    assert "feasible" in lay.table() and lay.figure().axes
