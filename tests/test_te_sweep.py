@@ -246,3 +246,25 @@ def test_modification_layout_on_one_compliance_build(design, sweep):
         ds["peak_pressure"].values[best], rel=1e-8
     )
     assert "feasible" in lay.table() and lay.figure().axes
+
+
+def test_cli_sweep_and_layout_options_are_checked(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+
+    runner = CliRunner()
+    base = ["contact", str(EXAMPLE), "-o", str(tmp_path / "o")]
+    for extra, message in (
+        (["--sweep", "6", "--rigid"], "--rigid: not with --sweep"),
+        (["--sweep", "6", "--workers", "2"], "--workers: not with --sweep"),
+        (["--sweep", "6", "--layout"], "--layout: not with --sweep"),
+        (["--sweep", "1"], "--sweep"),
+        (["--sweep", "41", "--positions", "200"], "position-torque solves"),
+        (["--layout", "--pressure-limit", "3 kg"], "--pressure-limit"),
+        (["--layout", "--offset", "0.01 mm"], "--layout: the design's own profile"),
+        (["--sweep", "3", "--set", "operating.torque=0"], "operating.torque/operating.power"),
+    ):
+        r = runner.invoke(app, base + extra)
+        assert r.exit_code == 2, (extra, r.output)
+        assert message in r.output and "Traceback" not in r.output, (extra, r.output)

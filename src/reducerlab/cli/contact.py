@@ -107,6 +107,18 @@ def contact(
     harmonics: Annotated[
         int, typer.Option(help="--sweep: mesh orders of the TE reported.", min=1, max=20)
     ] = 3,
+    layout: Annotated[
+        bool,
+        typer.Option(
+            "--layout",
+            help="Propose lead crowning and tip relief at the load: least TE peak-to-peak "
+            "with the peak pressure at most --pressure-limit and no edge contact "
+            "(layout.nc/.json/.txt/.png; one tooth-compliance build).",
+        ),
+    ] = False,
+    pressure_limit: Annotated[
+        str, typer.Option(help="--layout: largest contact pressure, e.g. '1500 MPa'.")
+    ] = "1500 MPa",
     sets: SetOption = None,
 ) -> None:
     """Loaded tooth contact analysis of a gear pair over one mesh cycle (papers 001, 000
@@ -119,11 +131,13 @@ def contact(
     with user_errors():
         files = output_set(output)
         d = load_design(design, sets or ())
-        if sweep is not None:
-            for given, option in ((rigid, "--rigid"), (write_design, "--write-design"),
-                                  (workers, "--workers")):  # fmt: skip
+        if sweep is not None or layout:
+            what = "--sweep" if sweep is not None else "--layout"
+            clash = ((rigid, "--rigid"), (write_design, "--write-design"), (workers, "--workers"),
+                     (layout and sweep, "--layout"))  # fmt: skip
+            for given, option in clash:
                 if given:
-                    raise ReducerlabError(f"{option}: not with --sweep (one process, elastic)")
+                    raise ReducerlabError(f"{option}: not with {what} (one process, elastic)")
         P = quantity_option(power, "--power", "power")
         T = quantity_option(torque, "--torque", "torque")
         if P is not None and T is not None:
@@ -146,6 +160,12 @@ def contact(
         if write_design is not None:  # before the analysis, not after it
             prepare_output_file(write_design, "--write-design", (".toml",))
         misalignment = Misalignment(**mis) if mis else None
+        if layout:
+            if mis or profile is not None:
+                raise ReducerlabError("--layout: the design's own profile, no misalignment")
+            p_lim = quantity_option(pressure_limit, "--pressure-limit", "pressure")
+            _layout(d, pair, T if P is None else None, P, positions, h, ts, p_lim, files)
+            return
         if sweep is not None:
             opts = dict(loads=sweep, top=top, harmonics=harmonics, positions=positions,
                         cell=h, tooth_size=ts, misalignment=misalignment,
@@ -212,6 +232,29 @@ def _te_sweep(d, pair: int, P, T, opts: dict, files) -> None:
             files.path("te_sweep.txt").write_text(res.table() + "\n")
             savefig(res.figure(), files.path("te_sweep.png"), res.data.attrs)
     partial.unlink(missing_ok=True)
+    typer.echo(res.table())
+
+
+def _layout(d, pair: int, T, P, positions: int, h, ts, p_lim, files) -> None:
+    """``--layout``: the flank modification layout (``analysis.layout``)."""
+    from ..analysis.layout import modification_layout
+
+    with progress_bar() as progress:
+        task = progress.add_task("layout", total=None)
+        res = modification_layout(
+            d, pair, torque=T, power=P, positions=positions, cell=h,
+            tooth_size=ts, pressure_limit=p_lim,
+            stage=lambda text: progress.update(task, description=text),
+            progress=lambda done, total: progress.update(
+                task, completed=done, total=total, description=f"candidate {done}/{total}"
+            ),
+        )  # fmt: skip
+        progress.update(task, description="writing results")
+        with files:
+            res.save(files.path("layout.nc"))
+            write_json(res, files.path("layout.json"))
+            files.path("layout.txt").write_text(res.table() + "\n")
+            savefig(res.figure(), files.path("layout.png"), res.data.attrs)
     typer.echo(res.table())
 
 
