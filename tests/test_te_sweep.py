@@ -114,7 +114,7 @@ def test_work_is_estimated_and_refused_beyond_its_bound(design):
     np.testing.assert_allclose(mesh_harmonics(x, 3), [0, 3, 0], atol=1e-12)
 
 
-def test_sweep_rows_equal_single_load_runs(design, sweep):
+def test_sweep_rows_equal_single_load_runs(design, sweep, tmp_path):
     res, calls = sweep
     T = res.torques
     assert res.data["te"].shape == (len(LEVELS), POSITIONS)
@@ -148,6 +148,9 @@ def test_sweep_rows_equal_single_load_runs(design, sweep):
     gap = zero - res.data["unloaded_te"].values
     assert np.all(gap >= -1e-15) and np.all(gap < 0.3e-6)
     # the result round-trips through netCDF and draws itself
+    back = TESweepResult.load(res.save(tmp_path / "te_sweep.nc"))
+    np.testing.assert_array_equal(back.data["te"].values, res.data["te"].values)
+    assert back.attrs["design_torque"] == res.attrs["design_torque"]
     assert "p-p(um)" in res.table()
     assert res.figure().axes
     assert 1e-6 < res.to_dict()["torques"][i]["peak_to_peak_um"] * 1e-6 < 1e-4
