@@ -138,6 +138,18 @@ def test_sweep_rows_equal_single_load_runs(design, sweep, tmp_path):
                                rtol=1e-8)  # fmt: skip
     np.testing.assert_allclose(res.data["peak_pressure"].values[i],
                                one.data["peak_pressure"].values, rtol=1e-8)  # fmt: skip
+    # the spur path of contact_analysis against ISO 6336-1 (the secant stiffness at the
+    # design load, k = T_2 / (r_b2^2 psi) per face width; C_M = 1 as the published test)
+    sp = design.spur_pair()
+    b = sp.pinion.face_width
+    k = one.data["stiffness"].values / b / ISO_STIFFNESS_TO_SI
+    single = one.data["pairs"].values == 1
+    w = T[i] / sp.pinion.reference_radius / b  # F_t / b = 200 N/mm
+    c_prime = single_pair_stiffness(sp.pinion, sp.wheel, correction=1.0, specific_load=w)
+    c_gamma = mesh_stiffness_c_gamma(sp.pinion, sp.wheel, correction=1.0, specific_load=w)
+    assert single.sum() >= 2
+    assert k[single].mean() == pytest.approx(c_prime, rel=ISO_TOL)  # measured +2.2 %
+    assert k.mean() == pytest.approx(c_gamma, rel=ISO_TOL)  # measured -2.8 %
     # at zero torque the TE is the unloaded TE of the contact grid: above the TCA's
     # (least over coarse points and cells) by the sampling of the conjugate contact
     # line, at most (h/2)^2 / (2 rho_red) = 0.24 um at the pitch point (rho_red =
