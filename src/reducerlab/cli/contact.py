@@ -113,7 +113,8 @@ def contact(
             "--layout",
             help="Propose lead crowning and tip relief at the load: least TE peak-to-peak "
             "with the peak pressure at most --pressure-limit and no edge contact "
-            "(layout.nc/.json/.txt/.png; one tooth-compliance build).",
+            "(layout.nc/.json/.txt/.png; one tooth-compliance build; 17 candidates of "
+            "--positions each: 12 positions take half the time of the default 24).",
         ),
     ] = False,
     pressure_limit: Annotated[
