@@ -1,4 +1,5 @@
-"""Loaded tooth contact analysis of a nutation design's gear pair (papers 001, 000 §2.3).
+"""Loaded tooth contact analysis of a nutation design's gear pair (papers 001, 000 §2.3)
+or of a spur ``gear_pair`` (pinion and wheel; ``analysis.contact_setup``).
 
 ``contact_analysis(design, pair, power=...)`` generates both gears of the pair from the
 design's ``[surface]`` table (paper 001), builds the finite-element bending compliance
@@ -48,6 +49,9 @@ __all__ = [
 # the contact's k(t) into a design: its own module, importable from here as before
 from ..threads import with_compute_threads
 from .contact_mesh import design_with_contact, design_with_mesh
+
+# the pairs of the designs (nutation, spur): their own module, importable from here
+from .contact_setup import check_misalignment, contact_pair
 
 Stage = Callable[[str], None]
 #: cell of the pilot run that sizes the contact grid, in normal modules
@@ -209,64 +213,6 @@ def _plain(v: Any) -> Any:
     return v.item() if hasattr(v, "item") else v
 
 
-def contact_pair(design: Any, pair: int = 1, *, profile: str | None = None,
-                 misalignment: Any = None, flank: int = 1,
-                 modifications: Any = None) -> Any:  # fmt: skip
-    """The :class:`~reducerlab.contact.flanks.NutationPair` of pair ``pair`` (1 or 2):
-    its external gear (2 or 4) and its nutating internal gear (1 or 3), with the flank
-    modifications ``modifications`` (``contact.modifications.PairModifications``;
-    default the design's, ``analysis.flank_modifications.design_modifications``)."""
-    from ..contact.flanks import Misalignment, NutationPair
-    from .flank_modifications import with_modifications
-
-    if not (isinstance(design, Design) and design.has_tooth_surfaces):
-        raise ReducerlabError(
-            "surface: the design has no [surface] table (profile, face_width), which the "
-            "contact analysis needs to generate the teeth; see examples/nutation_surface.toml"
-        )
-    pairs = design.gear_count // 2
-    if isinstance(pair, bool) or pair not in range(1, pairs + 1):
-        raise ReducerlabError(
-            f"pair: must be 1..{pairs} for a {design.sides}-sided drive; got {pair!r}"
-        )
-    misalignment = misalignment or Misalignment()
-    check_misalignment(misalignment, design.surface_module(2 * pair))
-    crown, ext = design.tooth_generation(2 * pair, profile)
-    _, internal = design.tooth_generation(2 * pair - 1, profile)
-    plain = NutationPair(crown, ext, internal, flank, misalignment)
-    return with_modifications(plain, design, pair, modifications)
-
-
-#: the command-line option of each length of a misalignment
-_MISALIGNMENT_OPTIONS = {"axial_a": "--axial-external", "axial_b": "--axial-internal",
-                         "offset": "--offset"}  # fmt: skip
-
-
-def check_misalignment(misalignment: Any, module: float) -> None:
-    """Refuse a misalignment whose shifts are not assembly errors.
-
-    Each shift (``axial_a``, ``axial_b``, ``offset``, m) must lie within one normal
-    module ``module`` (m) of the nominal place, as the shaft angle's error lies within
-    2 deg (:class:`~reducerlab.contact.flanks.Misalignment`): a shift of a whole module
-    moves the flanks by about the working depth of the teeth (2 modules) times the sine
-    of the pitch cone or pressure angle, so beyond it the teeth are out of mesh or
-    driven into one another, and the contact grid would search whole flanks for minutes.
-
-    Raises
-    ------
-    ReducerlabError
-        Naming the field, its option, the shift and the bound.
-    """
-    for name, option in _MISALIGNMENT_OPTIONS.items():
-        v = getattr(misalignment, name)
-        if abs(v) > module:
-            raise ReducerlabError(
-                f"misalignment.{name} ({option}): must be within +-{module * 1e3:.4g} mm (one "
-                "normal module: an assembly error; a larger shift takes the teeth out of mesh "
-                f"or into one another); got {v * 1e3:.4g} mm"
-            )
-
-
 def _load(design: Any, power: float | None, torque: float | None) -> float:
     if (power is None) == (torque is None):
         raise ReducerlabError("load: give exactly one of power (W) and torque (N m)")
@@ -351,13 +297,16 @@ def contact_analysis(
 
     Parameters
     ----------
-    design : NutationDesign
-        With ``[surface]`` (and ``[material]``, default paper 000's steel).
+    design : NutationDesign or GearPairDesign
+        A nutation design with ``[surface]`` (and ``[material]``, default paper 000's
+        steel), or a spur ``gear_pair`` with ``mesh.face_width`` (steel; pinion = the
+        "external" gear A, wheel = the "internal" gear B; lever ``r_b2``;
+        ``analysis.contact_setup``).
     pair : int
-        1 (gears 1-2) or 2 (gears 3-4).
+        1 (gears 1-2) or 2 (gears 3-4); 1 for a gear_pair.
     power, torque : float
-        Exactly one: power (W) at the design's ``input_speed`` on the external gear, or
-        the torque on the external gear (N m).
+        Exactly one: power (W) at the design's input speed on the external gear (the
+        pinion), or the torque on it (N m).
     positions : int
         Positions over one mesh cycle (one pitch of the external gear), >= 2 order + 1.
     order : int
@@ -395,13 +344,11 @@ def contact_analysis(
         Also the tooth-root stresses of both gears at every position (the tooth models'
         fillet stress influence, ``analysis.contact_rootstress``).
     """
-    from ..contact.compliance import compliance_estimate
-    from ..contact.halfspace import combined_modulus
     from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
-    from ..fe import Material
     from .contact_rootstress import add_root_stress, check_root_compliance
-    from .contact_workers import contact_pool, contact_processes, tooth_compliances
+    from .contact_setup import pair_setup
+    from .contact_workers import contact_pool, contact_processes
 
     t0 = time.perf_counter()
     say = stage or (lambda _s: None)
@@ -414,21 +361,17 @@ def contact_analysis(
         raise ReducerlabError(
             f"order: {order} harmonics need positions >= {2 * order + 1}; got {positions}"
         )
-    mp = contact_pair(design, pair, profile=profile, misalignment=misalignment,
-                      modifications=modifications)  # fmt: skip
-    m_n = mp.crown.profile.module
+    setup = pair_setup(design, pair, profile=profile, misalignment=misalignment,
+                       modifications=modifications)  # fmt: skip
+    mp, m_n = setup.mesh_pair, setup.module
     if cell is not None and not (
         isinstance(cell, (int, float)) and math.isfinite(cell) and 0 < cell <= 0.5 * m_n
     ):
         raise ReducerlabError(
             f"cell: must be a length in (0, m_n/2] = (0, {0.5 * m_n * 1e3:.4g} mm]; got {cell!r}"
         )
-    mat = design.material
-    material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
-    E, nu = material.E, material.nu
-    E_star = combined_modulus(E, nu, E, nu)
-    external = getattr(design, f"gear{2 * pair}")
-    check_load(mp, T_a, external.mean_radius, E_star, design.operating_speed, power is not None)
+    nu, E_star = setup.material.nu, setup.E_star
+    check_load(mp, T_a, setup.load_radius, E_star, design.operating_speed, power is not None)
     if cell is not None:
         grid_estimate(mp, ContactGrid(float(cell))).check()
     if root_stress:
@@ -436,17 +379,14 @@ def contact_analysis(
     n = contact_processes(workers, rigid=rigid, positions=positions)
     fe = compliance is None and not rigid
     if fe:
-        compliance_estimate(mp.unmodified, tooth_size, root_stress=root_stress).check()
-    pitch = 2 * math.pi / mp.external.teeth
-    phis = pitch * np.arange(positions) / positions
+        setup.compliance_estimate(tooth_size, root_stress).check()
+    phis = setup.start + setup.pitch * np.arange(positions) / positions
     with contact_pool(n) as pool:
         comp_a, comp_b = None, None
         if compliance is not None and not rigid:
             comp_a, comp_b = compliance
         elif fe:
-            comp_a, comp_b = tooth_compliances(
-                mp.unmodified, material, tooth_size, say, pool, root_stress
-            )
+            comp_a, comp_b = setup.compliances(tooth_size, say, pool, root_stress)
         kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": E_star}
         s0 = ContactGrid.s_max
         if cell is None and rigid:
@@ -467,25 +407,22 @@ def contact_analysis(
             post = functools.partial(_stresses, nu=nu, cell=h)
             runs, (vm, depth) = pool.positions((mp, T_a), phis, {"grid": grid, **kw}, progress,
                                                post)  # fmt: skip
-    # lever of the lumped model's mesh on the internal gear (paper 000 Eq. 2-4)
-    internal_gear = getattr(design, f"gear{2 * pair - 1}")
-    a_y = math.cos(design.helix_angle) * math.cos(design.normal_pressure_angle)
-    arm = a_y * internal_gear.mean_radius
+    # lever of the lumped model's mesh on gear B (paper 000 Eq. 2-4; spur: r_b2)
+    arm = setup.arm
     T_b = runs[0].torque
     approach = np.array([r.loaded_te for r in runs])
     k = T_b / (arm**2 * approach)
     fit = fit_fourier(k, order)
-    kin = design.kinematics()
-    f_mesh = list(kin.mesh_frequencies(design.operating_speed).values())[pair - 1]
+    f_mesh = setup.mesh_frequency
     force = np.array([r.force_vector for r in runs])
     cells = _cells_dataset(runs)
     ds = xr.Dataset(
         {
             "angle": ("position", phis, {"units": "rad"}),
-            "time": ("position", np.arange(positions) / (positions * f_mesh), {"units": "s"}),
+            "time": ("position", _times(positions, f_mesh), {"units": "s"}),
             "unloaded_te": ("position", [r.unloaded_te for r in runs], {"units": "rad"}),
             "loaded_te": ("position", approach + [r.unloaded_te for r in runs], {"units": "rad"}),
-            "te": ("position", approach * internal_gear.mean_radius, {"units": "m"}),
+            "te": ("position", approach * setup.te_radius, {"units": "m"}),
             "stiffness": ("position", k, {"units": "N/m"}),
             "stiffness_fit": (
                 "position",
@@ -517,8 +454,8 @@ def contact_analysis(
         attrs={"title": f"Loaded tooth contact, pair {pair}", **provenance(design.provenance)},
     )
     ds.attrs.update(
-        pair=int(pair), profile=profile or design.surface.profile,
-        teeth_external=mp.external.teeth, teeth_internal=mp.internal.teeth,
+        pair=int(pair), profile=setup.profile, pair_kind=setup.kind,
+        teeth_external=setup.teeth[0], teeth_internal=setup.teeth[1],
         torque_external=T_a, torque_internal=T_b, speed=float(design.input_speed),
         mesh_frequency=f_mesh, k_mean=fit.mean, fit_residual=fit.residual, order=order,
         cell_m=h, rigid=int(rigid), lever_arm_m=arm,
@@ -533,6 +470,13 @@ def contact_analysis(
     out = ContactResult(ds)
     out.compliance = None if comp_a is None else (comp_a, comp_b)
     return out
+
+
+def _times(positions: int, f_mesh: float) -> NDArray:
+    """Time of each position (s) at the mesh frequency; NaN for a design at rest."""
+    if not f_mesh:
+        return np.full(positions, np.nan)
+    return np.arange(positions) / (positions * f_mesh)
 
 
 def _stresses(runs: list, nu: float, cell: float) -> tuple[NDArray, NDArray]:

@@ -9,13 +9,19 @@ from typing import Annotated
 import typer
 
 from ..errors import ReducerlabError
-from ..io import prepare_output_file
+from ..io import atomic_path, prepare_output_file
 from .options import ProfileChoice, SetOption, quantity_option, signed_quantity
 from .output import output_set, progress_bar, savefig, user_errors, write_file, write_json
 
 
 def contact(
-    design: Annotated[Path, typer.Argument(help="Nutation design file (TOML), surface table")],
+    design: Annotated[
+        Path,
+        typer.Argument(
+            help="Nutation design file (TOML) with [surface], or a gear_pair design with "
+            "mesh.face_width"
+        ),
+    ],
     pair: Annotated[
         int, typer.Option("--pair", help="Gear pair: 1 (gears 1-2) or 2 (gears 3-4).", min=1)
     ] = 1,
@@ -93,6 +99,35 @@ def contact(
             "finite-element tooth models); prints the peak and where it is.",
         ),
     ] = False,
+    sweep: Annotated[
+        int | None,
+        typer.Option(
+            "--sweep",
+            help="Loaded TE against torque: this many torques from 0 to --top times the "
+            "load (one tooth-compliance build; te_sweep.nc/.json/.txt/.png).",
+            min=2,
+            max=41,
+        ),
+    ] = None,
+    top: Annotated[
+        float, typer.Option(help="--sweep: largest torque over the load.", min=0.01, max=3.0)
+    ] = 1.5,
+    harmonics: Annotated[
+        int, typer.Option(help="--sweep: mesh orders of the TE reported.", min=1, max=20)
+    ] = 3,
+    layout: Annotated[
+        bool,
+        typer.Option(
+            "--layout",
+            help="Propose lead crowning and tip relief at the load: least TE peak-to-peak "
+            "with the peak pressure at most --pressure-limit and no edge contact "
+            "(layout.nc/.json/.txt/.png; one tooth-compliance build; 17 candidates of "
+            "--positions each: 12 positions take half the time of the default 24).",
+        ),
+    ] = False,
+    pressure_limit: Annotated[
+        str, typer.Option(help="--layout: largest contact pressure, e.g. '1500 MPa'.")
+    ] = "1500 MPa",
     sets: SetOption = None,
 ) -> None:
     """Loaded tooth contact analysis of a gear pair over one mesh cycle (papers 001, 000
@@ -106,6 +141,13 @@ def contact(
     with user_errors():
         files = output_set(output)
         d = load_design(design, sets or ())
+        if sweep is not None or layout:
+            what = "--sweep" if sweep is not None else "--layout"
+            clash = ((rigid, "--rigid"), (write_design, "--write-design"), (workers, "--workers"),
+                     (layout and sweep, "--layout"), (root_stress, "--root-stress"))  # fmt: skip
+            for given, option in clash:
+                if given:
+                    raise ReducerlabError(f"{option}: not with {what} (one process, elastic)")
         P = quantity_option(power, "--power", "power")
         T = quantity_option(torque, "--torque", "torque")
         if P is not None and T is not None:
@@ -127,12 +169,25 @@ def contact(
             raise ReducerlabError("--write-design: must not overwrite the design file itself")
         if write_design is not None:  # before the analysis, not after it
             prepare_output_file(write_design, "--write-design", (".toml",))
+        misalignment = Misalignment(**mis) if mis else None
+        if layout:
+            if mis or profile is not None:
+                raise ReducerlabError("--layout: the design's own profile, no misalignment")
+            p_lim = quantity_option(pressure_limit, "--pressure-limit", "pressure")
+            _layout(d, pair, T if P is None else None, P, positions, h, ts, p_lim, files)
+            return
+        if sweep is not None:
+            opts = dict(loads=sweep, top=top, harmonics=harmonics, positions=positions,
+                        cell=h, tooth_size=ts, misalignment=misalignment,
+                        profile=None if profile is None else profile.value)  # fmt: skip
+            _te_sweep(d, pair, P, T, opts, files)
+            return
         with progress_bar() as progress:
             task = progress.add_task("contact analysis", total=None)
             res = contact_analysis(
                 d, pair, power=P, torque=T, positions=positions, order=order, cell=h,
                 profile=None if profile is None else profile.value,
-                misalignment=Misalignment(**mis) if mis else None, tooth_size=ts,
+                misalignment=misalignment, tooth_size=ts,
                 rigid=rigid, workers=workers, root_stress=root_stress,
                 stage=lambda text: progress.update(task, description=text),
                 progress=lambda done, total: progress.update(
@@ -158,9 +213,75 @@ def contact(
         typer.echo(line)
 
 
+def _te_sweep(d, pair: int, P, T, opts: dict, files) -> None:
+    """``--sweep``: loaded TE against torque (``analysis.te_sweep``); the positions done
+    so far are written to ``te_sweep.partial.txt`` as they come (about every eighth of
+    the positions), removed when the results are in place."""
+    from ..analysis.te_sweep import te_sweep
+
+    partial = files.directory / "te_sweep.partial.txt"
+
+    def write_partial(res) -> None:
+        files.directory.mkdir(parents=True, exist_ok=True)
+        done = res.data.attrs["positions_done"]
+        text = f"# partial: {done} of {res.data.sizes['position']} positions\n" + res.table()
+        with atomic_path(partial) as tmp:  # quietly: rewritten after each chunk
+            tmp.write_text(text + "\n")
+
+    with progress_bar() as progress:
+        task = progress.add_task("te sweep", total=None)
+        res = te_sweep(
+            d, pair, power=P, torque=T, **opts, partial=write_partial,
+            stage=lambda text: progress.update(task, description=text),
+            progress=lambda done, total: progress.update(
+                task, completed=done, total=total,
+                description=f"loaded contact, position {done}/{total} (all torques)",
+            ),
+        )  # fmt: skip
+        progress.update(task, description="writing results")
+        with files:
+            res.save(files.path("te_sweep.nc"))
+            write_json(res, files.path("te_sweep.json"))
+            files.path("te_sweep.txt").write_text(res.table() + "\n")
+            savefig(res.figure(), files.path("te_sweep.png"), res.data.attrs)
+    partial.unlink(missing_ok=True)
+    typer.echo(res.table())
+
+
+def _layout(d, pair: int, T, P, positions: int, h, ts, p_lim, files) -> None:
+    """``--layout``: the flank modification layout (``analysis.layout``)."""
+    from ..analysis.layout import modification_layout
+
+    with progress_bar() as progress:
+        task = progress.add_task("layout", total=None)
+        res = modification_layout(
+            d, pair, torque=T, power=P, positions=positions, cell=h,
+            tooth_size=ts, pressure_limit=p_lim,
+            stage=lambda text: progress.update(task, description=text),
+            progress=lambda done, total: progress.update(
+                task, completed=done, total=total, description=f"candidate {done}/{total}"
+            ),
+        )  # fmt: skip
+        progress.update(task, description="writing results")
+        with files:
+            res.save(files.path("layout.nc"))
+            write_json(res, files.path("layout.json"))
+            files.path("layout.txt").write_text(res.table() + "\n")
+            savefig(res.figure(), files.path("layout.png"), res.data.attrs)
+    typer.echo(res.table())
+
+
 def _design_torque(design, pair: int) -> float:
-    """The torque flow's torque on pair ``pair``'s external gear at the design's load."""
+    """The torque flow's torque on pair ``pair``'s external gear at the design's load
+    (a gear_pair: its ``[operating]`` torque or power, on the pinion)."""
+    from ..analysis.te_sweep import design_load
     from ..analysis.torque_flow import torque_flow
+    from ..drives.gear_pair import GearPairDesign
+
+    if isinstance(design, GearPairDesign):
+        torque = design_load(design, pair)
+        typer.echo(f"torque on the pinion from [operating]: {torque:.6g} N m")
+        return torque
 
     flow = torque_flow(design)
     mesh = flow.meshes.get(f"mesh{pair}")

@@ -224,6 +224,8 @@ class PositionContact:
         an edge of gear B's flank: tip, root end of the active flank, toe, heel, or a
         corner of the basic profile (``BasicProfile.corners``: the double arc's
         concave/transition joint).
+    lever : ndarray (n,), optional
+        Normal approach of each cell per unit rotation of gear B (m/rad).
     """
 
     phi: float
@@ -239,6 +241,16 @@ class PositionContact:
     force: Array
     s_max: float
     edge: NDArray[np.bool_]
+    lever: Array | None = None
+
+    @property
+    def grid_unloaded_te(self) -> float:
+        """Unloaded transmission error of the contact grid's cells (rad):
+        ``unloaded_te + min(separation / lever)``, the limit of the loaded TE as the
+        load vanishes (``unloaded_te`` is the least over the coarse points too)."""
+        if self.lever is None:
+            raise ReducerlabError("grid_unloaded_te: the result has no levers")
+        return self.unloaded_te + float(np.min(self.separation / self.lever))
 
     @property
     def interior_peak_pressure(self) -> float:
@@ -478,7 +490,8 @@ def loaded_contact(
     compliance_b=None,
     E_star: float,
     progress: Callable[[int, int], None] | None = None,
-) -> list[PositionContact]:
+    torques: Sequence[float] | None = None,
+) -> list[PositionContact] | list[list[PositionContact]]:
     """Loaded tooth contact at each mesh position.
 
     Parameters
@@ -496,6 +509,17 @@ def loaded_contact(
         Combined modulus ``E*`` of the two bodies (Pa), ``contact.halfspace``.
     progress : callable, optional
         ``progress(done, total)`` after each position.
+    torques : sequence of float, optional
+        Torques on gear A (N m), each in ``(0, torque]``: a load sweep. At each position
+        the separations, the contact grid and the compliance columns are made once, for
+        ``torque`` (the largest load), and the complementarity problem is solved for
+        each of ``torques`` on them, from the largest down, each warm started from the
+        contact set of the one before. Each position's entry of the result is then a
+        list of :class:`PositionContact`, one per torque in the order given, equal to
+        single-load runs on the same cell to round-off (the grid of the largest load
+        holds every cell a smaller load closes: the loaded approach ``psi(T)`` is the
+        multiplier of the load constraint of a convex programme, the slope of its convex
+        optimal value, so it does not fall as ``T`` rises).
     """
     from .cellmatrix import CellCompliance
 
@@ -504,6 +528,15 @@ def loaded_contact(
     phis = np.atleast_1d(np.asarray(positions, float))
     if phis.ndim != 1 or not np.all(np.isfinite(phis)):
         raise ReducerlabError("positions: must be a 1-D array of finite angles (rad)")
+    if torques is not None:
+        sweep = np.atleast_1d(np.asarray(torques, float))
+        if sweep.ndim != 1 or sweep.size == 0 or not np.all(np.isfinite(sweep)):
+            raise ReducerlabError("torques: must be a non-empty 1-D sequence of torques (N m)")
+        if not (np.all(sweep > 0) and np.all(sweep <= torque * (1 + 1e-12))):
+            raise ReducerlabError(
+                f"torques: each must lie in (0, torque] = (0, {torque:.6g}] N m (the grid is "
+                f"made for the largest load); got {sweep.min():.6g} .. {sweep.max():.6g}"
+            )
     grid_estimate(pair, grid).check()
     A = pair.flank_a
     pu, arc_u = _arc(A, True, 0.5)
@@ -607,13 +640,24 @@ def loaded_contact(
                 )
             s_max *= 2.0
         edge = edge_a[idx] | (edge_b(sel["uv_b"][keep]) < band)
-        out.append(
+        solved = [(sol, T_B)]
+        if torques is not None:  # the load sweep on this grid, largest first, warm started
+            by_torque, active = {}, sol.active
+            for t in sorted(set(sweep.tolist()), reverse=True):
+                s_t = sol if t >= torque else solve_contact(
+                    C, g[keep], lam, t * pair.torque_ratio, start=active
+                )  # fmt: skip
+                by_torque[t], active = s_t, s_t.active
+            solved = [(by_torque[t], t * pair.torque_ratio) for t in sweep.tolist()]
+        cases = [
             PositionContact(
-                float(phi), float(psi0), float(approach), T_B, P, N, teeth,
-                np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1), area, g[keep], sol.force,
-                s_max, edge,
+                float(phi), float(psi0), float(s_t.approach), t_b, P, N, teeth,
+                np.stack([fu.ravel()[idx], fv.ravel()[idx]], 1), area, g[keep], s_t.force,
+                s_max, edge, lam,
             )
-        )  # fmt: skip
+            for s_t, t_b in solved
+        ]  # fmt: skip
+        out.append(cases[0] if torques is None else cases)
         # next position: a grid just large enough for this one's approach, with a margin
         # (the completeness check grows it again where the next position needs more)
         s_max = max(grid.s_max, MARGIN * float(np.max(lam * approach)))
