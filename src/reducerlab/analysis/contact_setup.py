@@ -192,11 +192,12 @@ def _material(design: Any) -> Any:
     from ..fe import Material
     from ..fe.elasticity import STEEL
 
-    # a gear_pair design has no [material] table yet: steel (ISO 6336-1's E_st)
     mat = getattr(design, "material", None)
     if mat is None:
         return STEEL
-    return Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
+    # the gear_pair's and khv's [material] (the rating's) has no density: the contact is
+    # static, so the density only fills the FE material
+    return Material(mat.youngs_modulus, mat.poisson_ratio, getattr(mat, "density", STEEL.rho))
 
 
 def pair_setup(
