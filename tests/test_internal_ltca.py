@@ -330,3 +330,36 @@ def test_pair_ring_tip_thickness_matches_the_ring_geometry():
         ring = InternalGear(33, 4e-3, 0.01, shift=x2, root_fillet=0.2)
         ra = pair.tip_radius(2)
         assert pair.tip_thickness(2) == pytest.approx(2 * ra * ring.half_angle(ra), rel=1e-12)
+
+
+def test_khv_design_in_contact_analysis_and_cli(tmp_path):
+    # The KHV design's internal pair through the public entry points (rigid teeth: the
+    # local contact only, seconds). Torque balance of the pair: T_ring = T_planet z2 / z1
+    # (the lossless moment ratio of conjugate gears, ISO 21771's tooth ratio); with the
+    # design's crowned layout (drives/modification_specs, docs/contact.md) the face ends
+    # carry no load (the unmodified flanks load their tip edges).
+    from typer.testing import CliRunner
+
+    from reducerlab.analysis.contact import contact_analysis
+    from reducerlab.cli import app
+    from reducerlab.drives import load_design
+    from reducerlab.examples import example_dir
+
+    path = example_dir() / "khv.toml"
+    design = load_design(path)
+    res = contact_analysis(design, torque=50.0, positions=6, order=2, rigid=True)
+    a = res.data.attrs
+    assert a["torque_internal"] == pytest.approx(50.0 * 33 / 30, rel=1e-9)
+    assert (a["teeth_external"], a["teeth_internal"]) == (30, 33)
+    assert res.data["pairs"].min() >= 1
+    crowned = load_design(path, ['gears.flank_modifications="crowned"'])
+    res_c = contact_analysis(crowned, torque=50.0, positions=6, order=2, rigid=True)
+    assert float(res_c.data["edge_share"].max()) < 0.01 < float(res.data["edge_share"].max())
+    with pytest.raises(ReducerlabError, match="root_stress"):
+        contact_analysis(design, torque=50.0, positions=6, order=2, root_stress=True)
+    out = tmp_path / "c"
+    r = CliRunner().invoke(app, ["contact", str(path), "--rigid", "--positions", "6",
+                                 "--order", "2", "-o", str(out)])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert "torque on the planet from the design's load: 50 N m" in r.output
+    assert (out / "contact.nc").exists()

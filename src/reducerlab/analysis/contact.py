@@ -225,6 +225,8 @@ def _load(design: Any, power: float | None, torque: float | None) -> float:
     speed = design.operating_speed if isinstance(design, Design) else None
     if not speed:
         raise ReducerlabError("power: the design has no input_speed to turn power into torque")
+    if getattr(design, "type", None) == "khv":  # the planet turns at the output speed
+        speed = speed / abs(design.operating_point().ratio)
     return float(power) / float(speed)
 
 
@@ -297,16 +299,17 @@ def contact_analysis(
 
     Parameters
     ----------
-    design : NutationDesign or GearPairDesign
+    design : NutationDesign, GearPairDesign or KHVDesign
         A nutation design with ``[surface]`` (and ``[material]``, default paper 000's
-        steel), or a spur ``gear_pair`` with ``mesh.face_width`` (steel; pinion = the
-        "external" gear A, wheel = the "internal" gear B; lever ``r_b2``;
-        ``analysis.contact_setup``).
+        steel), a spur ``gear_pair`` with ``mesh.face_width`` (pinion = the "external"
+        gear A, wheel = the "internal" gear B; lever ``r_b2``), or a ``khv`` design's
+        internal pair (planet = gear A, ring = gear B; lever ``r_b2`` of the ring; the
+        ring's compliance covers tooth pairs -1, 0, 1 only: ``analysis.contact_setup``).
     pair : int
         1 (gears 1-2) or 2 (gears 3-4); 1 for a gear_pair.
     power, torque : float
         Exactly one: power (W) at the design's input speed on the external gear (the
-        pinion), or the torque on it (N m).
+        pinion; a khv design's planet at the output speed), or the torque on it (N m).
     positions : int
         Positions over one mesh cycle (one pitch of the external gear), >= 2 order + 1.
     order : int

@@ -53,8 +53,9 @@ class PairSetup:
     Attributes
     ----------
     mesh_pair : MeshPair
-        ``contact.flanks.NutationPair`` or ``contact.spur_pair.SpurMeshPair``.
-    kind : {"nutation", "spur"}
+        ``contact.flanks.NutationPair``, ``contact.spur_pair.SpurMeshPair`` or
+        ``contact.internal_pair.InternalMeshPair`` (KHV: planet A, ring B).
+    kind : {"nutation", "spur", "internal"}
     module : float
         Normal module (m).
     material : fe.Material
@@ -105,6 +106,8 @@ class PairSetup:
             p = self.mesh_pair.pair
             gear = max((p.pinion, p.wheel), key=lambda g: g.tip_radius)
             return spur_compliance_estimate(gear, tooth_size)
+        if self.kind == "internal":
+            return _internal_estimate(self.mesh_pair, tooth_size)
         from ..contact.compliance import compliance_estimate
 
         return compliance_estimate(self.mesh_pair.unmodified, tooth_size, root_stress=root_stress)
@@ -116,6 +119,16 @@ class PairSetup:
         ``pool`` where memory allows (``analysis.contact_workers``); spur pairs in this
         process, one finite-element model when pinion and wheel are equal; with the
         fillet stress influence when ``root_stress`` (``contact.rootstress``)."""
+        if self.kind == "internal":
+            if root_stress:
+                raise ReducerlabError(
+                    "root_stress: not yet for the KHV internal pair (the ring's tooth model "
+                    "has no fillet stress influence); spur and nutation pairs have it"
+                )
+            say("finite-element compliance of the planet's and the ring's teeth")
+            return self.mesh_pair.unmodified.tooth_compliances(
+                material=self.material, tooth_size=tooth_size, stage=say
+            )
         if self.kind == "spur":
             say("finite-element compliance of the pinion's and the wheel's teeth")
             return self.mesh_pair.unmodified.tooth_compliances(
@@ -224,6 +237,8 @@ def pair_setup(
 
     if isinstance(design, GearPairDesign):
         return _spur_setup(design, pair, profile, misalignment, modifications)
+    if getattr(design, "type", None) == "khv":
+        return _internal_setup(design, pair, profile, misalignment, modifications)
     mp = contact_pair(design, pair, profile=profile, misalignment=misalignment,
                       modifications=modifications)  # fmt: skip
     material = _material(design)
@@ -270,6 +285,53 @@ def _spur_setup(
         sp.wheel.base_radius, float(f_mesh), "involute",
         (sp.pinion.teeth, sp.wheel.teeth), ("pinion", "gear"),
     )  # fmt: skip
+
+
+def _internal_setup(
+    design: Any, pair: int, profile: str | None, misalignment: Any, modifications: Any
+) -> PairSetup:
+    """The KHV drive's internal pair: planet = gear A, ring = gear B (issue 29/30)."""
+    from ..contact.halfspace import combined_modulus
+    from .flank_modifications import khv_mesh_pair
+
+    if isinstance(pair, bool) or pair != 1:
+        raise ReducerlabError(f"pair: a khv design has one internal pair (1); got {pair!r}")
+    if profile not in (None, "involute"):
+        raise ReducerlabError(f"profile: a khv design has involute teeth; got {profile!r}")
+    if misalignment is not None:
+        raise ReducerlabError(
+            "misalignment: not available for the KHV internal pair (analysed at its "
+            "zero-backlash centre distance)"
+        )
+    mp = khv_mesh_pair(design, modifications)
+    material = _material(design)
+    E_star = combined_modulus(material.E, material.nu, material.E, material.nu)
+    speed = design.operating_speed
+    f_mesh = sum(design.kinematics().mesh_frequencies(speed).values()) if speed else 0.0
+    return PairSetup(
+        mp, "internal", design.gears.module, material, E_star, mp.planet.reference_radius,
+        mp.planet.pitch, mp.pitch_point_position(0), mp.ring.base_radius,
+        mp.ring.base_radius, float(f_mesh), "involute",
+        (mp.planet.teeth, mp.ring.teeth), ("planet V", "ring K"),
+    )  # fmt: skip
+
+
+def _internal_estimate(mp: Any, tooth_size: float | None) -> Estimate:
+    """The larger of the planet's and the ring's FE tooth models (the ring's sector is
+    the larger body: its rim)."""
+    from ..contact.compliance import TEETH
+    from ..contact.spur_pair import SECTOR_TEETH
+    from ..fe.gear_mesh import MeshSizes
+    from ..fe.internal_mesh import internal_sector_estimate
+
+    m = mp.ring.module
+    ts = 0.3 * m if tooth_size is None else float(tooth_size)
+    ring = internal_sector_estimate(
+        mp.ring, SECTOR_TEETH, None, MeshSizes(ts, max(m, ts)), dense_columns=len(TEETH) * 6 * 9,
+        what=f"contact: the tooth compliance of the ring (z = {mp.ring.teeth})",
+    )  # fmt: skip
+    planet = spur_compliance_estimate(mp.planet, tooth_size)
+    return max((ring, planet), key=lambda e: e.memory)
 
 
 def spur_compliance_estimate(gear: Any, tooth_size: float | None = None) -> Estimate:

@@ -161,8 +161,8 @@ class TESweepResult(Result):
 
 def design_load(design: Any, pair: int = 1) -> float:
     """The torque on pair ``pair``'s gear A (N m) at the design's load: a gear_pair's
-    ``[operating]`` torque or power (on the pinion), a nutation design's torque flow
-    (external gear of the pair).
+    ``[operating]`` torque or power (on the pinion), a khv design's output torque (on the
+    planet), a nutation design's torque flow (external gear of the pair).
 
     Raises
     ------
@@ -179,6 +179,15 @@ def design_load(design: Any, pair: int = 1) -> float:
                 "torque or power of the sweep (--torque, --power)"
             )
         return float(point.output_torque) / abs(float(point.ratio))
+    if getattr(design, "type", None) == "khv":
+        # the planet drives the output through the W mechanism: its torque is the output's
+        point = design.operating_point()
+        if not point.output_torque:
+            raise ReducerlabError(
+                "operating.output_torque/output_power: the design gives no load; give the "
+                "torque or power (--torque, --power)"
+            )
+        return abs(float(point.output_torque))
     from .torque_flow import torque_flow
 
     flow = torque_flow(design)

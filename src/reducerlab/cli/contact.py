@@ -18,8 +18,8 @@ def contact(
     design: Annotated[
         Path,
         typer.Argument(
-            help="Nutation design file (TOML) with [surface], or a gear_pair design with "
-            "mesh.face_width"
+            help="Nutation design file (TOML) with [surface], a gear_pair design with "
+            "mesh.face_width, or a khv design (its internal pair)"
         ),
     ],
     pair: Annotated[
@@ -278,9 +278,10 @@ def _design_torque(design, pair: int) -> float:
     from ..analysis.torque_flow import torque_flow
     from ..drives.gear_pair import GearPairDesign
 
-    if isinstance(design, GearPairDesign):
+    if isinstance(design, GearPairDesign) or getattr(design, "type", None) == "khv":
         torque = design_load(design, pair)
-        typer.echo(f"torque on the pinion from [operating]: {torque:.6g} N m")
+        gear = "pinion" if isinstance(design, GearPairDesign) else "planet"
+        typer.echo(f"torque on the {gear} from the design's load: {torque:.6g} N m")
         return torque
 
     flow = torque_flow(design)
