@@ -55,6 +55,7 @@ __all__ = [
     "fe_tooth_compliance",
     "flank_influence",
     "load_nodes",
+    "tooth_sectors",
 ]
 
 Array = NDArray[np.float64]
@@ -242,7 +243,7 @@ def fe_tooth_compliance(
         raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
     a = 2.0 * ts  # bump radius: two tooth elements
     say("meshing five tooth sectors")
-    mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, bs), sectors=range(-2, 3))
+    mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, bs), sectors=tooth_sectors(flank))
     # load grid, inset by the bump radius from the flank's edges (arc length)
     u_nodes, v_nodes = load_nodes(flank, a, n_u, n_v)
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
@@ -257,6 +258,29 @@ def fe_tooth_compliance(
     )  # fmt: skip
     inf = fillet.influence(out[2]) if root_stress else None
     return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)
+
+
+def tooth_sectors(flank) -> range:
+    """The five tooth sectors of :func:`~reducerlab.fe.gear_mesh.mesh_gear` that hold the
+    modelled teeth ``-1, 0, 1`` of ``flank`` (a ``contact.flanks.BevelFlank``) whole.
+
+    ``mesh_gear``'s sector ``k`` holds the tooth space ``k`` of its solid (walls through
+    the middle of the teeth either side), and its tooth ``j`` (tooth 0 turned by ``-j``
+    pitches) lies between spaces ``-j`` and ``1 - j``. The flank's tooth 0 is the
+    solid's tooth ``-t``, ``t`` the crown tooth that generates the loaded flank on the
+    solid's tooth 0 (``geometry.bevel_surface.tooth_flanks``): 0 for both flanks of the
+    external gear and for flank -1 of the internal gear, 1 for flank +1 of the internal
+    gear. Sectors ``t - 2 ... t + 2`` put the modelled teeth ``1, 0, -1`` at ``-0.5,
+    0.5, 1.5`` pitches from the middle of the five (a tooth space: five sectors hold four
+    whole teeth between their walls), the centre of tooth 1 two pitches and that of
+    tooth -1 one pitch from the nearer wall (``tests/test_tooth_sector.py``).
+    Before, every gear had sectors ``-2 ... 2``: a wall through the middle of the
+    internal gear's tooth -1 under flank +1."""
+    from ..geometry.bevel_surface import tooth_flanks
+
+    (fa, ta), (_, tb) = tooth_flanks(flank.gear)
+    t = round(ta if flank.flank == fa else tb)
+    return range(t - 2, t + 3)
 
 
 class _bevel_fillet:

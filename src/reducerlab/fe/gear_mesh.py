@@ -57,6 +57,7 @@ __all__ = [
     "gmsh_session",
     "mesh_estimate",
     "mesh_gear",
+    "sector_walls",
     "store_solids",
     "stored_solids",
     "tet_options",
@@ -664,7 +665,7 @@ def _mesh_gear(
     delta = gear.cone_angle
     say = stage or (lambda _s: None)
     polys, mount_z = _feature_polygons(gear, bl, features, m_n)
-    ext = min(1.0e-3, 0.1 * crown.face_width)
+    ext = _space_extension(crown)
     ring = [
         (bl.front, bl.body), (bl.back, bl.body), (bl.back, bl.face), (bl.front, bl.face),
     ]  # fmt: skip
@@ -832,18 +833,7 @@ def _sector_solid(
     from pathlib import Path
 
     occ = gmsh.model.occ
-    try:
-        wires = _space_wires(occ, sections)
-        # cubic across the sections: as exact as OpenCASCADE's default (degree up to 8)
-        # between them (both within 1 nm of the enveloped surface at the mid-sections)
-        # and its booleans 5x faster (docs/assumptions.md, "Loft degree")
-        space = occ.addThruSections(wires, makeSolid=True, makeRuled=False, maxDegree=3)
-    except Exception as exc:  # gmsh raises plain Exception
-        raise MeshError(f"gear body: the tooth space loft failed ({exc})") from None
-    occ.synchronize()
-    # the sector: one pitch of the ring, walls through the middle of the teeth
-    cm = np.array(occ.getCenterOfMass(3, space[0][1]))
-    phi0 = math.atan2(cm[1], cm[0]) + 0.5 * pitch
+    space, phi0 = _space_loft(gmsh, sections, pitch)
     say("sector solid")
     sector = _revolve_polygon(occ, ring, phi0 - pitch, pitch)
     tools = list(space)
@@ -865,6 +855,55 @@ def _sector_solid(
         path = Path(tmp) / "sector.brep"
         gmsh.write(str(path))
         return path.read_text(), phi0
+
+
+def _space_loft(gmsh: Any, sections: list[_Section], pitch: float) -> tuple[list, float]:
+    """The tooth-space loft in the (empty) gmsh model and ``phi0`` (rad), the azimuth of
+    sector 0's second wall: half a pitch beyond the loft's centre of mass, so that the
+    walls pass through the middle of the teeth either side of tooth space 0."""
+    occ = gmsh.model.occ
+    try:
+        wires = _space_wires(occ, sections)
+        # cubic across the sections: as exact as OpenCASCADE's default (degree up to 8)
+        # between them (both within 1 nm of the enveloped surface at the mid-sections)
+        # and its booleans 5x faster (docs/assumptions.md, "Loft degree")
+        space = occ.addThruSections(wires, makeSolid=True, makeRuled=False, maxDegree=3)
+    except Exception as exc:  # gmsh raises plain Exception
+        raise MeshError(f"gear body: the tooth space loft failed ({exc})") from None
+    occ.synchronize()
+    cm = np.array(occ.getCenterOfMass(3, space[0][1]))
+    return space, math.atan2(cm[1], cm[0]) + 0.5 * pitch
+
+
+def _space_extension(crown: CrownGear) -> float:
+    """How far the tooth-space sections reach beyond the toe and the heel (m)."""
+    return min(1.0e-3, 0.1 * crown.face_width)
+
+
+def sector_walls(
+    crown: CrownGear, gear: BevelGear, sectors: range, *, rim: float | None = None
+) -> tuple[float, float]:
+    """Azimuths (rad, about the gear axis ``z``) of the two end walls of
+    ``mesh_gear(crown, gear, rim=rim, sectors=sectors)``, lower then upper: the planes
+    through the axis that bound the part of the gear (held in a tooth-level analysis).
+    Sector ``k`` spans ``[phi0 + (k - 1) pitch, phi0 + k pitch]``, ``phi0`` from the
+    tooth-space loft as :func:`mesh_gear` has it (no cut, no mesh: about a second).
+
+    Raises
+    ------
+    MeshError
+        ``sectors`` not 1 to ``z`` consecutive sectors, or the loft failing.
+    """
+    z = gear.teeth
+    if not isinstance(sectors, range) or len(sectors) == 0 or sectors.step != 1 or len(sectors) > z:
+        raise MeshError(f"sectors: must be 1 to {z} consecutive sectors; got {sectors!r}")
+    m_n = crown.profile.module
+    rim = 2.0 * m_n if rim is None else float(rim)
+    pitch = 2 * math.pi / z
+    sections = _space_sections(crown, gear, rim, _space_extension(crown))
+    with gmsh_session() as gmsh:
+        _, phi0 = _space_loft(gmsh, sections, pitch)
+    return phi0 + (sectors[0] - 1) * pitch, phi0 + sectors[-1] * pitch
 
 
 def _import_brep(gmsh: Any, brep: str) -> None:

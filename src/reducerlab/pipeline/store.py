@@ -35,7 +35,7 @@ __all__ = ["SCHEMA", "Store", "canonical"]
 #: Keys hold the package version, not the code: a change to a stage's or a report
 #: section's code within one version (development) needs this bumped, or a kept cache
 #: answers with the old result.
-SCHEMA = 2
+SCHEMA = 3
 
 
 def _plain(value: Any) -> Any:
