@@ -48,6 +48,8 @@ _KNOWN_KINDS: dict[str, str] = {
     "body-modal": "reducerlab.analysis.body_modal",
     "contact": "reducerlab.analysis.contact",
     "rating": "reducerlab.analysis.rating",
+    "te-sweep": "reducerlab.analysis.te_sweep",
+    "layout": "reducerlab.analysis.layout",
 }
 
 
