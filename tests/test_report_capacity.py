@@ -41,3 +41,18 @@ def test_double_arc_design_gets_a_note_not_a_rating():
 
 def test_drive_without_gear_pairs_has_no_section():
     assert _section(load_design(EXAMPLES / "cycloid_ball.toml")) is None
+
+
+def test_a_given_rating_is_the_one_shown(tmp_path):
+    # a rating made with other conditions (K_v = 1.5) and handed to the report (--with)
+    # is the one the section shows, not a fresh one at the defaults
+    from reducerlab.rating.material import RatingConditions
+
+    design = load_design(EXAMPLES / "gear_pair.toml")
+    given = load_capacity(design, conditions=RatingConditions(K_v=1.5))
+    path = tmp_path / "rating.nc"
+    given.save(path)
+    rep = report(design, results=[path], only=["capacity"])
+    (sec,) = [s for s in rep.sections if s.id == "capacity"]
+    assert sec.values["safety"] == given.pairs()
+    assert sec.values["safety"] != load_capacity(design).pairs()

@@ -235,7 +235,16 @@ def _context_digest(ctx: Context) -> str:
 
 
 #: Kinds of results the report can take from a file.
-GIVEN_KINDS = ("body-modal", "contact", "bifurcation", "regime-map", "response")
+GIVEN_KINDS = (
+    "body-modal",
+    "contact",
+    "bifurcation",
+    "regime-map",
+    "response",
+    "rating",
+    "te-sweep",
+    "layout",
+)
 
 
 def _results(items: Sequence[Any], design: Design) -> tuple[Design, dict[str, list[Any]]]:

@@ -3,10 +3,12 @@ every gear pair, beside the stresses the loaded tooth contact analysis computed.
 
 The rating is computed here from the design at its own load
 (:func:`reducerlab.analysis.rating.load_capacity`: milliseconds); a rating result handed
-to the report (``--with rating.nc``, the ``run`` pipeline) is used instead. The contact
+to the report (``--with rating.nc``) is used instead. The contact
 results handed to the report add, per pair, the LTCA's interior peak contact pressure
 beside ISO's nominal contact stress ``sigma_H``, and the FE tooth-root stress (when the
-contact was run with ``root_stress``) beside ISO's ``sigma_F``: the standard's nominal
+contact was run with ``root_stress``) beside ISO's ``sigma_F``; a torque sweep
+(``te-sweep``) and a modification layout (``layout``) handed to the report add their
+figures. The standard's and the LTCA's stresses differ in kind: the standard's nominal
 values carry its load factors (``K_A K_v K_Hbeta K_Halpha``), the LTCA's are the static
 stresses of the modelled flanks, so they are compared, not equated.
 """
@@ -120,6 +122,22 @@ def capacity_section(ctx: Context) -> Section | None:
                 name="iso-vs-ltca",
                 caption="the standard's nominal stresses (with its load factors) "
                 "beside the loaded contact's static stresses",
+            )
+        )
+    for r in ctx.given("te-sweep"):
+        s.blocks.append(
+            figure(
+                r.figure(),
+                "loaded transmission error against torque: "
+                "TE over the mesh cycle, peak-to-peak and mesh harmonics",
+            )
+        )
+    for r in ctx.given("layout"):
+        s.blocks.append(
+            figure(
+                r.figure(),
+                "flank modification layout: TE peak-to-peak over "
+                "lead crowning and tip relief, infeasible candidates hatched",
             )
         )
     cond = rating.data.attrs.get("conditions", "")
