@@ -358,11 +358,13 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.contact
     import reducerlab.analysis.frequency_response
     import reducerlab.analysis.kinematics
+    import reducerlab.analysis.layout
     import reducerlab.analysis.modal
     import reducerlab.analysis.rating
     import reducerlab.analysis.regime_map
     import reducerlab.analysis.response
-    import reducerlab.analysis.sweep  # noqa: F401
+    import reducerlab.analysis.sweep
+    import reducerlab.analysis.te_sweep  # noqa: F401
 
     found, todo = {}, [Result]
     while todo:

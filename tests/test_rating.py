@@ -80,7 +80,12 @@ def test_cli_writes_and_prints(tmp_path):
     res = runner.invoke(app, ["rating", str(GEAR_PAIR), "-o", str(out), "--kv", "1.05"])
     assert res.exit_code == 0, res.output
     assert "S_H: pinion" in res.output and "Y_F" in res.output
-    assert {p.name for p in out.iterdir()} == {"rating.nc", "rating.json", "rating.txt"}
+    assert {p.name for p in out.iterdir()} == {
+        "rating.nc",
+        "rating.json",
+        "rating.txt",
+        "rating.png",
+    }
     data = json.loads((out / "rating.json").read_text())
     assert data["pairs"]["pair"]["gears"] == ["pinion", "gear"]
     res = runner.invoke(app, ["rating", str(GEAR_PAIR), "--format", "json", "--torque", "90 N*m"])
