@@ -458,6 +458,7 @@ def contact_analysis(
     )
     ds.attrs.update(
         pair=int(pair), profile=setup.profile, pair_kind=setup.kind,
+        gear_a=setup.gears[0], gear_b=setup.gears[1],
         teeth_external=setup.teeth[0], teeth_internal=setup.teeth[1],
         torque_external=T_a, torque_internal=T_b, speed=float(design.input_speed),
         mesh_frequency=f_mesh, k_mean=fit.mean, fit_residual=fit.residual, order=order,

@@ -257,8 +257,11 @@ def _angle_deg(ds: xr.Dataset) -> Array:
     return np.degrees(np.asarray(ds["angle"].values, float))
 
 
-def _external(ds: xr.Dataset) -> int:
-    return 2 * int(ds.attrs.get("pair", 1))
+def _gear_a(ds: xr.Dataset) -> str:
+    """Gear A's name: the design's (``gear_a``: ``gear2``, ``pinion``, ``planet V``), or
+    a nutation pair's external gear for results written before it was recorded."""
+    name = str(ds.attrs.get("gear_a", f"gear{2 * int(ds.attrs.get('pair', 1))}"))
+    return name.replace("gear", "gear ", 1) if name[4:5].isdigit() else name
 
 
 # ------------------------------------------------------------------ panels
@@ -273,7 +276,7 @@ def _panel_pattern(ax: Axes, ds: xr.Dataset, fl: _Flank, fig: Figure) -> None:
     pressure = _mpa(ds, "pressure")
     pos = np.asarray(ds["cell_position"].values, np.int64)
     _frame(ax, fl)
-    ax.set_title("(a) contact pattern and pressure on the external gear's flank", fontsize=9)
+    ax.set_title(f"(a) contact pattern and pressure on {_gear_a(ds)}'s flank", fontsize=9)
     if not loaded.any():
         ax.text(0.5, 0.5, "no loaded cells", transform=ax.transAxes, ha="center")
         return
@@ -361,7 +364,7 @@ def _panel_te(ax: Axes, ds: xr.Dataset) -> None:
         ptp = float(np.nanmax(te) - np.nanmin(te))
         ax.text(0.02, 0.95, f"peak to peak {ptp:.3g} um", transform=ax.transAxes, va="top",
                 fontsize=7)  # fmt: skip
-    ax.set_xlabel(f"rotation of gear {_external(ds)} (deg)", fontsize=8)
+    ax.set_xlabel(f"rotation of {_gear_a(ds)} (deg)", fontsize=8)
     ax.set_ylabel("loaded transmission error (um)", fontsize=8)
     ax.set_title("(c) loaded transmission error", fontsize=9)
     ax.tick_params(labelsize=7)
@@ -381,7 +384,7 @@ def _panel_stress(ax: Axes, ds: xr.Dataset) -> Axes:
     ax.plot(ang, vm, "s-", color="tab:purple", ms=4, lw=1.2, label=vm_label)
     top = np.nanmax(np.concatenate([pk, vm, [0.0]]))
     ax.set_ylim(0.0, 1.12 * top if top > 0 else 1.0)
-    ax.set_xlabel(f"rotation of gear {_external(ds)} (deg)", fontsize=8)
+    ax.set_xlabel(f"rotation of {_gear_a(ds)} (deg)", fontsize=8)
     ax.set_ylabel("stress (MPa)", fontsize=8)
     ax.set_title("(d) contact pressure and subsurface stress", fontsize=9)
     ax.tick_params(labelsize=7)
@@ -408,7 +411,7 @@ def _title(ds: xr.Dataset) -> str:
     if "profile" in a:
         extra.append(str(a["profile"]))
     if "torque_external" in a:
-        extra.append(f"T_{_external(ds)} = {float(a['torque_external']):.4g} N m")
+        extra.append(f"T on {_gear_a(ds)} = {float(a['torque_external']):.4g} N m")
     if int(a.get("rigid", 0)):
         extra.append("rigid teeth")
     if extra:
@@ -534,6 +537,6 @@ def plot_pressure_map(result: ContactResult, position: int | None = None) -> Fig
     t = ""
     if "time" in ds:
         t = f", t = {1e3 * float(ds['time'].values[j]):.4g} ms"
-    fig.suptitle(f"{_title(ds)}\nposition {j}: gear {_external(ds)} at "
+    fig.suptitle(f"{_title(ds)}\nposition {j}: {_gear_a(ds)} at "
                  f"{_angle_deg(ds)[j]:.3f} deg{t}", fontsize=9)  # fmt: skip
     return fig
