@@ -273,6 +273,15 @@ def check_load(pair: Any, torque: float, radius: float, E_star: float, speed: fl
     )
 
 
+#: the fixed frame of a result's force vector, by pair kind
+FRAMES = {
+    "nutation": "x: normal of the plane of the two axes (tangential at the mesh); y: along "
+    "the pitch line; z: crown gear axis",
+    "spur": "fixed frame: z the pinion axis, x towards the wheel axis",
+    "internal": "fixed frame: z the planet axis, x away from the ring axis",
+}
+
+
 @names_source
 @with_compute_threads
 def contact_analysis(
@@ -466,8 +475,7 @@ def contact_analysis(
         modifications=json.dumps(mp.modifications.to_dict()),
         fe_dofs=0 if comp_a is None else comp_a.dofs + comp_b.dofs,
         seconds=time.perf_counter() - t0,
-        frame="x: normal of the plane of the two axes (tangential at the mesh); y: along the "
-        "pitch line; z: crown gear axis",
+        frame=FRAMES[setup.kind],
     )  # fmt: skip
     if root_stress:
         ds = add_root_stress(ds, mp, runs, comp_a, comp_b)
