@@ -47,7 +47,7 @@ from ..kinematics.rotations import rot_z
 from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
 from .flanks import Flank, GearPose
 from .modifications import PairModifications, modified
-from .spur_pair import SpurFlank, spur_tooth_compliance
+from .spur_pair import SpurFlank, held_sector_dofs, spur_tooth_compliance
 
 __all__ = [
     "RING_DEDENDUM_CLEARANCE",
@@ -397,21 +397,7 @@ class InternalMeshPair:
 
 def _held_dofs(basis, mesh) -> NDArray[np.int64]:
     """DOFs of the boundary facets on the rim's outer cylinder and the two cut faces."""
-    skm = basis.mesh
-    x = skm.p
-    tol = 1e-6 * mesh.gear.module
-    on = np.abs(np.hypot(x[0], x[1]) - mesh.outer_radius) <= tol
-    cut = np.zeros_like(on)
-    for phi in mesh.cut_angles:
-        nrm = np.array([-math.sin(phi), math.cos(phi), 0.0])
-        e = np.array([math.cos(phi), math.sin(phi), 0.0])
-        cut |= (np.abs(nrm @ x) <= tol) & (e @ x > 0)
-    bf = skm.boundary_facets()
-    corners = skm.facets[:, bf]
-    facets = bf[np.all(on[corners], axis=0) | np.all(cut[corners], axis=0)]
-    if facets.size == 0:
-        raise ReducerlabError("compliance: no rim or cut-face facets found to hold")
-    return np.asarray(basis.get_dofs(facets=facets).all(), dtype=np.int64)
+    return held_sector_dofs(basis, mesh, mesh.outer_radius, "rim")
 
 
 def internal_tooth_compliance(

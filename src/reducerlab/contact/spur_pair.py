@@ -36,7 +36,7 @@ from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
 from .flanks import Flank, GearPose
 from .modifications import PairModifications, modified
 
-__all__ = ["SpurFlank", "SpurMeshPair", "spur_tooth_compliance"]
+__all__ = ["SpurFlank", "SpurMeshPair", "held_sector_dofs", "spur_tooth_compliance"]
 
 Array = NDArray[np.float64]
 Stage = Callable[[str], None]
@@ -265,12 +265,15 @@ def _spur_fillet_influence(gear: SpurGear, raw, direction: int):
                            np.hypot(p[:, 0], p[:, 1]), p[:, 2].copy(), angle, S)  # fmt: skip
 
 
-def _held_dofs(basis, mesh) -> NDArray[np.int64]:
-    """DOFs of the boundary facets on the bore cylinder and the two radial cut faces."""
+def held_sector_dofs(basis, mesh, radius: float, what: str) -> NDArray[np.int64]:
+    """DOFs of a gear sector's boundary facets on the cylinder of ``radius`` (m: a spur
+    gear's bore, an internal gear's outer rim) and on its two radial cut faces
+    (``mesh.cut_angles``): the supports of the tooth models. ``what`` names the
+    cylinder in the error."""
     skm = basis.mesh
     x = skm.p
     tol = 1e-6 * mesh.gear.module
-    on = np.abs(np.hypot(x[0], x[1]) - mesh.inner_radius) <= tol
+    on = np.abs(np.hypot(x[0], x[1]) - radius) <= tol
     cut = np.zeros_like(on)
     for phi in mesh.cut_angles:
         nrm = np.array([-math.sin(phi), math.cos(phi), 0.0])
@@ -280,8 +283,13 @@ def _held_dofs(basis, mesh) -> NDArray[np.int64]:
     corners = skm.facets[:, bf]
     facets = bf[np.all(on[corners], axis=0) | np.all(cut[corners], axis=0)]
     if facets.size == 0:
-        raise ReducerlabError("compliance: no bore or cut-face facets found to hold")
+        raise ReducerlabError(f"compliance: no {what} or cut-face facets found to hold")
     return np.asarray(basis.get_dofs(facets=facets).all(), dtype=np.int64)
+
+
+def _held_dofs(basis, mesh) -> NDArray[np.int64]:
+    """DOFs of the boundary facets on the bore cylinder and the two radial cut faces."""
+    return held_sector_dofs(basis, mesh, mesh.inner_radius, "bore")
 
 
 def spur_tooth_compliance(
