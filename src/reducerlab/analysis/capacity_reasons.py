@@ -14,12 +14,19 @@ from typing import Any
 from ..errors import ReducerlabError
 from .reasons import reason
 
-__all__ = ["capacity_reasons"]
+__all__ = ["capacity_reasons", "rateable"]
 
 #: the design types the rating covers
 RATED = ("gear_pair", "khv", "nutation")
 
 _WHAT = {"S_H": ("pitting", "S_Hmin"), "S_F": ("tooth root", "S_Fmin")}
+
+
+def rateable(design: Any) -> bool:
+    """Whether ``design`` has gear pairs the rating covers (a nutation design only with
+    its tooth surfaces: a kinematics-only one has no teeth)."""
+    kind = getattr(design, "type", "")
+    return kind in RATED and (kind != "nutation" or design.has_tooth_surfaces)
 
 
 def capacity_reasons(design: Any, rating: Any = None) -> list[dict[str, Any]]:
@@ -41,8 +48,7 @@ def capacity_reasons(design: Any, rating: Any = None) -> list[dict[str, Any]]:
     """
     import json
 
-    kind = getattr(design, "type", "")
-    if kind not in RATED or (kind == "nutation" and not design.has_tooth_surfaces):
+    if not rateable(design):
         return []
     if rating is None:
         from .rating import load_capacity

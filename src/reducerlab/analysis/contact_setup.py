@@ -320,14 +320,13 @@ def _internal_estimate(mp: Any, tooth_size: float | None) -> Estimate:
     """The larger of the planet's and the ring's FE tooth models (the ring's sector is
     the larger body: its rim)."""
     from ..contact.compliance import TEETH
-    from ..contact.spur_pair import SECTOR_TEETH
+    from ..contact.spur_pair import SECTOR_TEETH, model_sizes
     from ..fe.gear_mesh import MeshSizes
     from ..fe.internal_mesh import internal_sector_estimate
 
-    m = mp.ring.module
-    ts = 0.3 * m if tooth_size is None else float(tooth_size)
+    n_u, n_v, ts, bs = model_sizes((6, 9), mp.ring.module, tooth_size, None)
     ring = internal_sector_estimate(
-        mp.ring, SECTOR_TEETH, None, MeshSizes(ts, max(m, ts)), dense_columns=len(TEETH) * 6 * 9,
+        mp.ring, SECTOR_TEETH, None, MeshSizes(ts, bs), dense_columns=len(TEETH) * n_u * n_v,
         what=f"contact: the tooth compliance of the ring (z = {mp.ring.teeth})",
     )  # fmt: skip
     planet = spur_compliance_estimate(mp.planet, tooth_size)

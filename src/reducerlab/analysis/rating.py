@@ -207,13 +207,8 @@ def load_capacity(
             rate_internal_pair(pair, t, rel, (mat, mat), c),
             ("planet V", "ring K"),
         )
-    elif kind == "nutation":
+    else:  # nutation
         ratings.update(_nutation(design, mat, c, torque, power))
-    else:
-        raise ReducerlabError(
-            f"type: the load capacity rating covers gear_pair, khv and nutation designs; "
-            f"got {kind!r}"
-        )
     return _result(design, ratings, c)
 
 

@@ -47,7 +47,7 @@ from ..kinematics.rotations import rot_z
 from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
 from .flanks import Flank, GearPose
 from .modifications import PairModifications, modified
-from .spur_pair import SpurFlank, held_sector_dofs, spur_tooth_compliance
+from .spur_pair import SpurFlank, held_sector_dofs, model_sizes, spur_tooth_compliance
 
 __all__ = [
     "RING_DEDENDUM_CLEARANCE",
@@ -464,25 +464,7 @@ def internal_tooth_compliance(
         raise ReducerlabError(f"direction: must be +1 or -1; got {direction!r}")
     if not isinstance(material, Material):
         raise ReducerlabError(f"material: must be a Material; got {type(material).__name__}")
-    try:
-        n_u, n_v = (int(g) for g in grid)
-    except (TypeError, ValueError):
-        raise ReducerlabError(f"grid: must be two integers (n_u, n_v); got {grid!r}") from None
-    if n_u < 2 or n_v < 2:
-        raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
-    m = gear.module
-    sizes = {"tooth_size": 0.3 * m, "body_size": 1.0 * m}
-    for name, val in (("tooth_size", tooth_size), ("body_size", body_size)):
-        if val is None:
-            continue
-        if (
-            isinstance(val, bool)
-            or not isinstance(val, int | float)
-            or not (math.isfinite(val) and val > 0)
-        ):
-            raise ReducerlabError(f"{name}: must be a length > 0 (m); got {val!r}")
-        sizes[name] = float(val)
-    ts, bs = sizes["tooth_size"], max(sizes["body_size"], sizes["tooth_size"])
+    n_u, n_v, ts, bs = model_sizes(grid, gear.module, tooth_size, body_size)
     mesh_sizes = MeshSizes(ts, bs)
     internal_sector_estimate(
         gear, SECTOR_TEETH, rim, mesh_sizes, dense_columns=len(TEETH) * n_u * n_v,

@@ -36,7 +36,7 @@ from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
 from .flanks import Flank, GearPose
 from .modifications import PairModifications, modified
 
-__all__ = ["SpurFlank", "SpurMeshPair", "held_sector_dofs", "spur_tooth_compliance"]
+__all__ = ["SpurFlank", "SpurMeshPair", "held_sector_dofs", "model_sizes", "spur_tooth_compliance"]
 
 Array = NDArray[np.float64]
 Stage = Callable[[str], None]
@@ -292,6 +292,40 @@ def _held_dofs(basis, mesh) -> NDArray[np.int64]:
     return held_sector_dofs(basis, mesh, mesh.inner_radius, "bore")
 
 
+def model_sizes(
+    grid: tuple[int, int], module: float, tooth_size: float | None, body_size: float | None
+) -> tuple[int, int, float, float]:
+    """The checked load grid ``(n_u, n_v)`` and element sizes ``(tooth, body)`` (m) of a
+    cylindrical gear's tooth model: defaults ``0.3 m`` and ``m``, the body never finer
+    than the teeth.
+
+    Raises
+    ------
+    ReducerlabError
+        Naming ``grid``, ``tooth_size`` or ``body_size`` and the rule.
+    """
+    try:
+        n_u, n_v = (int(g) for g in grid)
+    except (TypeError, ValueError):
+        raise ReducerlabError(f"grid: must be two integers (n_u, n_v); got {grid!r}") from None
+    if n_u < 2 or n_v < 2:
+        raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
+    m = module
+    sizes = {"tooth_size": 0.3 * m, "body_size": 1.0 * m}
+    for name, val in (("tooth_size", tooth_size), ("body_size", body_size)):
+        if val is None:
+            continue
+        if (
+            isinstance(val, bool)
+            or not isinstance(val, int | float)
+            or not (math.isfinite(val) and val > 0)
+        ):
+            raise ReducerlabError(f"{name}: must be a length > 0 (m); got {val!r}")
+        sizes[name] = float(val)
+    ts, bs = sizes["tooth_size"], max(sizes["body_size"], sizes["tooth_size"])
+    return n_u, n_v, ts, bs
+
+
 def spur_tooth_compliance(
     gear: SpurGear,
     flank: int = 1,
@@ -370,25 +404,7 @@ def spur_tooth_compliance(
         raise ReducerlabError(
             f"gear: the compliance model needs more than {SECTOR_TEETH} teeth; got {gear.teeth}"
         )
-    try:
-        n_u, n_v = (int(g) for g in grid)
-    except (TypeError, ValueError):
-        raise ReducerlabError(f"grid: must be two integers (n_u, n_v); got {grid!r}") from None
-    if n_u < 2 or n_v < 2:
-        raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
-    m = gear.module
-    sizes = {"tooth_size": 0.3 * m, "body_size": 1.0 * m}
-    for name, val in (("tooth_size", tooth_size), ("body_size", body_size)):
-        if val is None:
-            continue
-        if (
-            isinstance(val, bool)
-            or not isinstance(val, int | float)
-            or not (math.isfinite(val) and val > 0)
-        ):
-            raise ReducerlabError(f"{name}: must be a length > 0 (m); got {val!r}")
-        sizes[name] = float(val)
-    ts, bs = sizes["tooth_size"], max(sizes["body_size"], sizes["tooth_size"])
+    n_u, n_v, ts, bs = model_sizes(grid, gear.module, tooth_size, body_size)
     say = stage or (lambda _s: None)
     a = 2.0 * ts  # bump radius: two tooth elements
     sflank = SpurFlank(gear, flank)

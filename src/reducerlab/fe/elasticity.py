@@ -391,6 +391,26 @@ def pardiso_inverse(A: Any, refinement: int | None = None) -> Any:
     return spla.LinearOperator(A.shape, matvec=direct, matmat=direct, dtype=float)
 
 
+def _phase_solver(A: Any) -> tuple[Any, Any] | None:
+    """A PARDISO solver (symmetric positive definite) whose phases can be called one by
+    one, and the upper triangle of ``A`` it factorises; None when pypardiso, its MKL
+    runtime library or its phase calls are missing (the caller's plain solves)."""
+    pypardiso = import_pypardiso()
+    if pypardiso is None:
+        return None
+    try:
+        solver = pypardiso.PyPardisoSolver(mtype=2)
+    except OSError:  # no MKL runtime library
+        return None
+    if not all(callable(getattr(solver, f, None)) for f in ("_call_pardiso", "set_phase")):
+        return None
+    import scipy.sparse as sp
+
+    upper = sp.triu(A, format="csr")
+    upper.sort_indices()
+    return solver, upper
+
+
 def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
     """``B^T A^-1 B`` of a symmetric positive definite sparse ``A`` by MKL PARDISO's
     Cholesky factor ``P A P^T = L L^T`` and its forward substitution alone, or None when
@@ -415,19 +435,10 @@ def pardiso_gram(A: Any, B: NDArray[np.float64]) -> NDArray[np.float64] | None:
     ndarray (k, k)
         ``B^T A^-1 B`` (e.g. influence coefficients, m/N), symmetric.
     """
-    pypardiso = import_pypardiso()
-    if pypardiso is None:
+    made = _phase_solver(A)
+    if made is None:
         return None
-    try:
-        solver = pypardiso.PyPardisoSolver(mtype=2)
-    except OSError:  # no MKL runtime library
-        return None
-    if not all(callable(getattr(solver, f, None)) for f in ("_call_pardiso", "set_phase")):
-        return None  # a pypardiso without the phase calls: the caller's plain solves
-    import scipy.sparse as sp
-
-    upper = sp.triu(A, format="csr")
-    upper.sort_indices()
+    solver, upper = made
     b = np.asfortranarray(B, dtype=float)
     try:
         solver.factorize(upper)
@@ -473,19 +484,10 @@ def pardiso_gram_solve(
     X : ndarray (n, k)
         ``A^-1 B`` (e.g. displacements, m).
     """
-    pypardiso = import_pypardiso()
-    if pypardiso is None:
+    made = _phase_solver(A)
+    if made is None:
         return None
-    try:
-        solver = pypardiso.PyPardisoSolver(mtype=2)
-    except OSError:  # no MKL runtime library
-        return None
-    if not all(callable(getattr(solver, f, None)) for f in ("_call_pardiso", "set_phase")):
-        return None
-    import scipy.sparse as sp
-
-    upper = sp.triu(A, format="csr")
-    upper.sort_indices()
+    solver, upper = made
     b = np.asfortranarray(B, dtype=float)
     try:
         solver.factorize(upper)

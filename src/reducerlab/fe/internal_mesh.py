@@ -32,7 +32,6 @@ from ..budget import Estimate
 from ..geometry.internal_gear import InternalGear
 from .gear_mesh import (
     BYTES_PER_DOF,
-    GMSH_TO_VTK,
     MAX_DOFS,
     NODES_PER_TET,
     TETS_PER_CUBE,
@@ -41,6 +40,7 @@ from .gear_mesh import (
     gmsh_session,
     tet_options,
 )
+from .spur_mesh import quadratic_tets
 
 __all__ = ["InternalSectorMesh", "internal_sector_estimate", "mesh_internal_sector"]
 
@@ -280,28 +280,7 @@ def mesh_internal_sector(
         field.setString(fid, "F", f"{st!r} + {sb - st!r}*{ramp}")
         field.setAsBackgroundMesh(fid)
         tet_options(gmsh)
-        gmsh.option.setNumber("General.NumThreads", 1)  # the same mesh in every run
-        try:
-            gmsh.model.mesh.generate(3)
-            gmsh.model.mesh.setOrder(2)
-        except Exception as exc:
-            raise MeshError(f"internal sector: gmsh could not mesh it ({exc})") from None
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        etypes, _, enodes = gmsh.model.mesh.getElements(3)
-        if list(etypes) != [11]:
-            raise MeshError(f"internal sector: unexpected element types {list(etypes)}")
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags] = np.arange(len(tags))
-        T = index[enodes[0].reshape(-1, 10)][:, GMSH_TO_VTK]
-        used = np.unique(T)
-        index = np.full(len(tags), -1, dtype=np.int64)
-        index[used] = np.arange(len(used))
-        P = coords.reshape(-1, 3)[used] / MM
-        T = index[T]
-    p = P[T[:, :4]]
-    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
-    if np.any(vol <= 0):
-        raise MeshError("internal sector: the mesher returned inverted tetrahedra")
+        P, T = quadratic_tets(gmsh, "internal sector")
     mesh = InternalSectorMesh(P, T, gear, ids, ro, sizes)
     err = abs(mesh.volume / cad_volume - 1)
     if err > 0.02:

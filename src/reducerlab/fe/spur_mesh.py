@@ -32,7 +32,7 @@ from ..errors import ReducerlabError
 from ..geometry.spur import SpurGear
 from .gear_mesh import GMSH_TO_VTK, MeshError, MeshSizes, gmsh_session, tet_options
 
-__all__ = ["SpurSectorMesh", "default_spur_sizes", "mesh_spur_sector"]
+__all__ = ["SpurSectorMesh", "default_spur_sizes", "mesh_spur_sector", "quadratic_tets"]
 
 Array = NDArray[np.float64]
 MM = 1e3  # gmsh works in mm
@@ -335,28 +335,7 @@ def mesh_spur_sector(
         field.setString(fid, "F", f"{st!r} + {sb - st!r}*{ramp}")
         field.setAsBackgroundMesh(fid)
         tet_options(gmsh)
-        gmsh.option.setNumber("General.NumThreads", 1)  # the same mesh in every run
-        try:
-            gmsh.model.mesh.generate(3)
-            gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the curved surfaces
-        except Exception as exc:
-            raise MeshError(f"spur sector: gmsh could not mesh it ({exc})") from None
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        etypes, _, enodes = gmsh.model.mesh.getElements(3)
-        if list(etypes) != [11]:
-            raise MeshError(f"spur sector: unexpected element types {list(etypes)}")
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags] = np.arange(len(tags))
-        T = index[enodes[0].reshape(-1, 10)][:, GMSH_TO_VTK]
-        used = np.unique(T)
-        index = np.full(len(tags), -1, dtype=np.int64)
-        index[used] = np.arange(len(used))
-        P = coords.reshape(-1, 3)[used] / MM
-        T = index[T]
-    p = P[T[:, :4]]
-    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
-    if np.any(vol <= 0):
-        raise MeshError("spur sector: the mesher returned inverted tetrahedra")
+        P, T = quadratic_tets(gmsh, "spur sector")
     mesh = SpurSectorMesh(P, T, gear, ids, ri, sizes)
     err = abs(mesh.volume / cad_volume - 1)
     if err > 0.02:
@@ -365,3 +344,39 @@ def mesh_spur_sector(
             "too coarse?)"
         )
     return mesh
+
+
+def quadratic_tets(gmsh, what: str) -> tuple[Array, Array]:
+    """Mesh the open gmsh model with quadratic tetrahedra (one thread: the same mesh in
+    every run) and return its nodes ``P`` (m, only those the elements use) and elements
+    ``T`` (VTK node order).
+
+    Raises
+    ------
+    MeshError
+        gmsh fails, returns other elements, or inverted tetrahedra (``what`` names the
+        part in the message).
+    """
+    gmsh.option.setNumber("General.NumThreads", 1)
+    try:
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the curved surfaces
+    except Exception as exc:
+        raise MeshError(f"{what}: gmsh could not mesh it ({exc})") from None
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    etypes, _, enodes = gmsh.model.mesh.getElements(3)
+    if list(etypes) != [11]:
+        raise MeshError(f"{what}: unexpected element types {list(etypes)}")
+    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    index[tags] = np.arange(len(tags))
+    T = index[enodes[0].reshape(-1, 10)][:, GMSH_TO_VTK]
+    used = np.unique(T)
+    index = np.full(len(tags), -1, dtype=np.int64)
+    index[used] = np.arange(len(used))
+    P = coords.reshape(-1, 3)[used] / MM
+    T = index[T]
+    p = P[T[:, :4]]
+    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+    if np.any(vol <= 0):
+        raise MeshError(f"{what}: the mesher returned inverted tetrahedra")
+    return P, T

@@ -24,18 +24,15 @@ from ..context import Context
 
 __all__ = ["capacity_section"]
 
-#: design types the rating covers
-RATED = ("gear_pair", "khv", "nutation")
-
 
 def _rating(ctx: Context) -> tuple[Any | None, str]:
+    from ...analysis.capacity_reasons import rateable
+
     given = ctx.given("rating")
     if given:
         return given[0], ""
-    if getattr(ctx.design, "type", "") not in RATED:
+    if not rateable(ctx.design):
         return None, ""
-    if ctx.design.type == "nutation" and not ctx.design.has_tooth_surfaces:
-        return None, ""  # kinematics only: no teeth to rate
     from ...analysis.rating import load_capacity
 
     try:
