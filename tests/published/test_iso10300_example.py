@@ -26,11 +26,11 @@ import math
 import pytest
 
 from reducerlab.errors import ReducerlabError
+from reducerlab.rating import iso6336_2 as q2
+from reducerlab.rating import iso6336_3 as q3
 from reducerlab.rating import iso10300_1 as p1
 from reducerlab.rating import iso10300_2 as p2
 from reducerlab.rating import iso10300_3 as p3
-from reducerlab.rating import iso6336_2 as q2
-from reducerlab.rating import iso6336_3 as q3
 
 MM, DEG, MPA = 1e-3, math.radians(1.0), 1e6
 Z = (14, 39)

@@ -59,8 +59,8 @@ class VirtualGears:
         Helix angle ``beta_v = beta_m`` (Eq. A.8), base helix angle (Eq. A.16), transverse
         pressure angle (Eq. A.10), rad.
     m_vt, p_vet, g_va : float
-        Transverse module ``d_v1 / z_v1`` (Eq. A.13), transverse base pitch (Eq. A.17), length of the path
-        of contact (Eq. A.18), m.
+        Transverse module ``d_v1 / z_v1`` (Eq. A.13), transverse base pitch (Eq. A.17),
+        length of the path of contact (Eq. A.18), m.
     b_v, b_v_eff : float
         Face width and effective face width of the virtual gears (m), Eq. A.19, A.22.
     eps_va, eps_vb, eps_vg : float
