@@ -47,7 +47,7 @@ def test_flat_cones_rate_as_the_cylindrical_pair(internal):
     common = dict(
         teeth=(z1, z2), mean_radii=(M * z1 / 2, M * z2 / 2), cone_angles=(FLAT, FLAT),
         normal_module=M, spiral_angle=0.0, pressure_angle=A, face_width=B, torque=80.0,
-        speed=150.0, internal=internal,
+        speed=150.0, internal=internal, method="iso6336",
     )  # fmt: skip
     bevel = rate_bevel_pair(**common)
     if internal:
@@ -67,7 +67,7 @@ def test_flat_cones_rate_as_the_cylindrical_pair(internal):
 def test_outside_the_scope_of_iso_10300_refused():
     # ISO 10300-2:2014 scope: virtual transverse contact ratio below 2 (the internal
     # 20 in 40 pair has 2.15)
-    with pytest.raises(ReducerlabError, match="ISO 10300-2:2014 scope"):
+    with pytest.raises(ReducerlabError, match="ISO 10300-2:2023 scope"):
         rate_bevel_pair(
             teeth=(20, 40), mean_radii=(M * 10, M * 20), cone_angles=(FLAT, FLAT),
             normal_module=M, spiral_angle=0.0, pressure_angle=A, face_width=B, torque=80.0,
@@ -81,15 +81,18 @@ def test_nutation_design_rated_and_double_arc_refused():
     p = r.pairs()["pair 1"]
     assert p["gears"] == ["gear 2", "gear 1"]
     # the torque flow's 1942 N on the external gear's mean radius (mesh1's force)
-    assert r.value("F_t") == pytest.approx(55.714285714 / 0.0286878, rel=1e-9)
-    assert r.value("Z_D", "2") == 1.0
+    assert r.value("F_mt") == pytest.approx(55.714285714 / 0.0286878, rel=1e-9)
+    assert "method B1" in p["standard"] and "internal virtual pair" in p["standard"]
+    # eps_vbeta = 0.57 < 1: no load sharing credited (docs/assumptions.md)
+    assert r.value("Z_LS") == 1.0 and r.value("Y_LS") == 1.0
+    assert r.value("K_Hbeta") == pytest.approx(1.5 * 1.05)
     assert all(s > 1 for s in p["S_H"] + p["S_F"])
     arcs = d.with_values({"surface.profile": "double-arc"})
     with pytest.raises(ReducerlabError, match=r"surface\.profile"):
         load_capacity(arcs)
     # a torque on the input shaft: the flow's output is i times it
     half = load_capacity(d, torque=60.0 / abs(d.kinematics().ratio) / 2)
-    assert half.value("F_t") == pytest.approx(r.value("F_t") / 2, rel=1e-9)
+    assert half.value("F_mt") == pytest.approx(r.value("F_mt") / 2, rel=1e-9)
 
 
 def test_rating_limits_are_no_input_of_the_body_and_contact_results():

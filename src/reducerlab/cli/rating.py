@@ -1,5 +1,6 @@
 """``reducerlab rating``: load capacity of a design's gear pairs, pitting and tooth root
-safety factors (ISO 6336-2/-3:2019 method B, ISO 10300:2014 method B1; issue 29)."""
+safety factors (ISO 6336-2/-3:2019 method B; ISO 10300-1/-2/-3:2023 method B1 for the
+bevel pairs, every factor listed with its clause; issue 29)."""
 
 from __future__ import annotations
 

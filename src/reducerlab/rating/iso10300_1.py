@@ -196,7 +196,9 @@ def contact_line_length(v: VirtualGears, f: float) -> float:
 
     The line at ``f`` crosses the zone of action (``g_va`` by ``b_v,eff``) with length
     ``l_b0`` (Eq. A.27 to A.32: ``b_v,eff`` for ``beta_vb = 0``, else ``g_va /
-    sin(beta_vb)``, the same for every ``f``); the inclined contact lines are shortened towards the
+    sin(beta_vb)``, the same for every ``f``; where the face is too narrow for that,
+    ``b_v,eff / cos(beta_vb) < g_va / sin(beta_vb)``, the line across the face, an
+    assumption of ours); the inclined contact lines are shortened towards the
     zone's corners by ``C_lb = sqrt((f / f_max)^2 + (1 - sqrt(b_v,eff / b_v))^2 (1 -
     (f / f_max)^2))``: ``l_b = l_b0 (1 - C_lb)`` (Eq. A.26, A.35, A.36). Lines beyond
     ``|f| >= f_max`` have zero length.
@@ -207,7 +209,9 @@ def contact_line_length(v: VirtualGears, f: float) -> float:
         return 0.0
     # the line's ends on the zone's boundary (Eq. A.27 to A.32): a straight bevel's line
     # spans the face, an inclined one crosses the path of contact over g_va / sin(beta_vb)
-    l_b0 = be if bvb == 0.0 else g / math.sin(bvb)
+    # -- or, where that is longer, the effective face over b_v,eff / cos(beta_vb)
+    # (narrow faces, eps_vbeta < 1: our reading, docs/assumptions.md)
+    l_b0 = be if bvb == 0.0 else min(g / math.sin(bvb), be / math.cos(bvb))
     k = 1.0 - math.sqrt(be / v.b_v)
     r2 = (f / f_max) ** 2
     c_lb = math.sqrt(r2 + k * k * (1.0 - r2))
