@@ -193,3 +193,11 @@ def test_bevel_method_and_mounting_checked():
     assert r.value("K_Hbeta") == pytest.approx(1.5 * r.value("K_Hbeta-be"))
     for sym in ("Z_M-B", "Z_LS", "Z_KP", "Y_BS", "Y_LS", "Y_eps", "l_bm", "rho_rel"):
         assert any(f.symbol == sym and "ISO 10300" in f.clause for f in r.factors), sym
+
+
+def test_nutation_face_load_factor_is_no_input():
+    from reducerlab.rating.material import RatingConditions
+
+    d = load_design(example_dir() / "nutation_surface.toml")
+    with pytest.raises(ReducerlabError, match=r"K_Hbeta .*K_Hbeta-C"):
+        load_capacity(d, conditions=RatingConditions(K_Hbeta=1.3))

@@ -227,6 +227,12 @@ def _nutation(
     from ..rating.bevel import rate_bevel_pair
     from .torque_flow import torque_flow
 
+    if c.K_Hbeta != RatingConditions().K_Hbeta:
+        raise ReducerlabError(
+            "K_Hbeta (--khbeta): the nutation pairs' face load factor is ISO 10300-1's "
+            "K_Hbeta-C = 1.5 K_Hbeta-be of the mounting (method B1), not an input; "
+            f"leave it at its default {RatingConditions().K_Hbeta:g}"
+        )
     sf = design.surface
     if sf is None:
         raise ReducerlabError(
