@@ -201,3 +201,26 @@ def test_nutation_face_load_factor_is_no_input():
     d = load_design(example_dir() / "nutation_surface.toml")
     with pytest.raises(ReducerlabError, match=r"K_Hbeta .*K_Hbeta-C"):
         load_capacity(d, conditions=RatingConditions(K_Hbeta=1.3))
+
+
+def test_dynamic_factor_joins_its_sectors():
+    # ISO 10300-1 K_v-B: the intermediate sector (Eq. 20) interpolates between the main
+    # resonance value at N = 1.25 and the supercritical one at N = 1.5, so K_v is
+    # continuous there; below N = 0.75 it grows linearly from 1 (Eq. 15)
+    from reducerlab.rating import iso10300_1 as p1
+
+    dm = (0.055, 0.153)
+    args = dict(
+        pinion_teeth=14, mean_diameters=dm, normal_pressure_angle=A, force=1e4, K_A=1.1,
+        face_width=0.0254, pitch_deviation=26e-6, eps_vg=2.39,
+    )  # fmt: skip
+    m1, m2 = (math.pi * 7860.0 * d**2 / (8 * math.cos(A) ** 2) for d in dm)
+    w_e = math.sqrt(20e9 / (m1 * m2 / (m1 + m2))) / 14  # N = 1 (C_F = 1 at this load)
+
+    def kv(n):
+        return p1.dynamic_factor(speed=n * w_e, **args)
+
+    eps = 1e-9
+    assert kv(1.25 - eps) == pytest.approx(kv(1.25 + eps), abs=1e-7)
+    assert kv(1.5 - eps) == pytest.approx(kv(1.5 + eps), abs=1e-7)
+    assert kv(0.5) - 1 == pytest.approx(2 * (kv(0.25) - 1), rel=1e-12)

@@ -308,7 +308,7 @@ def dynamic_factor(
     normal_pressure_angle: float,
     force: float,
     K_A: float,
-    effective_face_width: float,
+    face_width: float,
     pitch_deviation: float,
     eps_vg: float,
     density: float = 7860.0,
@@ -320,9 +320,9 @@ def dynamic_factor(
     N/(mm um) (Eq. 11), the pinion's resonance speed ``omega_E1 = sqrt(c_gamma / m_red)
     / z_1`` (Eq. 9 in rad/s), ``N = omega_1 / omega_E1`` (Eq. 8); with ``c' = 14 C_F``
     N/(mm um) (Eq. 18) and ``f_p,eff = f_pt - y_alpha`` (Eq. 17): ``K_v = N K + 1``,
-    ``K = b_eff f_p,eff c' / (F K_A) c_v12 + c_v3`` (sub-critical, ``N <= 0.75``, Eq. 15,
-    16); ``K_v = c_v12 X + c_v4 + 1`` (main resonance, Eq. 19); linear between 1.25 and 1.5
-    (Eq. 20); ``c_v56 X + c_v7`` above (Eq. 21), ``X = b_eff f_p,eff c' / (F K_A)``.
+    ``K = X c_v12 + c_v3`` (sub-critical, ``N <= 0.75``, Eq. 15, 16); ``K_v = c_v12 X + c_v4
+    + 1`` (main resonance, Eq. 19); linear between 1.25 and 1.5 (Eq. 20); ``c_v56 X + c_v7
+    + 1`` above (Eq. 21), ``X = b_v f_p,eff c' / (F K_A)``, ``c_v`` of Table 3.
 
     Parameters
     ----------
@@ -338,8 +338,9 @@ def dynamic_factor(
         Tangential force of the virtual gears ``F_vmt`` (N).
     K_A : float
         Application factor.
-    effective_face_width : float
-        ``b_v,eff`` (m).
+    face_width : float
+        ``b_v`` (m): the face width of ``X`` and ``C_F`` (with ``b_v,eff`` in their place
+        sample 1 of ISO/TR 10300-30 gives 1.018, not its printed 1.020).
     pitch_deviation : float
         Single pitch deviation ``f_pt`` (m), the wheel's (ISO 10300-1 9.3.1).
     eps_vg : float
@@ -350,7 +351,7 @@ def dynamic_factor(
     ca2 = math.cos(normal_pressure_angle) ** 2
     m1, m2 = (math.pi * _pos("density", density) * d**2 / (8 * ca2) for d in mean_diameters)
     m_red = m1 * m2 / (m1 + m2)
-    b = _pos("effective_face_width", effective_face_width)
+    b = _pos("face_width", face_width)
     load = _pos("force", force) * _pos("K_A", K_A)
     cf = _c_f(load / b)
     c_gamma, c_prime = 20e9 * cf, 14e9 * cf  # N/(mm um) -> Pa
