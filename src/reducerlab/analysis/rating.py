@@ -10,9 +10,11 @@
   (:func:`reducerlab.rating.cylindrical.rate_internal_pair`), the load the planet's
   torque (the drive's output torque: the planet drives the output through the W
   mechanism) at the planet's speed relative to the carrier;
-* a ``nutation`` design's bevel pairs on their ISO 10300-1:2014 virtual cylindrical
-  gears, rated by the ISO 6336 method B chain (:func:`reducerlab.rating.bevel.rate_bevel_pair`;
-  not ISO 10300 method B1: its bevel factors Z_M-B, Z_LS, Z_K, Y_LS are not applied),
+* a ``nutation`` design's bevel pairs by ISO 10300-1/-2/-3:2023 method B1
+  (:func:`reducerlab.rating.bevel.rate_bevel_pair`: virtual cylindrical gears with
+  ``l_bm`` and ``rho_rel``, ``Z_M-B``, ``Z_LS``, ``Z_KP``, ``Y_Fa``, ``Y_Sa``, ``Y_eps``,
+  ``Y_BS``, ``Y_LS``, ``K_Hbeta-C``; the internal pair's extensions in
+  ``docs/assumptions.md``),
   the load each pair's torque from the lossless torque flow.
 
 The result lists every factor with its value, unit and clause, and ``S_H``, ``S_F`` per
@@ -159,7 +161,8 @@ def load_capacity(
     power: float | None = None,
     conditions: RatingConditions | None = None,
 ) -> RatingResult:
-    """Rate every gear pair of ``design`` (ISO 6336-2/-3:2019, ISO 10300:2014).
+    """Rate every gear pair of ``design`` (ISO 6336-2/-3:2019; ISO 10300-1/-2/-3:2023
+    method B1 for bevel pairs).
 
     Parameters
     ----------
@@ -219,11 +222,17 @@ def _nutation(
     torque: float | None,
     power: float | None,
 ) -> dict[str, tuple[PairRating, tuple[str, str]]]:
-    """Each bevel pair of a nutation design on its virtual cylindrical gears
+    """Each bevel pair of a nutation design by ISO 10300 method B1
     (:func:`reducerlab.rating.bevel.rate_bevel_pair`), loaded by the torque flow."""
     from ..rating.bevel import rate_bevel_pair
     from .torque_flow import torque_flow
 
+    if c.K_Hbeta != RatingConditions().K_Hbeta:
+        raise ReducerlabError(
+            "K_Hbeta (--khbeta): the nutation pairs' face load factor is ISO 10300-1's "
+            "K_Hbeta-C = 1.5 K_Hbeta-be of the mounting (method B1), not an input; "
+            f"leave it at its default {RatingConditions().K_Hbeta:g}"
+        )
     sf = design.surface
     if sf is None:
         raise ReducerlabError(

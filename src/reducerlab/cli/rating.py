@@ -1,5 +1,6 @@
 """``reducerlab rating``: load capacity of a design's gear pairs, pitting and tooth root
-safety factors (ISO 6336-2/-3:2019 method B, ISO 10300:2014 method B1; issue 29)."""
+safety factors (ISO 6336-2/-3:2019 method B; ISO 10300-1/-2/-3:2023 method B1 for the
+bevel pairs, every factor listed with its clause; issue 29)."""
 
 from __future__ import annotations
 
@@ -42,7 +43,12 @@ def rating(
     ka: Annotated[str | None, typer.Option("--ka", help="Application factor K_A (1.0).")] = None,
     kv: Annotated[str | None, typer.Option("--kv", help="Dynamic factor K_v (1.1).")] = None,
     khbeta: Annotated[
-        str | None, typer.Option("--khbeta", help="Face load factor K_Hbeta (1.15).")
+        str | None,
+        typer.Option(
+            "--khbeta",
+            help="Face load factor K_Hbeta (1.15; cylindrical pairs only: a nutation "
+            "design's is ISO 10300-1's K_Hbeta-C).",
+        ),
     ] = None,
     khalpha: Annotated[
         str | None, typer.Option("--khalpha", help="Transverse load factor K_Halpha (1.0).")

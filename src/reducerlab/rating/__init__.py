@@ -12,8 +12,12 @@
   conditions with their documented defaults;
 * :mod:`~reducerlab.rating.cylindrical`: the whole chain for spur, internal and
   (virtual) helical pairs, every factor with its clause;
-* :mod:`~reducerlab.rating.bevel`: bevel pairs on their ISO 10300-1 virtual
-  cylindrical gears (not ISO 10300 method B1, see the module).
+* :mod:`~reducerlab.rating.iso10300_1`, :mod:`~reducerlab.rating.iso10300_2`,
+  :mod:`~reducerlab.rating.iso10300_3`: ISO 10300:2023 method B1 for bevel gears without
+  offset (virtual gears, ``l_bm``, ``rho_rel``, ``K_v-B``, ``K_Hbeta-C``, ``K_Halpha-B``;
+  ``Z_M-B``, ``Z_LS``, ``Z_KP``; ``Y_Fa``, ``Y_Sa``, ``Y_eps``, ``Y_BS``, ``Y_LS``);
+* :mod:`~reducerlab.rating.bevel`, :mod:`~reducerlab.rating.bevel_b1`: a bevel pair by
+  method B1 (or its virtual cylindrical gears by ISO 6336, ``method="iso6336"``).
 
 Layer: stands on ``geometry/`` (and ``errors``); the analysis and command layers stand
 on it.

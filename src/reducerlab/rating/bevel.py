@@ -1,35 +1,44 @@
-"""Load capacity of a bevel pair through its virtual cylindrical gears (ISO 10300-1:2014
-virtual gears, rated by ISO 6336-2/-3:2019 method B).
+"""Load capacity of a bevel pair: ISO 10300-1/-2/-3:2023 method B1 (default) or, on
+request, the ISO 10300-1 virtual cylindrical gears rated by ISO 6336-2/-3:2019 method B.
 
-**What this is, and what it is not.** ISO 10300:2014 rates bevel gears on virtual
-cylindrical gears (ISO 10300-1, clause 6 and Annex A): the mean section's transverse
-virtual gears ``d_v = d_m / cos(delta)``, ``z_v = z / cos(delta)``, with the mean spiral
-angle ``beta_m`` as helix angle. This module builds exactly those virtual gears and
-rates them with the cylindrical gear equations of ISO 6336 method B (the principle of
-ISO 10300 method B). It does **not** apply the bevel-specific factors of ISO 10300-2/-3
-method B1 (mid-zone factor ``Z_M-B``, load sharing factor ``Z_LS``, bevel gear factor
-``Z_K``, length of the middle contact line ``l_bm`` with the inclined contact lines,
-``Y_LS``, ``Y_BS``): their equations were not available to this implementation. The
-result is therefore an approximation of an ISO 10300 rating, labelled so in every
-table row (``docs/assumptions.md``, "Load capacity of the nutation pairs").
+``rate_bevel_pair(..., method="B1")`` (:func:`reducerlab.rating.bevel_b1.rate_b1`)
+applies the bevel-specific factors of method B1 for bevel gears without hypoid offset:
+the virtual cylindrical gears of ISO 10300-1 Annex A with the length of the middle
+contact line ``l_bm`` (inclined contact lines) and the relative curvature ``rho_rel``;
+the mid-zone factor ``Z_M-B``, load sharing factor ``Z_LS``, bevel gear factor ``Z_KP``
+and ``Z_Hyp`` of ISO 10300-2; the tooth form at the tip (``Y_Fa``, ``Y_Sa``), ``Y_eps``,
+``Y_BS`` and ``Y_LS`` of ISO 10300-3; ``K_Hbeta-C = 1.5 K_Hbeta-be`` and ``K_Fbeta =
+K_Hbeta / K_F0`` of ISO 10300-1. The equations are in :mod:`~reducerlab.rating.iso10300_1`,
+:mod:`~reducerlab.rating.iso10300_2`, :mod:`~reducerlab.rating.iso10300_3`, checked against
+ISO/TR 10300-30:2024 sample 1 (``tests/published/test_iso10300_example.py``).
+``K_v`` and ``K_Halpha`` stay inputs (``RatingConditions``): the designs hold no pitch
+deviations, which their method B needs (the functions are there,
+:func:`iso10300_1.dynamic_factor`, :func:`iso10300_1.transverse_load_factor`).
+
+``method="iso6336"`` keeps the earlier approximation: the mean section's virtual gears
+``d_v = d_m / cos(delta)``, ``z_v = z / cos(delta)``, helix angle ``beta_m``, rated by the
+cylindrical gear equations of ISO 6336 method B (``Z_H``, ``Z_eps``, ``Z_beta``, load at
+the outer point of single contact) -- no ``Z_M-B``, ``Z_LS``, ``Y_LS``, ``Y_BS``.
 
 For the nutation drive's pairs (an internal bevel gear, the nutating gear, around an
 external one, axes ``Sigma`` = the nutation angle apart, both cone angles below 90 deg)
 the virtual pair is an **internal** helical pair: the external bevel gear's virtual gear
 inside the internal one's (``z_v,i - z_v,e`` small). ISO 10300 covers external bevel
-and hypoid gears; internal bevel pairs lie outside its scope, which this
-approximation accepts.
+and hypoid gears; internal bevel pairs lie outside its scope. What method B1 needs and
+does not define for them is chosen in ``docs/assumptions.md`` ("Load capacity of the
+nutation pairs") and named in the result's label: the concave relative curvature, the
+internal gear's ``Z_M-B`` bracket and tooth form (the ISO 6336-3 rack, load at the tip),
+and ``Z_LS = Y_LS = 1`` where ``eps_vbeta < 1`` (the nutation examples' 0.57).
 
-Scope of ISO 10300-2:2014 that the nutation pairs keep: virtual transverse contact
-ratio ``eps_va < 2`` (checked), profile shift sum zero (no shift at all), and within the
-range where the standard asks for confirmation by experience beyond it (mean spiral
-angle <= 45 deg, effective pressure angle <= 30 deg, face width <= 13 m_mn: the examples'
-25 deg, 20 deg and 5 m_mn).
+Scope of ISO 10300-2 that the nutation pairs keep: virtual transverse contact ratio
+``eps_va < 2`` (checked), no profile shift, and within the range where the standard asks
+for confirmation by experience beyond it (mean spiral angle <= 45 deg, effective pressure
+angle <= 30 deg, face width <= 13 m_mn: the examples' 25 deg, 20 deg and 5 m_mn).
 
 Assumptions: zero profile shift and the ISO 53 depths of the tooth surfaces
 (``geometry.profiles.InvoluteProfile``: ``h_a* = 1``, ``h_f* = 1.25``, ``rho_f* =
 0.38``) at the mean section, no tooth thickness modification, effective pressure angle
-equal to the normal pressure angle (no limit pressure angle), full face width loaded.
+equal to the normal pressure angle (no limit pressure angle).
 """
 
 from __future__ import annotations
@@ -38,10 +47,14 @@ import math
 
 from ..errors import ReducerlabError
 from . import iso6336_3 as p3
+from .bevel_b1 import rate_b1
 from .cylindrical import DEFAULTS, STEEL, MeshData, PairRating, rate_mesh
 from .material import GearMaterial, RatingConditions
 
-__all__ = ["rate_bevel_pair", "virtual_pair"]
+__all__ = ["METHODS", "rate_bevel_pair", "virtual_pair"]
+
+#: the rating methods of :func:`rate_bevel_pair`
+METHODS = ("B1", "iso6336")
 
 
 def virtual_pair(
@@ -103,8 +116,12 @@ def rate_bevel_pair(
     internal: bool = True,
     materials: tuple[GearMaterial, GearMaterial] = (STEEL, STEEL),
     conditions: RatingConditions = DEFAULTS,
+    method: str = "B1",
+    mounting: str = "both-straddle",
+    verification: str = "light-load-test",
 ) -> PairRating:
-    """Rate a bevel pair on its virtual cylindrical gears (see the module docstring).
+    """Rate a bevel pair: ISO 10300 method B1 or its virtual cylindrical gears by ISO 6336
+    (see the module docstring).
 
     Parameters
     ----------
@@ -121,7 +138,27 @@ def rate_bevel_pair(
     speed : float
         Gear 1's speed relative to the other gear's axis frame (rad/s; the nutation
         drive: the mesh frequency over the teeth).
+    method : str
+        ``"B1"``: ISO 10300-1/-2/-3:2023 method B1; ``"iso6336"``: the virtual
+        cylindrical gears rated by ISO 6336-2/-3:2019 method B.
+    mounting, verification : str
+        Method B1's mounting factor ``K_Hbeta-be`` (ISO 10300-1 Table 4): the mounting
+        (``both-straddle``, ``one-cantilever``, ``both-cantilever``) and the contact
+        pattern check (``full-load``, ``light-load-test``, ``light-load-assembly``).
     """
+    if method not in METHODS:
+        raise ReducerlabError(f"method: one of {', '.join(METHODS)}; got {method!r}")
+    if method == "B1":
+        for name, val in (("torque", torque), ("speed", speed), ("face_width", face_width)):
+            if not (math.isfinite(val) and val > 0):
+                raise ReducerlabError(f"{name}: must be a finite number > 0; got {val!r}")
+        return rate_b1(
+            teeth=teeth, mean_radii=mean_radii, cone_angles=cone_angles,
+            normal_module=normal_module, spiral_angle=spiral_angle,
+            pressure_angle=pressure_angle, face_width=face_width, torque=torque, speed=speed,
+            internal=internal, materials=materials, conditions=conditions,
+            mounting=mounting, verification=verification,
+        )  # fmt: skip
     v = virtual_pair(
         teeth=teeth, mean_radii=mean_radii, cone_angles=cone_angles,
         normal_module=normal_module, spiral_angle=spiral_angle,
@@ -189,5 +226,5 @@ def rate_bevel_pair(
         r.S_F,
         r.factors,
         "ISO 10300-1:2014 virtual cylindrical gears rated by ISO 6336-2/-3:2019 method B "
-        "(not ISO 10300 method B1: no Z_M-B, Z_LS, Z_K, Y_LS)",
+        "(method iso6336, not ISO 10300 method B1: no Z_M-B, Z_LS, Z_KP, Y_LS, Y_BS)",
     )

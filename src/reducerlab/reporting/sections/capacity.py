@@ -80,7 +80,7 @@ def _beside(rating: Any, contacts: list[Any]) -> list[tuple[Any, ...]]:
 
 
 def capacity_section(ctx: Context) -> Section | None:
-    """Safety factors per ISO 6336-2/-3 (ISO 10300 virtual gears for bevel pairs) and the
+    """Safety factors per ISO 6336-2/-3 (ISO 10300 method B1 for bevel pairs) and the
     LTCA's stresses beside them."""
     rating, why = _rating(ctx)
     if rating is None:
