@@ -41,3 +41,71 @@ def test_the_plan_names_every_stage_of_the_flagship():
 def test_a_design_with_surfaces_needs_a_load(tmp_path):
     with pytest.raises(ReducerlabError, match=r"no load at its operating point.*output_torque"):
         run(example_dir() / "nutation_surface.toml", tmp_path, overrides=["output_torque=0"])
+
+
+def test_the_plan_names_the_optional_stages_of_each_pair():
+    d = load_design(example_dir() / "nutation_double_sided.toml")
+    names = [name for _, name in run_plan(d, te_sweep=True, layout=True)]
+    assert names[:10] == ["compliance gear 2", "compliance gear 1", "contact pair 1",
+                          "te sweep pair 1", "layout pair 1",
+                          "compliance gear 4", "compliance gear 3", "contact pair 2",
+                          "te sweep pair 2", "layout pair 2"]  # fmt: skip
+    assert "te sweep pair 1" not in [name for _, name in run_plan(d)]
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        ({"te_sweep": 1}, r"te_sweep\.loads: must be an integer in 2\.\.41; got 1"),
+        ({"te_sweep": True}, r"te_sweep: must be a number of torques"),
+        ({"te_sweep": 4.0}, r"te_sweep: must be a number of torques"),
+        ({"layout": "yes"}, r"layout: must be true, false or a LayoutSettings"),
+    ],
+)
+def test_bad_optional_stages_are_refused_naming_the_argument(tmp_path, kw, match):
+    with pytest.raises(ReducerlabError, match=match):
+        run(example_dir() / "nutation_surface.toml", tmp_path / "out", **kw)
+    assert not (tmp_path / "out").exists()  # refused before any work
+
+
+def test_bad_settings_of_the_optional_stages_are_refused():
+    from reducerlab.pipeline import ContactSettings, LayoutSettings, SweepSettings
+
+    with pytest.raises(ReducerlabError, match=r"te_sweep\.top: must be a number in \(0, 3\]"):
+        SweepSettings(top=4.0)
+    with pytest.raises(ReducerlabError, match=r"te_sweep\.positions: must be an integer in 7\."):
+        SweepSettings(harmonics=3, positions=6)  # 3 mesh orders need 7 positions
+    with pytest.raises(ReducerlabError, match=r"layout\.grid: must be an integer in 2\.\.7"):
+        LayoutSettings(grid=9)
+    with pytest.raises(ReducerlabError, match=r"layout\.pressure_limit: must be a number > 0"):
+        LayoutSettings(pressure_limit=-1.0)
+    with pytest.raises(ReducerlabError, match=r"root_stress: must be true or false"):
+        ContactSettings(root_stress="yes")  # type: ignore[arg-type]
+
+
+def test_optional_stages_need_gear_pairs_and_fit_their_work_bound(tmp_path):
+    from reducerlab.pipeline import SweepSettings
+
+    with pytest.raises(ReducerlabError, match=r"te_sweep: needs a design with tooth surfaces"):
+        run(example_dir() / "khv.toml", tmp_path / "a", te_sweep=4)
+    with pytest.raises(ReducerlabError, match=r"layout: needs a design with tooth surfaces"):
+        run(example_dir() / "khv.toml", tmp_path / "b", layout=True)
+    # 41 torques x 200 positions = 8200 solves > MAX_SOLVES (4000): refused by the
+    # estimate before the FE models are built
+    with pytest.raises(ReducerlabError, match=r"te sweep: 200 positions x 41 torques"):
+        run(example_dir() / "nutation_surface.toml", tmp_path / "c",
+            te_sweep=SweepSettings(loads=41, positions=200))  # fmt: skip
+    assert not (tmp_path / "c").exists()
+
+
+def test_the_cli_refuses_optional_stages_on_a_drive_without_pairs(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+
+    args = ["run", str(example_dir() / "khv.toml"), "-o", str(tmp_path / "o"), "--te-sweep", "4"]
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 2
+    assert "te_sweep: needs a design with tooth surfaces" in r.output
+    r = CliRunner().invoke(app, [*args[:4], "--te-sweep", "1"])
+    assert r.exit_code == 2 and "--te-sweep" in r.output
