@@ -289,7 +289,8 @@ def optional(first):
     seen: list[str] = []
 
     def sink(text: str, _fraction: float) -> None:
-        partial = folder / "te_sweep-pair1.partial.txt"
+        stem = "layout" if text.startswith("layout") else "te_sweep"
+        partial = folder / f"{stem}-pair1.partial.txt"
         seen.append(text + (" [partial]" if partial.is_file() else ""))
 
     res = run(EXAMPLE, folder, cache=out / "cache", te_sweep=SWEEP, layout=LAYOUT,
@@ -307,8 +308,9 @@ def test_the_optional_stages_run_on_the_cached_contact(first, optional):
     assert names.index("contact pair 1") < names.index("te sweep pair 1")
     # progress through the run's sink; the sweep's partial table while it ran, then gone
     assert any(t.startswith("te sweep pair 1: ") and t.endswith("[partial]") for t in seen)
-    assert any(t.startswith("layout pair 1: ") for t in seen)
+    assert any(t.startswith("layout pair 1: ") and t.endswith("[partial]") for t in seen)
     assert not (folder / "te_sweep-pair1.partial.txt").exists()
+    assert not (folder / "layout-pair1.partial.txt").exists()
     for f in ("te_sweep-pair1.nc", "te_sweep-pair1.txt", "layout-pair1.nc", "layout-pair1.txt"):
         assert (folder / f).is_file(), f
         assert folder / f in res.files

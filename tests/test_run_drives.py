@@ -109,3 +109,53 @@ def test_the_cli_refuses_optional_stages_on_a_drive_without_pairs(tmp_path):
     assert "te_sweep: needs a design with tooth surfaces" in r.output
     r = CliRunner().invoke(app, [*args[:4], "--te-sweep", "1"])
     assert r.exit_code == 2 and "--te-sweep" in r.output
+
+
+@pytest.mark.parametrize("value", ["5 kg", "-1 MPa", "nan"])
+def test_the_cli_refuses_a_bad_layout_pressure_limit(tmp_path, value):
+    from typer.testing import CliRunner
+
+    from reducerlab.cli import app
+
+    args = ["run", str(example_dir() / "nutation_surface.toml"), "-o", str(tmp_path / "o"),
+            "--layout", "--pressure-limit", value]  # fmt: skip
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 2, r.output
+    assert "--pressure-limit" in r.output or "layout.pressure_limit" in r.output
+    assert not list((tmp_path / "o").glob("*.nc"))  # refused before any stage
+
+
+def test_root_stress_reasons_judge_the_static_peak_against_sigma_fp():
+    """ISO 6336-3:2019 Eq. 3-5: sigma_F = sigma_F0 K_A K_v K_Fbeta K_Falpha <= sigma_FP,
+    every factor >= 1: a static FE peak above sigma_FP is a risk, below it a note (never
+    ok); the threshold is the smaller sigma_FP of the pair's gears."""
+    import numpy as np
+    import xarray as xr
+
+    from reducerlab.analysis.contact_rootstress import root_stress_reasons
+
+    class Contact:
+        def __init__(self, peak):
+            self.data = xr.Dataset(
+                {"root_stress": (("gear",), np.array([peak, 0.5 * peak]))},
+                attrs={"root_stress_peak": peak, "root_stress_peak_gear": "external",
+                       "root_stress_peak_tooth": 0},
+            )  # fmt: skip
+
+    class Rating:
+        def pairs(self):
+            return {"pair 1": {}}
+
+        def value(self, symbol, gear, pair):
+            assert symbol == "sigma_FP" and pair == "pair 1"
+            return {"1": 500e6, "2": 400e6}[gear]
+
+    (low,) = root_stress_reasons({1: Contact(399e6)}, Rating())
+    (high,) = root_stress_reasons({1: Contact(401e6)}, Rating())
+    assert (low["status"], high["status"]) == ("note", "risk")
+    assert low["threshold"] == high["threshold"] == 400e6
+    (bare,) = root_stress_reasons({1: Contact(401e6)}, None)
+    assert bare["status"] == "note" and bare["threshold"] is None
+    plain = Contact(1.0)
+    plain.data = plain.data.drop_vars("root_stress")
+    assert root_stress_reasons({1: plain}, Rating()) == []  # no root stress: no reason

@@ -473,10 +473,12 @@ def layout_stage(
     layout: LayoutSettings,
     compliance: tuple[Any, Any],
     report: Report = _quiet,
+    partial: Callable[[Any], None] | None = None,
 ) -> tuple[Any, Stage]:
     """Lead crowning and tip relief of pair ``pair`` minimising the TE peak-to-peak at
     ``torque`` (N m on the external gear), on the contact stage's tooth compliance (of
-    the unmodified teeth: a layout's candidates replace the design's modifications)."""
+    the unmodified teeth: a layout's candidates replace the design's modifications).
+    ``partial(result)`` after each candidate (the candidates evaluated so far)."""
     from ..analysis.layout import modification_layout
 
     inputs = {
@@ -505,6 +507,7 @@ def layout_stage(
         edge_limit=layout.edge_limit, tooth_size=settings.tooth_size, compliance=compliance,
         stage=lambda s: report(f"{name}: {s}", 0.0),
         progress=lambda done, _n: report(f"{name}: {done} candidates", min(1.0, done / total)),
+        partial=partial,
     )  # fmt: skip
     store.put("layout", key, inputs, res)
     return res, Stage(name, key, "computed", time.perf_counter() - t0)
