@@ -71,8 +71,8 @@ def run_cmd(
         typer.Option(
             "--root-stress/--no-root-stress",
             help="FE tooth-root stress of both gears at every contact position (into the "
-            "verdict and the report's load capacity; about a fifth more FE tooth-model "
-            "time, docs/run.md).",
+            "verdict and the report's load capacity; 15-30 % more tooth-model and "
+            "contact time, docs/run.md).",
         ),
     ] = True,
     te_sweep: Annotated[

@@ -97,7 +97,9 @@ class ContactSettings:
         Also the FE tooth-root stress of both gears at every position
         (``contact_analysis(root_stress=True)``): the tooth models are built with their
         fillet stress influence (one backward substitution per load bump more) and each
-        position costs one influence-matrix product more (``docs/run.md``: measured).
+        position costs one influence-matrix product and gear B's flank parameters of
+        the loaded cells more (``docs/run.md``: measured, 15-30 % of the tooth-model and
+        contact stages).
     """
 
     positions: int = 24
