@@ -6,7 +6,11 @@ Checked: every link ran and handed its output on (the torque flow's torque in th
 contact, the contact's k(t) in the model, the bodies' masses in the consistency
 reasons, every piece of evidence in one verdict, one report holding every section);
 a second run of the unchanged design reads every stage; a changed damping recomputes
-the dynamics only; the CLI, the API and verdict.json give the same verdict. The full
+the dynamics only; the CLI, the API and verdict.json give the same verdict. Issue 29:
+the contact carries the FE tooth-root stress (that of ``contact_analysis(root_stress=
+True)``) into the verdict and the report's load capacity; the optional torque sweep and
+modification layout run on the contact's tooth models, are cached, and land in the
+folder and the report. The full
 default-grid chain of the double-sided drive is timed in ``benchmarks/run_chain.py``.
 """
 
@@ -20,7 +24,7 @@ from typer.testing import CliRunner
 from reducerlab.analysis.torque_flow import torque_flow
 from reducerlab.cli import app
 from reducerlab.examples import example_dir
-from reducerlab.pipeline import ContactSettings, run
+from reducerlab.pipeline import ContactSettings, LayoutSettings, SweepSettings, run
 
 EXAMPLE = example_dir() / "nutation_surface.toml"
 M_N = 2e-3  # the example's normal module
@@ -237,3 +241,102 @@ def test_report_with_a_contact_puts_its_stiffness_in_the_dynamics(first):
     other = ["surface.profile=double-arc", "normal_pressure_angle=24 deg"]
     with pytest.raises(ReducerlabError, match=r"normal_pressure_angle.*surface\.profile"):
         report(EXAMPLE, overrides=other, results=[out / "contact-pair1.nc"], only=["design"])
+
+
+def test_the_contact_carries_the_root_stress_of_contact_analysis(first):
+    """The run's root stress is ``contact_analysis(root_stress=True)``'s on the same
+    inputs (the run's tooth models, torque and grid): the same solves, so equal to the
+    rounding of the two runs' process split (rtol 1e-9)."""
+    import numpy as np
+
+    from reducerlab.analysis.contact import contact_analysis
+    from reducerlab.results import Result
+
+    out, res = first
+    c = res.contacts[1]
+    assert c.compliance is not None and all(x.fillet is not None for x in c.compliance)
+    direct = contact_analysis(
+        res.design, 1, torque=c.attrs["torque_external"], positions=CONTACT.positions,
+        order=CONTACT.order, cell=CONTACT.cell, tooth_size=CONTACT.tooth_size,
+        compliance=c.compliance, root_stress=True, workers=1,
+    )  # fmt: skip
+    for name in ("root_stress", "root_compressive", "root_von_mises"):
+        np.testing.assert_allclose(c.data[name].values, direct.data[name].values, rtol=1e-9)
+    assert c.attrs["root_stress_peak"] == pytest.approx(direct.attrs["root_stress_peak"], 1e-9)
+    saved = Result.load(out / "contact-pair1.nc")
+    np.testing.assert_array_equal(saved.data["root_stress"].values, c.data["root_stress"].values)
+    # the verdict and the report's load capacity see it
+    (why,) = [r for r in res.verdict.reasons if r["rule"] == "root-stress"]
+    assert why["value"] == pytest.approx(c.attrs["root_stress_peak"])
+    assert why["status"] in ("note", "risk")
+    assert (why["status"] == "risk") == (why["threshold"] is not None
+                                         and why["value"] > why["threshold"])  # fmt: skip
+    cap = {s.id: s for s in res.built.sections}["capacity"]
+    rows = [r for r in cap.values["beside"] if r[1] == "tooth-root stress (MPa)"]
+    assert len(rows) == 1 and rows[0][3] == pytest.approx(c.attrs["root_stress_peak"] * 1e-6)
+
+
+# the optional stages at CI size: 4 torques (0, 0.5, 1, 1.5 x the operating torque) at
+# the contact's 15 positions; 2 x 2 layout candidates of 4 positions, no refinement
+SWEEP = SweepSettings(loads=4)
+LAYOUT = LayoutSettings(grid=2, refine=0, positions=4)
+
+
+@pytest.fixture(scope="module")
+def optional(first):
+    out, _ = first
+    folder = out.parent / "optional"
+    seen: list[str] = []
+
+    def sink(text: str, _fraction: float) -> None:
+        stem = "layout" if text.startswith("layout") else "te_sweep"
+        partial = folder / f"{stem}-pair1.partial.txt"
+        seen.append(text + (" [partial]" if partial.is_file() else ""))
+
+    res = run(EXAMPLE, folder, cache=out / "cache", te_sweep=SWEEP, layout=LAYOUT,
+              progress=sink, **KW)  # fmt: skip
+    return folder, res, seen
+
+
+def test_the_optional_stages_run_on_the_cached_contact(first, optional):
+    _, base = first
+    folder, res, seen = optional
+    status = {s.name: s.status for s in res.stages}
+    assert status.pop("te sweep pair 1") == status.pop("layout pair 1") == "computed"
+    assert set(status.values()) == {"cached"}  # the FE models and the contact: read back
+    names = [s.name for s in res.stages]
+    assert names.index("contact pair 1") < names.index("te sweep pair 1")
+    # progress through the run's sink; the sweep's partial table while it ran, then gone
+    assert any(t.startswith("te sweep pair 1: ") and t.endswith("[partial]") for t in seen)
+    assert any(t.startswith("layout pair 1: ") and t.endswith("[partial]") for t in seen)
+    assert not (folder / "te_sweep-pair1.partial.txt").exists()
+    assert not (folder / "layout-pair1.partial.txt").exists()
+    for f in ("te_sweep-pair1.nc", "te_sweep-pair1.txt", "layout-pair1.nc", "layout-pair1.txt"):
+        assert (folder / f).is_file(), f
+        assert folder / f in res.files
+    # the sweep's row at the operating torque is the run's contact (the same cell and
+    # tooth models: equal to round-off, analysis.te_sweep), the layout at that torque
+    sw, c = res.te_sweeps[1], base.contacts[1]
+    T = c.attrs["torque_external"]
+    assert sw.torques == pytest.approx([0, 0.5 * T, T, 1.5 * T], rel=1e-12)
+    assert sw.data["te_rotation"].values[2] == pytest.approx(c.data["loaded_te"].values, 1e-6)
+    assert res.layouts[1].data.attrs["design_torque"] == pytest.approx(T, rel=1e-12)
+    assert res.layouts[1].data.sizes["candidate"] == 4
+    html = res.report.read_text(encoding="utf-8")
+    assert "loaded transmission error against torque" in html
+    assert "flank modification layout" in html
+
+
+def test_the_optional_stages_are_cached(first, optional):
+    out, _ = first
+    folder, res, _ = optional
+    again = run(EXAMPLE, folder, cache=out / "cache", te_sweep=SWEEP, layout=LAYOUT, **KW)
+    assert {s.status for s in again.stages} == {"cached"}
+    assert [s.key for s in again.stages] == [s.key for s in res.stages]
+    assert again.te_sweeps[1].peak_to_peak == pytest.approx(res.te_sweeps[1].peak_to_peak, 0)
+    # a changed sweep recomputes the sweep alone
+    other = run(EXAMPLE, out.parent / "other", cache=out / "cache", te_sweep=5, **KW,
+                write_report=False)  # fmt: skip
+    status = {s.name: s.status for s in other.stages}
+    assert status.pop("te sweep pair 1") == "computed"
+    assert set(status.values()) == {"cached"}

@@ -55,6 +55,10 @@ IGNORED = ("name", "description", "report", "check")
 RULES: dict[str, str] = {
     "body-modal": "reducerlab.analysis.gear_bodies:body_inputs",
     "contact": "reducerlab.analysis.gear_bodies:contact_inputs",
+    # a torque sweep and a modification layout read the pair's teeth as its contact does
+    # (their loads, grids and candidates are their own attributes)
+    "te-sweep": "reducerlab.analysis.gear_bodies:contact_inputs",
+    "layout": "reducerlab.analysis.gear_bodies:contact_inputs",
 }
 
 Rule = Callable[[Mapping[str, Any], Mapping[str, Any]], "list[str] | None"]

@@ -16,7 +16,13 @@ import numpy as np
 
 from ..errors import ReducerlabError
 
-__all__ = ["ROOT_VARIABLES", "add_root_stress", "check_root_compliance", "root_stress_lines"]
+__all__ = [
+    "ROOT_VARIABLES",
+    "add_root_stress",
+    "check_root_compliance",
+    "root_stress_lines",
+    "root_stress_reasons",
+]
 
 #: dataset variable, PairRootStress attribute, unit, description
 ROOT_VARIABLES = (
@@ -88,3 +94,70 @@ def root_stress_lines(ds: Any) -> list[str]:
         f"compressive side (opposite fillet): {np.nanmin(comp) / 1e6:.1f} MPa; fillet von "
         f"Mises up to {float(np.nanmax(ds['root_von_mises'].values)) / 1e6:.1f} MPa",
     ]
+
+
+def _permissible(rating: Any, index: int) -> float:
+    """The smaller permissible tooth-root stress ``sigma_FP`` (Pa) of the two gears of
+    the rating's pair ``index`` (0-based; the rating's first pair for a single-pair
+    rating); NaN when the rating has none."""
+    names = list(rating.pairs())
+    name = names[index] if index < len(names) else names[0]
+    values = []
+    for gear in ("1", "2"):
+        try:
+            values.append(rating.value("sigma_FP", gear, name))
+        except ReducerlabError:
+            continue
+    return min(values) if values else math.nan
+
+
+def root_stress_reasons(contacts: dict[int, Any], rating: Any = None) -> list[dict[str, Any]]:
+    """Reasons ``root-stress`` of the verdict: per contact result with the FE tooth-root
+    stress, its peak beside the rating's permissible root stress.
+
+    The FE peak is the static stress of the modelled teeth under the LTCA's load: the
+    load distribution over the face and between tooth pairs is in it, the application
+    and dynamic factors are not. ISO 6336-3:2019's criterion is ``sigma_F <= sigma_FP``
+    (Eq. 4-5) with ``sigma_F = sigma_F0 K_A K_v K_Fbeta K_Falpha`` (Eq. 3), and every
+    factor is at least 1, so a static FE peak above ``sigma_FP`` is a risk whatever the
+    factors; one below it is a ``note`` (the load factors could still raise it beyond),
+    never an ``ok`` (``docs/assumptions.md``).
+
+    Parameters
+    ----------
+    contacts : dict
+        Pair -> ContactResult; results without ``root_stress`` are passed over.
+    rating : RatingResult, optional
+        The design's rating (its ``sigma_FP`` of both gears of each pair; the smaller
+        is the threshold); without it the peaks are notes with no threshold.
+
+    Returns
+    -------
+    list of dict
+        One reason a pair: ``value`` the FE peak (Pa), ``threshold`` ``sigma_FP`` (Pa,
+        None without a rating), with ``pair`` and ``gear`` (``external`` or
+        ``internal``, the gear of the peak).
+    """
+    from .reasons import reason
+
+    out = []
+    for pair, res in sorted(contacts.items()):
+        a = res.data.attrs
+        if "root_stress" not in res.data or "root_stress_peak" not in a:
+            continue
+        peak, gear = float(a["root_stress_peak"]), str(a["root_stress_peak_gear"])
+        limit = math.nan if rating is None else _permissible(rating, int(pair) - 1)
+        where = f"pair {pair}, {gear} gear, tooth pair {a['root_stress_peak_tooth']}"
+        if not math.isfinite(limit):
+            text = f"FE tooth-root stress {peak / 1e6:.4g} MPa ({where}; static); not rated"
+            out.append(reason("root-stress", "note", text, peak, None, pair=int(pair),
+                              gear=gear))  # fmt: skip
+            continue
+        status = "risk" if peak > limit else "note"
+        rel = ">" if peak > limit else "<="
+        text = (
+            f"FE tooth-root stress {peak / 1e6:.4g} MPa {rel} sigma_FP = {limit / 1e6:.4g} MPa "
+            f"({where}; static, without K_A K_v)"
+        )
+        out.append(reason("root-stress", status, text, peak, limit, pair=int(pair), gear=gear))
+    return out

@@ -171,6 +171,7 @@ def modification_layout(
     compliance: tuple[Any, Any] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
+    partial: Callable[[LayoutResult], None] | None = None,
 ) -> LayoutResult:
     """Lead crowning and tip relief minimising the TE peak-to-peak at the design load.
 
@@ -201,6 +202,9 @@ def modification_layout(
         Both gears' tooth compliances from an earlier run (any modifications).
     stage, progress : callable, optional
         ``stage(text)``; ``progress(done, total)`` per candidate.
+    partial : callable, optional
+        ``partial(result)`` after each candidate: the layout of the candidates evaluated
+        so far (its best among them).
     """
     from ..contact.ltca import ContactGrid, loaded_contact
     from ..contact.modifications import (
@@ -262,6 +266,8 @@ def modification_layout(
         done[key] = (float(np.ptp(te)), peak, edge, rnd)
         if progress is not None:
             progress(len(done), n_max)
+        if partial is not None:
+            partial(result())
 
     def feasible(v: tuple[float, float, float, int]) -> bool:
         return v[1] <= pressure_limit and v[2] < edge_limit
@@ -271,6 +277,43 @@ def modification_layout(
         # feasible first by TE p-p; else nearest to feasibility (relative excess)
         excess = max(v[1] / pressure_limit - 1, 0) + max(v[2] / edge_limit - 1, 0)
         return (0, v[0]) if feasible(v) else (1, excess)
+
+    def result() -> LayoutResult:
+        """The layout of the candidates evaluated so far."""
+        keys = list(done)
+        vals = np.array([done[k] for k in keys])
+        ok = np.array([feasible(done[k]) for k in keys])
+        (bc, br), bv = min(done.items(), key=score)
+        has_best = feasible(bv)
+        zero = done.get((0.0, 0.0))
+        ds = xr.Dataset(
+            {
+                "crowning": ("candidate", [k[0] for k in keys], {"units": "m"}),
+                "relief": ("candidate", [k[1] for k in keys], {"units": "m"}),
+                "peak_to_peak": ("candidate", vals[:, 0], {"units": "m"}),
+                "peak_pressure": ("candidate", vals[:, 1], {"units": "Pa"}),
+                "edge_share": ("candidate", vals[:, 2]),
+                "feasible": ("candidate", ok.astype(np.int8)),
+                "round": ("candidate", vals[:, 3].astype(np.int64)),
+            },
+            coords={"candidate": np.arange(len(keys))},
+            attrs={
+                "title": f"Flank modification layout, pair {pair}",
+                **provenance(design.provenance),
+            },
+        )
+        nan = float("nan")
+        ds.attrs.update(
+            pair=int(pair), pair_kind=plain.kind, design_torque=float(T_d), delta=float(delta),
+            pressure_limit=float(pressure_limit), edge_limit=float(edge_limit),
+            best_crowning=bc if has_best else nan, best_relief=br if has_best else nan,
+            best_peak_to_peak=bv[0] if has_best else nan,
+            unmodified_peak_to_peak=zero[0] if zero else nan,
+            te_radius_m=plain.te_radius, cell_m=float(h), positions=int(positions),
+            tip_relief_share=TIP_SHARE, relief_shape="parabolic",
+            seconds=time.perf_counter() - t0,
+        )  # fmt: skip
+        return LayoutResult(ds)
 
     say(f"{C_axis.size * R_axis.size} candidates at {positions} positions")
     for c in C_axis:
@@ -285,34 +328,4 @@ def modification_layout(
                 if c >= 0 and r >= 0:
                     evaluate(float(c), float(r), rnd)
         step_c, step_r = step_c / 2, step_r / 2
-    keys = list(done)
-    vals = np.array([done[k] for k in keys])
-    ok = np.array([feasible(done[k]) for k in keys])
-    (bc, br), bv = min(done.items(), key=score)
-    has_best = feasible(bv)
-    zero = done.get((0.0, 0.0))
-    ds = xr.Dataset(
-        {
-            "crowning": ("candidate", [k[0] for k in keys], {"units": "m"}),
-            "relief": ("candidate", [k[1] for k in keys], {"units": "m"}),
-            "peak_to_peak": ("candidate", vals[:, 0], {"units": "m"}),
-            "peak_pressure": ("candidate", vals[:, 1], {"units": "Pa"}),
-            "edge_share": ("candidate", vals[:, 2]),
-            "feasible": ("candidate", ok.astype(np.int8)),
-            "round": ("candidate", vals[:, 3].astype(np.int64)),
-        },
-        coords={"candidate": np.arange(len(keys))},
-        attrs={"title": f"Flank modification layout, pair {pair}", **provenance(design.provenance)},
-    )
-    nan = float("nan")
-    ds.attrs.update(
-        pair=int(pair), pair_kind=plain.kind, design_torque=float(T_d), delta=float(delta),
-        pressure_limit=float(pressure_limit), edge_limit=float(edge_limit),
-        best_crowning=bc if has_best else nan, best_relief=br if has_best else nan,
-        best_peak_to_peak=bv[0] if has_best else nan,
-        unmodified_peak_to_peak=zero[0] if zero else nan,
-        te_radius_m=plain.te_radius, cell_m=float(h), positions=int(positions),
-        tip_relief_share=TIP_SHARE, relief_shape="parabolic",
-        seconds=time.perf_counter() - t0,
-    )  # fmt: skip
-    return LayoutResult(ds)
+    return result()

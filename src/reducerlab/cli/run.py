@@ -66,15 +66,49 @@ def run_cmd(
     periods: Annotated[
         int, typer.Option(min=10, max=100000, help="Forcing periods of each nonlinear response.")
     ] = 600,
+    root_stress: Annotated[
+        bool,
+        typer.Option(
+            "--root-stress/--no-root-stress",
+            help="FE tooth-root stress of both gears at every contact position (into the "
+            "verdict and the report's load capacity; 15-30 % more tooth-model and "
+            "contact time, docs/run.md).",
+        ),
+    ] = True,
+    te_sweep: Annotated[
+        int | None,
+        typer.Option(
+            "--te-sweep",
+            min=2,
+            max=41,
+            help="Also the loaded TE of each pair at N torques from 0 to 1.5x its "
+            "operating torque (te_sweep-pairN.nc/.txt; about a single-load contact's "
+            "time more).",
+        ),
+    ] = None,
+    layout: Annotated[
+        bool,
+        typer.Option(
+            "--layout/--no-layout",
+            help="Also the flank modification layout (lead crowning, tip relief) of each "
+            "pair at its operating torque (layout-pairN.nc/.txt; 18 candidates of 12 "
+            "positions: several contacts' time).",
+        ),
+    ] = False,
+    pressure_limit: Annotated[
+        str, typer.Option(help="--layout: largest contact pressure, e.g. '1500 MPa'.")
+    ] = "1500 MPa",
     scheduler: SchedulerOption = None,
     sets: SetOption = None,
 ) -> None:
     """The whole chain of a design at its operating point: torque flow, loaded contact per
-    pair, k(t) in the model, modes and Campbell diagram, nonlinear response under load,
-    gear-body modes, verdict and report. Each stage is cached by what it depends on: a
-    second run reads it. Exit 1 when the verdict finds a risk."""
+    pair (with the FE tooth-root stress), optionally each pair's loaded-TE torque sweep
+    and flank modification layout, k(t) in the model, modes and Campbell diagram,
+    nonlinear response under load, gear-body modes, verdict and report. Each stage is
+    cached by what it depends on: a second run reads it. Exit 1 when the verdict finds a
+    risk."""
     from ..io import prepare_output_dir
-    from ..pipeline import ContactSettings, run
+    from ..pipeline import ContactSettings, LayoutSettings, run
     from ..pipeline.store import Store
 
     with user_errors():
@@ -90,8 +124,13 @@ def run_cmd(
             )
         }
         settings = ContactSettings(
-            positions=positions, cell=length["cell"], tooth_size=length["tooth_size"]
+            positions=positions,
+            cell=length["cell"],
+            tooth_size=length["tooth_size"],
+            root_stress=root_stress,
         )
+        p_lim = quantity_option(pressure_limit, "--pressure-limit", "pressure")
+        lay = LayoutSettings(pressure_limit=p_lim) if layout else False
         keeps_cache(store.root)
         with scheduler_client(scheduler) as client, run_progress() as show:
             res = run(
@@ -107,6 +146,8 @@ def run_cmd(
                     "keep": min(100, periods // 2),
                     "history": min(20, periods // 4),
                 },
+                te_sweep=te_sweep,
+                layout=lay,
                 scheduler=client,
                 progress=show,
             )

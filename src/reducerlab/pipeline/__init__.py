@@ -6,7 +6,16 @@ This floor sits between the command line and the report: it calls the analyses a
 the report, and only the command line imports it."""
 
 from .run import RunResult, run, run_plan
-from .stages import ContactSettings, Stage
+from .stages import ContactSettings, LayoutSettings, Stage, SweepSettings
 from .store import Store
 
-__all__ = ["ContactSettings", "RunResult", "Stage", "Store", "run", "run_plan"]
+__all__ = [
+    "ContactSettings",
+    "LayoutSettings",
+    "RunResult",
+    "Stage",
+    "Store",
+    "SweepSettings",
+    "run",
+    "run_plan",
+]

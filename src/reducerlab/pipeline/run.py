@@ -3,7 +3,9 @@ drive supports, to one verdict and one report (issue 27).
 
 The chain: the torque flow (the operating point's load to every mesh, by virtual work
 through the drive's kinematics) -> the loaded tooth contact of each gear pair at its
-own torque (designs with tooth surfaces) -> the contact's k(t) in the lumped model ->
+own torque, with the FE tooth-root stress (designs with tooth surfaces) -> optionally
+the pair's loaded-TE torque sweep and flank modification layout -> the contact's k(t)
+in the lumped model ->
 modes, complex modes and Campbell diagram -> the nonlinear response at the operating
 point under load, every mesh line -> the gear bodies' FE modes -> the verdict (resonance,
 nonlinear response, bodies, consistency of the models) -> one report with every
@@ -27,12 +29,16 @@ from ..threads import with_compute_threads
 from .consistency import body_consistency, stiffness_consistency
 from .stages import (
     ContactSettings,
+    LayoutSettings,
     Stage,
+    SweepSettings,
     body_inputs,
     body_stage,
     compliance_stage,
     contact_stage,
+    layout_stage,
     response_stage,
+    te_sweep_stage,
 )
 from .store import Store
 
@@ -46,6 +52,10 @@ Progress = Callable[[str, float], None]
 WEIGHTS = {
     "compliance": 36.0,
     "contact": 12.0,
+    # the optional stages: measured against the contact in the same run (docs/run.md:
+    # the sweep about a contact's time, the default layout about three)
+    "te_sweep": 12.0,
+    "layout": 38.0,
     "body": 32.0,
     "response": 60.0,
     "dynamics": 15.0,
@@ -67,7 +77,8 @@ class RunResult:
     flow : TorqueFlow or None
         The operating point's torques at every mesh.
     contacts, bodies : dict
-        Pair -> ContactResult; gear -> BodyModalResult.
+        Pair -> ContactResult (with the FE tooth-root stress when the contact settings
+        ask for it: ``root_stress``); gear -> BodyModalResult.
     responses : list of ResponseResult
         One per mesh line, at the operating point.
     verdict : Verdict
@@ -80,6 +91,9 @@ class RunResult:
     files : list of Path
         Every file written into the output folder.
     seconds : float
+    te_sweeps, layouts : dict
+        Pair -> TESweepResult; pair -> LayoutResult (the optional stages; empty when
+        not asked for).
     """
 
     design: Design
@@ -94,6 +108,8 @@ class RunResult:
     built: Any = None
     files: list[Path] = field(default_factory=list)
     seconds: float = 0.0
+    te_sweeps: dict[int, Any] = field(default_factory=dict)
+    layouts: dict[int, Any] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -111,8 +127,11 @@ class RunResult:
         }
 
 
-def run_plan(design: Design, bodies: bool = True) -> list[tuple[str, str]]:
-    """``(stage kind, name)`` of every stage a run of ``design`` goes through, in order."""
+def run_plan(
+    design: Design, bodies: bool = True, te_sweep: bool = False, layout: bool = False
+) -> list[tuple[str, str]]:
+    """``(stage kind, name)`` of every stage a run of ``design`` goes through, in order
+    (``te_sweep``, ``layout``: with those optional stages of each pair)."""
     from ..drives import has_model
 
     plan: list[tuple[str, str]] = []
@@ -123,6 +142,10 @@ def run_plan(design: Design, bodies: bool = True) -> list[tuple[str, str]]:
             ("compliance", f"compliance gear {2 * p - 1}"),
             ("contact", f"contact pair {p}"),
         ]
+        if te_sweep:
+            plan.append(("te_sweep", f"te sweep pair {p}"))
+        if layout:
+            plan.append(("layout", f"layout pair {p}"))
     if has_model(design):
         plan.append(("dynamics", "modes and Campbell diagram"))
         plan += [("response", f"response line {j + 1}") for j in range(_lines(design))]
@@ -190,6 +213,8 @@ def run(
     bodies: bool = True,
     body_sizes: tuple[float | None, float | None] = (None, None),
     response: dict[str, Any] | None = None,
+    te_sweep: int | SweepSettings | None = None,
+    layout: bool | LayoutSettings = False,
     scheduler: Any = None,
     progress: Progress | None = None,
     write_report: bool = True,
@@ -210,7 +235,8 @@ def run(
         The stage cache; default ``OUTPUT/cache`` (a run without output and cache caches
         nothing between runs).
     contact : ContactSettings, optional
-        The contact grid (default: ``contact_analysis``'s).
+        The contact grid (default: ``contact_analysis``'s) and whether the contact
+        computes the FE tooth-root stress (default yes: ``docs/run.md``, its cost).
     bodies : bool
         Compute the gear bodies' FE modes (designs with tooth surfaces).
     body_sizes : (float or None, float or None)
@@ -219,6 +245,17 @@ def run(
     response : dict, optional
         Keyword arguments of :func:`~reducerlab.analysis.response.response` (periods,
         keep, history, accuracy...).
+    te_sweep : int or SweepSettings, optional
+        The loaded-TE torque sweep of every pair (``analysis.te_sweep``) at that many
+        torques from 0 to 1.5 times the pair's operating torque (an int, 2..41), or
+        with its settings; None (default): none. Written as ``te_sweep-pairN.nc`` and
+        ``.txt``; the positions done so far as ``te_sweep-pairN.partial.txt`` while it
+        runs.
+    layout : bool or LayoutSettings
+        The flank modification layout of every pair (``analysis.layout``) at its
+        operating torque (true: the default search); false (default): none. Written as
+        ``layout-pairN.nc`` and ``.txt``; the candidates so far as
+        ``layout-pairN.partial.txt`` while it runs.
     scheduler : str or dask.distributed.Client, optional
         Run the independent finite-element work (tooth compliance, gear bodies) on a
         Dask cluster; here, one after the other, without.
@@ -238,6 +275,9 @@ def run(
     from ..drives import has_model, load_design
 
     t0 = time.perf_counter()
+    sweep, lay = _optional_stages(te_sweep, layout)
+    if contact is not None and not isinstance(contact, ContactSettings):
+        raise ReducerlabError(f"contact: must be a ContactSettings; got {contact!r}")
     design = target if isinstance(target, Design) else load_design(target, overrides)
     settings = contact or ContactSettings()
     # response()'s defaults written out: the same run with or without them has one key
@@ -251,7 +291,8 @@ def run(
         store = Store(tempfile.mkdtemp(prefix="reducerlab-run-"))
     flow = torque_flow(design)
     pairs = _pairs(design)
-    plan = run_plan(design, bodies)
+    _check_optional(design, pairs, settings, sweep, lay)
+    plan = run_plan(design, bodies, sweep is not None, lay is not None)
     track = _Tracker(plan, progress)
     stages: list[Stage] = []
 
@@ -276,6 +317,8 @@ def run(
                 if not store.has("body", store.key("body", body_inputs(design, g, body_sizes)))
             }  # fmt: skip
         contacts: dict[int, Any] = {}
+        sweeps: dict[int, Any] = {}
+        layouts: dict[int, Any] = {}
         for p in pairs:
             torque = _pair_torque(flow, p)
             comp, sts = compliance_stage(store, design, p, settings, track.report, submit)
@@ -284,6 +327,22 @@ def run(
             res, st = contact_stage(store, design, p, torque, settings, comp, track.report)
             record(st)
             contacts[p] = res
+            if sweep is not None:
+                partial = _partial_writer(out_dir, f"te_sweep-pair{p}.partial.txt")
+                res, st = te_sweep_stage(store, design, p, torque, settings, sweep, comp,
+                                         track.report, partial)  # fmt: skip
+                record(st)
+                sweeps[p] = res
+                if out_dir is not None:
+                    (out_dir / f"te_sweep-pair{p}.partial.txt").unlink(missing_ok=True)
+            if lay is not None:
+                partial = _partial_writer(out_dir, f"layout-pair{p}.partial.txt")
+                res, st = layout_stage(store, design, p, torque, settings, lay, comp,
+                                       track.report, partial)  # fmt: skip
+                record(st)
+                layouts[p] = res
+                if out_dir is not None:
+                    (out_dir / f"layout-pair{p}.partial.txt").unlink(missing_ok=True)
         model_design = design_with_contact(design, contacts.values())
         responses: list[Any] = []
         if has_model(model_design):
@@ -314,11 +373,12 @@ def run(
     if stored is not None:
         verdict = stored[1]
     else:
-        verdict = _verdict(model_design, responses, body_results, reasons)
+        verdict = _verdict(model_design, responses, body_results, reasons, contacts)
         store.put("verdict", verdict_key, evidence, extra=verdict)
     result = RunResult(
-        design, model_design, flow, contacts, body_results, responses, verdict, stages
-    )
+        design, model_design, flow, contacts, body_results, responses, verdict, stages,
+        te_sweeps=sweeps, layouts=layouts,
+    )  # fmt: skip
     if out_dir is not None:
         body_keys = [st.key for st in stages if st.name.startswith("body modes")]
         memo = _SectionMemo(store, verdict_key, body_keys)
@@ -353,14 +413,89 @@ def _pair_torque(flow: Any, pair: int) -> float:
 
 
 def _verdict(
-    design: Design, responses: list[Any], bodies: dict[int, Any], reasons: list[dict[str, Any]]
+    design: Design,
+    responses: list[Any],
+    bodies: dict[int, Any],
+    reasons: list[dict[str, Any]],
+    contacts: dict[int, Any],
 ) -> Any:
-    """The verdict from every piece of evidence of the run."""
+    """The verdict from every piece of evidence of the run: with the contacts' FE
+    tooth-root stress beside the rating's permissible stress
+    (``analysis.contact_rootstress.root_stress_reasons``)."""
     from ..analysis.components import ComponentModes
+    from ..analysis.contact_rootstress import root_stress_reasons
     from ..analysis.verdict import verdict
 
+    if any("root_stress" in c.data for c in contacts.values()):
+        from ..analysis.capacity_reasons import rateable
+        from ..analysis.rating import load_capacity
+
+        rating = None
+        if rateable(design):
+            try:
+                rating = load_capacity(design)
+            except ReducerlabError:  # said by the capacity reasons; the peak stays a note
+                rating = None
+        reasons = [*reasons, *root_stress_reasons(contacts, rating)]
     components = [ComponentModes.from_body_modal(r) for _, r in sorted(bodies.items())]
     return verdict(design, responses=responses, components=components, extra_reasons=reasons)
+
+
+def _optional_stages(
+    te_sweep: Any, layout: Any
+) -> tuple[SweepSettings | None, LayoutSettings | None]:
+    """The optional stages' settings from ``run``'s arguments, checked."""
+    if te_sweep is None or isinstance(te_sweep, SweepSettings):
+        sweep = te_sweep
+    elif isinstance(te_sweep, int) and not isinstance(te_sweep, bool):
+        sweep = SweepSettings(loads=te_sweep)  # checks 2..41
+    else:
+        raise ReducerlabError(
+            f"te_sweep: must be a number of torques (2..41) or a SweepSettings; got {te_sweep!r}"
+        )
+    if isinstance(layout, LayoutSettings):
+        lay = layout
+    elif isinstance(layout, bool):
+        lay = LayoutSettings() if layout else None
+    else:
+        raise ReducerlabError(f"layout: must be true, false or a LayoutSettings; got {layout!r}")
+    return sweep, lay
+
+
+def _check_optional(
+    design: Design,
+    pairs: list[int],
+    settings: ContactSettings,
+    sweep: SweepSettings | None,
+    lay: LayoutSettings | None,
+) -> None:
+    """Refuse the optional stages before any work: a design without gear pairs in
+    contact, or a sweep or layout beyond its work bound (their estimates)."""
+    for name, asked in (("te_sweep", sweep), ("layout", lay)):
+        if asked is not None and not pairs:
+            raise ReducerlabError(
+                f"{name}: needs a design with tooth surfaces (a gear pair's loaded "
+                f"contact); this {design.type} design has none"
+            )
+    if sweep is not None:
+        sweep.estimate(settings).check()
+    if lay is not None:
+        lay.estimate().check()
+
+
+def _partial_writer(out_dir: Path | None, name: str) -> Callable[[Any], None] | None:
+    """``partial(result)`` writing a result's table so far to ``out_dir/name`` (a
+    temporary name moved into place); None without an output folder."""
+    if out_dir is None:
+        return None
+
+    def write(res: Any) -> None:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        tmp = out_dir / f".{name}.tmp"
+        tmp.write_text(res.table() + "\n")
+        tmp.replace(out_dir / name)
+
+    return write
 
 
 class _SectionMemo:
@@ -420,6 +555,12 @@ def _write(
         for j, r in enumerate(result.responses):
             names.append(f"response-line{j + 1}.nc")
             r.save(files.path(names[-1]))
+        for stem, results in (("te_sweep", result.te_sweeps), ("layout", result.layouts)):
+            for p, r in results.items():
+                names.append(f"{stem}-pair{p}.nc")
+                r.save(files.path(names[-1]))
+                names.append(f"{stem}-pair{p}.txt")
+                files.path(names[-1]).write_text(r.table() + "\n")
         prov = stamp(result.model_design.provenance)
         names.append("verdict.json")
         files.path("verdict.json").write_text(
@@ -429,7 +570,8 @@ def _write(
             from ..reporting import report as build_report
 
             report("report", 0.0)
-            given = [*result.contacts.values(), *result.bodies.values(), *result.responses]
+            given = [*result.contacts.values(), *result.bodies.values(), *result.responses,
+                     *result.te_sweeps.values(), *result.layouts.values()]  # fmt: skip
             rep = build_report(
                 result.model_design,
                 results=given,

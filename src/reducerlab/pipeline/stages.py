@@ -10,9 +10,16 @@ stage              key inputs
 =================  ================================================================
 ``compliance``     the pair's tooth generation (``contact_inputs``: teeth and mean
                    radii, helix and pressure angles, ``[surface]``), ``[material]``,
-                   the gear (external or internal) and the FE tooth element size
+                   the gear (external or internal), the FE tooth element size and
+                   whether the fillet stress influence is built (``root_stress``)
 ``contact``        the same design fields, the torque on the external gear, the
-                   misalignment and the grid (positions, Fourier order, cell)
+                   misalignment, the grid (positions, Fourier order, cell) and
+                   whether the tooth-root stress is computed (``root_stress``)
+``te_sweep``       the contact's design fields, the torque on the external gear, the
+                   sweep (loads, top, harmonics, positions), the cell and tooth size
+``layout``         the compliance's design fields (a layout replaces the flank
+                   modifications), the torque, the search (grid, refine, positions,
+                   pressure and edge limits), the cell and tooth size
 ``body``           the gear's body (``body_inputs``: as above plus its blank) and the
                    mesh sizes and mode count
 ``response``       the whole design the model is built from (with the contact's mesh
@@ -29,18 +36,23 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from ..errors import ReducerlabError
 from ..inputs import inputs_of
 from .store import Store
 
 __all__ = [
     "ContactSettings",
+    "LayoutSettings",
     "Stage",
+    "SweepSettings",
     "body_inputs",
     "body_stage",
     "compliance_stage",
     "contact_stage",
     "design_inputs",
+    "layout_stage",
     "response_stage",
+    "te_sweep_stage",
 ]
 
 Report = Callable[[str, float], None]
@@ -81,12 +93,123 @@ class ContactSettings:
         Contact cell (m); None for the automatic grid.
     tooth_size : float or None
         FE tooth element size (m); None for ``0.3 m_n``.
+    root_stress : bool
+        Also the FE tooth-root stress of both gears at every position
+        (``contact_analysis(root_stress=True)``): the tooth models are built with their
+        fillet stress influence (one backward substitution per load bump more) and each
+        position costs one influence-matrix product and gear B's flank parameters of
+        the loaded cells more (``docs/run.md``: measured, 15-30 % of the tooth-model and
+        contact stages).
     """
 
     positions: int = 24
     order: int = 7
     cell: float | None = None
     tooth_size: float | None = None
+    root_stress: bool = True
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.root_stress, bool):
+            raise ReducerlabError(f"root_stress: must be true or false; got {self.root_stress!r}")
+
+
+def _integer(name: str, value: Any, lo: int, hi: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+        raise ReducerlabError(f"{name}: must be an integer in {lo}..{hi}; got {value!r}")
+
+
+def _positive(name: str, value: Any, hi: float = math.inf) -> None:
+    if isinstance(value, bool) or not (
+        isinstance(value, int | float) and math.isfinite(value) and 0 < value <= hi
+    ):
+        bound = "> 0" if hi == math.inf else f"in (0, {hi:g}]"
+        raise ReducerlabError(f"{name}: must be a number {bound}; got {value!r}")
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """The loaded-TE torque sweep of each pair (``analysis.te_sweep.te_sweep``).
+
+    Attributes
+    ----------
+    loads : int
+        Torques evenly from 0 to ``top`` times the pair's operating torque (2..41).
+    top : float
+        Largest torque over the operating torque, in (0, 3].
+    harmonics : int
+        Mesh orders of the TE reported (1..20).
+    positions : int or None
+        Positions over one mesh cycle (>= ``2 harmonics + 1``); None: the contact's.
+    """
+
+    loads: int = 6
+    top: float = 1.5
+    harmonics: int = 3
+    positions: int | None = None
+
+    def __post_init__(self) -> None:
+        _integer("te_sweep.loads", self.loads, 2, 41)
+        _positive("te_sweep.top", self.top, 3.0)
+        _integer("te_sweep.harmonics", self.harmonics, 1, 20)
+        if self.positions is not None:
+            _integer("te_sweep.positions", self.positions, 2 * self.harmonics + 1, 1000)
+
+    def positions_of(self, contact: ContactSettings) -> int:
+        """The sweep's positions (its own, else the contact's), checked against its
+        harmonics."""
+        n = contact.positions if self.positions is None else self.positions
+        _integer("te_sweep.positions", n, 2 * self.harmonics + 1, 1000)
+        return n
+
+    def estimate(self, contact: ContactSettings) -> Any:
+        """The work of one pair's sweep (``te_sweep.sweep_estimate``), before any."""
+        from ..analysis.te_sweep import sweep_estimate
+
+        return sweep_estimate(self.positions_of(contact), self.loads)
+
+
+@dataclass(frozen=True)
+class LayoutSettings:
+    """The flank modification layout of each pair (``analysis.layout``): its search.
+
+    Attributes
+    ----------
+    grid : int
+        Values of each amount (lead crowning, tip relief) per round (2..7).
+    refine : int
+        Refinement rounds of half the last step (0..3).
+    positions : int
+        Positions over one mesh cycle of each candidate (2..1000).
+    pressure_limit : float
+        Largest allowed cell pressure (Pa); default 1500 MPa
+        (``analysis.layout.DEFAULT_PRESSURE_LIMIT``, ISO 6336-5 MQ case-hardened).
+    edge_limit : float
+        Largest allowed edge share, in (0, 1].
+    """
+
+    grid: int = 3
+    refine: int = 1
+    positions: int = 12
+    pressure_limit: float = 1.5e9
+    edge_limit: float = 0.01
+
+    def __post_init__(self) -> None:
+        _integer("layout.grid", self.grid, 2, 7)
+        _integer("layout.refine", self.refine, 0, 3)
+        _integer("layout.positions", self.positions, 2, 1000)
+        _positive("layout.pressure_limit", self.pressure_limit)
+        _positive("layout.edge_limit", self.edge_limit, 1.0)
+
+    @property
+    def candidates(self) -> int:
+        """Candidates evaluated at most: ``grid^2 (1 + refine)``."""
+        return self.grid * self.grid * (1 + self.refine)
+
+    def estimate(self) -> Any:
+        """The work of one pair's layout (``layout.layout_estimate``), before any."""
+        from ..analysis.layout import layout_estimate
+
+        return layout_estimate(self.candidates, self.positions)
 
 
 def design_inputs(kind: str, design: Any, attrs: dict[str, Any]) -> dict[str, Any]:
@@ -119,8 +242,12 @@ def compliance_stage(
     base = {k: v for k, v in design_inputs("contact", design, {"pair": pair}).items()
             if "modifications" not in k and k not in ("output_torque", "output_power")}  # fmt: skip
     gears = (2 * pair, 2 * pair - 1)
+    rs = settings.root_stress
     keys = {
-        g: store.key("compliance", {"design": base, "gear": g, "tooth_size": settings.tooth_size})
+        g: store.key(
+            "compliance",
+            {"design": base, "gear": g, "tooth_size": settings.tooth_size, "root_stress": rs},
+        )
         for g in gears
     }
     found = {g: store.get("compliance", keys[g], extra=True) for g in gears}
@@ -129,11 +256,11 @@ def compliance_stage(
     stages = [Stage(f"compliance gear {g}", keys[g], "cached") for g in gears if g in out]
     if todo:
         mp = contact_pair(design, pair).unmodified  # the compliance: unmodified teeth
-        compliance_estimate(mp, settings.tooth_size).check()
+        compliance_estimate(mp, settings.tooth_size, root_stress=rs).check()
         mat = design.material
         material = Material(mat.youngs_modulus, mat.poisson_ratio, mat.density)
         flank = {2 * pair: mp.flank_a, 2 * pair - 1: mp.flank_b}
-        kw = {"material": material, "tooth_size": settings.tooth_size}
+        kw = {"material": material, "tooth_size": settings.tooth_size, "root_stress": rs}
         futures = {}
         if submit is not None:
             futures = {g: submit(fe_tooth_compliance, flank[g], **kw) for g in todo}
@@ -147,7 +274,8 @@ def compliance_stage(
                 comp = fe_tooth_compliance(
                     flank[g], stage=lambda s, n=name: report(f"{n}: {s}", 0.5), **kw
                 )
-            store.put("compliance", keys[g], {"design": base, "gear": g}, extra=comp)
+            record = {"design": base, "gear": g, "root_stress": rs}
+            store.put("compliance", keys[g], record, extra=comp)
             out[g] = comp
             stages.append(Stage(name, keys[g], "computed", time.perf_counter() - t0))
             report(name, 1.0)
@@ -176,6 +304,7 @@ def contact_stage(
         "cell": settings.cell,
         "tooth_size": settings.tooth_size,
         "misalignment": None,
+        "root_stress": settings.root_stress,
     }
     key = store.key("contact", inputs)
     name = f"contact pair {pair}"
@@ -193,6 +322,7 @@ def contact_stage(
         cell=settings.cell,
         tooth_size=settings.tooth_size,
         compliance=compliance,
+        root_stress=settings.root_stress,
         stage=lambda s: report(f"{name}: {s}", 0.0),
         progress=lambda done, total: report(f"{name}: {done}/{total} positions", done / total),
     )
@@ -276,4 +406,110 @@ def response_stage(
     report(name, 0.0)
     res = response(design, line=line, **settings)
     store.put("response", key, inputs, res)
+    return res, Stage(name, key, "computed", time.perf_counter() - t0)
+
+
+def _operating_inputs(design: Any, pair: int, modifications: bool) -> dict[str, Any]:
+    """The pair's design fields (as the contact's), without the flank modifications
+    when ``modifications`` is false, and without the load (given as the torque)."""
+    base = design_inputs("contact", design, {"pair": pair})
+    return {k: v for k, v in base.items()
+            if k not in ("output_torque", "output_power")
+            and (modifications or "modifications" not in k)}  # fmt: skip
+
+
+def te_sweep_stage(
+    store: Store,
+    design: Any,
+    pair: int,
+    torque: float,
+    settings: ContactSettings,
+    sweep: SweepSettings,
+    compliance: tuple[Any, Any],
+    report: Report = _quiet,
+    partial: Callable[[Any], None] | None = None,
+) -> tuple[Any, Stage]:
+    """Loaded TE of pair ``pair`` against torque, from 0 to ``sweep.top`` times
+    ``torque`` (N m on the external gear), on the contact stage's tooth compliance.
+    ``partial(result)`` after each chunk of positions (the positions done so far)."""
+    from ..analysis.te_sweep import te_sweep
+
+    positions = sweep.positions_of(settings)
+    inputs = {
+        "design": _operating_inputs(design, pair, True),
+        "pair": pair,
+        "torque": float(torque),
+        "loads": sweep.loads,
+        "top": float(sweep.top),
+        "harmonics": sweep.harmonics,
+        "positions": positions,
+        "cell": settings.cell,
+        "tooth_size": settings.tooth_size,
+    }
+    key = store.key("te_sweep", inputs)
+    name = f"te sweep pair {pair}"
+    hit = store.get("te_sweep", key)
+    if hit is not None:
+        return hit[0], Stage(name, key, "cached")
+    t0 = time.perf_counter()
+    report(name, 0.0)
+    res = te_sweep(
+        design, pair, loads=sweep.loads, top=float(sweep.top), torque=float(torque),
+        positions=positions, harmonics=sweep.harmonics, cell=settings.cell,
+        tooth_size=settings.tooth_size, compliance=compliance,
+        stage=lambda s: report(f"{name}: {s}", 0.0),
+        progress=lambda done, total: report(f"{name}: {done}/{total} positions", done / total),
+        partial=partial,
+    )  # fmt: skip
+    res.compliance = None  # in the compliance stage's entries already
+    store.put("te_sweep", key, inputs, res)
+    return res, Stage(name, key, "computed", time.perf_counter() - t0)
+
+
+def layout_stage(
+    store: Store,
+    design: Any,
+    pair: int,
+    torque: float,
+    settings: ContactSettings,
+    layout: LayoutSettings,
+    compliance: tuple[Any, Any],
+    report: Report = _quiet,
+    partial: Callable[[Any], None] | None = None,
+) -> tuple[Any, Stage]:
+    """Lead crowning and tip relief of pair ``pair`` minimising the TE peak-to-peak at
+    ``torque`` (N m on the external gear), on the contact stage's tooth compliance (of
+    the unmodified teeth: a layout's candidates replace the design's modifications).
+    ``partial(result)`` after each candidate (the candidates evaluated so far)."""
+    from ..analysis.layout import modification_layout
+
+    inputs = {
+        "design": _operating_inputs(design, pair, False),
+        "pair": pair,
+        "torque": float(torque),
+        "grid": layout.grid,
+        "refine": layout.refine,
+        "positions": layout.positions,
+        "pressure_limit": float(layout.pressure_limit),
+        "edge_limit": float(layout.edge_limit),
+        "cell": settings.cell,
+        "tooth_size": settings.tooth_size,
+    }
+    key = store.key("layout", inputs)
+    name = f"layout pair {pair}"
+    hit = store.get("layout", key)
+    if hit is not None:
+        return hit[0], Stage(name, key, "cached")
+    t0 = time.perf_counter()
+    report(name, 0.0)
+    total = layout.candidates
+    res = modification_layout(
+        design, pair, torque=float(torque), grid=layout.grid, refine=layout.refine,
+        positions=layout.positions, cell=settings.cell, pressure_limit=layout.pressure_limit,
+        edge_limit=layout.edge_limit, tooth_size=settings.tooth_size, compliance=compliance,
+        stage=lambda s: report(f"{name}: {s}", 0.0),
+        progress=lambda done, _n: report(f"{name}: {done} candidates", min(1.0, done / total)),
+        partial=partial,
+    )  # fmt: skip
+    store.put("layout", key, inputs, res)
     return res, Stage(name, key, "computed", time.perf_counter() - t0)

@@ -34,8 +34,9 @@ __all__ = ["SCHEMA", "Store", "canonical"]
 #: Bumped when a stage's stored form changes: older entries are then never matched.
 #: Keys hold the package version, not the code: a change to a stage's or a report
 #: section's code within one version (development) needs this bumped, or a kept cache
-#: answers with the old result.
-SCHEMA = 3
+#: answers with the old result. 4: the contact's tooth-root stress (issue 29), the
+#: compliance's fillet influence in its key.
+SCHEMA = 4
 
 
 def _plain(value: Any) -> Any:
