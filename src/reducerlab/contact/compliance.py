@@ -46,6 +46,7 @@ from ..kinematics.rotations import rot_z
 from ..threads import with_compute_threads
 
 __all__ = [
+    "FILLET_SIZE",
     "FacetQuadrature",
     "FacetQuadratureError",
     "ToothCompliance",
@@ -159,13 +160,20 @@ def _sizes(m_n: float, tooth_size: float | None, body_size: float | None) -> tup
     return ts, max(bs, ts)
 
 
+#: Default element size of a bevel tooth model's root band (``fe.gear_mesh.FILLET_BAND``)
+#: with ``root_stress``, in normal modules: the fillet stress of the nutation drive's
+#: external gear is converged there to 1.7 % (its internal gear's is not: a root without
+#: a fillet radius; docs/contact.md, "Tooth-root stress")
+FILLET_SIZE = 0.2
+
+
 def fillet_mesh_size(
-    tooth_size: float, root_stress: bool, fillet_size: float | None
+    tooth_size: float, root_stress: bool, fillet_size: float | None, module: float
 ) -> float | None:
     """The root-band element size (m) of a bevel tooth model (``fe.gear_mesh.
     FILLET_BAND``): ``fillet_size`` when given (a length ``> 0``, at most the tooth size,
-    with ``root_stress`` only), else none (no refinement: the default, see
-    docs/contact.md "Tooth-root stress" for what the refinement costs and changes).
+    equal to it: no refinement; with ``root_stress`` only); else ``FILLET_SIZE m_n``
+    with ``root_stress`` (none where the tooth size is finer) and none without it.
 
     Raises
     ------
@@ -174,7 +182,8 @@ def fillet_mesh_size(
         given without ``root_stress``.
     """
     if fillet_size is None:
-        return None
+        fs = FILLET_SIZE * module
+        return fs if root_stress and fs < tooth_size else None
     if (
         isinstance(fillet_size, bool)
         or not isinstance(fillet_size, int | float)
@@ -212,7 +221,7 @@ def compliance_estimate(
         crown, gear = flank.crown, flank.gear
         m_n = crown.profile.module
         ts, bs = _sizes(m_n, tooth_size, body_size)
-        fs = fillet_mesh_size(ts, root_stress, fillet_size)
+        fs = fillet_mesh_size(ts, root_stress, fillet_size, m_n)
         est = mesh_estimate(
             crown, gear, 2.0 * m_n if rim is None else rim, BlankFeatures(),
             MeshSizes(ts, bs, fs),
@@ -264,9 +273,10 @@ def fe_tooth_compliance(
         substitution more and about ``24 dofs x loads`` bytes more at the peak).
     fillet_size : float, optional
         Element size (m) in the root band (``fe.gear_mesh.FILLET_BAND``), at most the
-        tooth size, with ``root_stress`` only (:func:`fillet_mesh_size`); default none
-        (no refinement). For convergence studies of the fillet stress: it costs 2.5x the
-        DOFs at half the tooth size (docs/contact.md).
+        tooth size (equal: no refinement), with ``root_stress`` only; default
+        ``FILLET_SIZE m_n`` with ``root_stress`` (:func:`fillet_mesh_size`), where the
+        external nutation gear's fillet stress is converged to 1.7 %, at 1.8x the DOFs of
+        the plain model (docs/contact.md).
     _legacy : bool
         Private: the finite-element path as before issue 28 (:func:`flank_influence`).
     """
@@ -282,7 +292,7 @@ def fe_tooth_compliance(
         raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
     if not isinstance(root_stress, bool):
         raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
-    fs = fillet_mesh_size(ts, root_stress, fillet_size)
+    fs = fillet_mesh_size(ts, root_stress, fillet_size, m_n)
     a = 2.0 * ts  # bump radius: two tooth elements
     say("meshing five tooth sectors")
     sizes = MeshSizes(ts, bs, fs)
