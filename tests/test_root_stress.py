@@ -329,3 +329,28 @@ def test_root_stress_lines_report_the_face_ends_apart():
     lines = root_stress_lines(ds)
     assert len(lines) == 4 and "face ends: up to 150.0 MPa" in lines[3]
     assert "not converged" in lines[3]
+
+
+def test_khv_contact_analysis_gives_both_gears_root_stress():
+    """The KHV internal pair through ``contact_analysis(root_stress=True)`` (coarse FE,
+    tooth elements 0.35 m): planet and ring, every position, tension on the loaded
+    fillets; the ring's own check against ISO 6336-3 is
+    ``tests/published/test_iso6336_internal_root_stress.py``."""
+    from reducerlab.analysis.contact import contact_analysis
+    from reducerlab.analysis.contact_rootstress import root_stress_lines
+    from reducerlab.drives import load_design
+    from reducerlab.examples import example_dir
+
+    design = load_design(example_dir() / "khv.toml")
+    res = contact_analysis(design, torque=50.0, positions=6, order=2, root_stress=True,
+                           tooth_size=0.35 * 3.5e-3)  # fmt: skip
+    ds = res.data
+    rs = ds["root_stress"].values  # (gear, position, tooth pair)
+    assert rs.shape == (2, 6, 3)
+    assert np.all(np.isfinite(rs))
+    # the most loaded tooth of each gear at each position is in tension, its opposite
+    # fillet in compression; measured 37.6 MPa (planet) and 24.8 MPa (ring) at 50 N m
+    assert np.all(rs.max(axis=2) > 0) and np.all(ds["root_compressive"].values.min(axis=2) < 0)
+    assert 10e6 < rs[0].max() < 100e6 and 5e6 < rs[1].max() < 100e6
+    assert ds.attrs["root_stress_peak"] == pytest.approx(float(rs.max()))
+    assert any("peak tooth-root stress" in line for line in root_stress_lines(ds))
