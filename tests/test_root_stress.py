@@ -242,7 +242,8 @@ def test_bevel_tooth_model_root_stress_is_the_same_on_each_modelled_tooth():
     mp = contact_pair(load_design("examples/nutation_surface.toml"), 1)
     flank = mp.flank_a
     m_n = flank.crown.profile.module
-    c = fe_tooth_compliance(flank, tooth_size=0.4 * m_n, root_stress=True)
+    # fillet_size = the tooth size: no root-band refinement (the cheap model of CI)
+    c = fe_tooth_compliance(flank, tooth_size=0.4 * m_n, root_stress=True, fillet_size=0.4 * m_n)
     f = c.fillet
     for k in c.teeth:
         for side in (1, -1):
@@ -271,3 +272,85 @@ def test_root_stress_memory_is_estimated_and_bounded(monkeypatch):
     est.check()
     with pytest.raises(BudgetError, match="root-stress influence"):
         root_stress_estimate(1_000_000, 162, 2000).check()  # 3.9 GB
+
+
+def test_fillet_nodes_near_the_face_ends_are_reported_apart():
+    """Nodes within ``end_margin`` of an end face leave the tensile, compressive and von
+    Mises results and give ``end_tensile`` alone (not converged there:
+    ``contact.rootstress`` module docstring)."""
+    import dataclasses
+
+    from reducerlab.fe.stress import principal_stresses
+
+    c = _synthetic()
+    f = c.fillet
+    n = f.points.shape[0]
+    args = ([0, 0, 1], [0.2, 0.5, 0.8], [0.3, 0.5, 0.7], [10.0, 20.0, 5.0])
+    whole = tooth_root_stress(c, *args)
+    assert np.all(np.isnan(whole.end_tensile))  # no end distances: every node inside
+    # tooth 0's first loaded-fillet node 0.5 bump radii from an end face, the rest far
+    ends = np.full(n, 1.0)
+    j = np.flatnonzero((f.tooth == 0) & (f.side == 1))
+    ends[j[0]] = 0.5e-3
+    fillet = dataclasses.replace(f, end_distance=ends, end_margin=1e-3)
+    c2 = dataclasses.replace(c, fillet=fillet)
+    r = tooth_root_stress(c2, *args)
+    p = principal_stresses(f.stress(bump_amplitudes(c, *args)))[:, 2]
+    i = r.teeth.index(0)
+    assert r.end_tensile[i] == pytest.approx(p[j[0]])
+    assert r.tensile[i] == pytest.approx(p[j[1:]].max())
+    others = [k for k in range(3) if k != i]
+    assert np.all(np.isnan(r.end_tensile[others]))
+    assert np.array_equal(r.tensile[others], whole.tensile[others])
+
+
+def test_root_stress_lines_report_the_face_ends_apart():
+    import xarray as xr
+
+    from reducerlab.analysis.contact_rootstress import root_stress_lines
+
+    dims = ("gear", "position", "tooth_pair")
+    full = np.full((2, 1, 3), 100e6)
+    ds = xr.Dataset(
+        {
+            "root_stress": (dims, full),
+            "root_compressive": (dims, -full),
+            "root_von_mises": (dims, full),
+            "root_stress_face_ends": (dims, np.full((2, 1, 3), np.nan)),
+        },
+        attrs=dict(root_stress_peak=100e6, root_stress_peak_gear="external",
+                   root_stress_peak_position=0, root_stress_peak_tooth=0,
+                   root_stress_peak_radius=0.05, root_stress_peak_face=0.0,
+                   root_stress_peak_angle=40.0),
+    )  # fmt: skip
+    lines = root_stress_lines(ds)
+    assert len(lines) == 3 and "100.0 MPa" in lines[0]
+    ds["root_stress_face_ends"][1, 0, 2] = 150e6
+    lines = root_stress_lines(ds)
+    assert len(lines) == 4 and "face ends: up to 150.0 MPa" in lines[3]
+    assert "not converged" in lines[3]
+
+
+def test_khv_contact_analysis_gives_both_gears_root_stress():
+    """The KHV internal pair through ``contact_analysis(root_stress=True)`` (coarse FE,
+    tooth elements 0.35 m): planet and ring, every position, tension on the loaded
+    fillets; the ring's own check against ISO 6336-3 is
+    ``tests/published/test_iso6336_internal_root_stress.py``."""
+    from reducerlab.analysis.contact import contact_analysis
+    from reducerlab.analysis.contact_rootstress import root_stress_lines
+    from reducerlab.drives import load_design
+    from reducerlab.examples import example_dir
+
+    design = load_design(example_dir() / "khv.toml")
+    res = contact_analysis(design, torque=50.0, positions=6, order=2, root_stress=True,
+                           tooth_size=0.35 * 3.5e-3)  # fmt: skip
+    ds = res.data
+    rs = ds["root_stress"].values  # (gear, position, tooth pair)
+    assert rs.shape == (2, 6, 3)
+    assert np.all(np.isfinite(rs))
+    # the most loaded tooth of each gear at each position is in tension, its opposite
+    # fillet in compression; measured 37.6 MPa (planet) and 24.8 MPa (ring) at 50 N m
+    assert np.all(rs.max(axis=2) > 0) and np.all(ds["root_compressive"].values.min(axis=2) < 0)
+    assert 10e6 < rs[0].max() < 100e6 and 5e6 < rs[1].max() < 100e6
+    assert ds.attrs["root_stress_peak"] == pytest.approx(float(rs.max()))
+    assert any("peak tooth-root stress" in line for line in root_stress_lines(ds))

@@ -107,7 +107,7 @@ class PairSetup:
             gear = max((p.pinion, p.wheel), key=lambda g: g.tip_radius)
             return spur_compliance_estimate(gear, tooth_size)
         if self.kind == "internal":
-            return _internal_estimate(self.mesh_pair, tooth_size)
+            return _internal_estimate(self.mesh_pair, tooth_size, root_stress)
         from ..contact.compliance import compliance_estimate
 
         return compliance_estimate(self.mesh_pair.unmodified, tooth_size, root_stress=root_stress)
@@ -120,15 +120,11 @@ class PairSetup:
         process, one finite-element model when pinion and wheel are equal; with the
         fillet stress influence when ``root_stress`` (``contact.rootstress``)."""
         if self.kind == "internal":
-            if root_stress:
-                raise ReducerlabError(
-                    "root_stress: not yet for the KHV internal pair (the ring's tooth model "
-                    "has no fillet stress influence); spur and nutation pairs have it"
-                )
             say("finite-element compliance of the planet's and the ring's teeth")
             return self.mesh_pair.unmodified.tooth_compliances(
-                material=self.material, tooth_size=tooth_size, stage=say
-            )
+                material=self.material, tooth_size=tooth_size, stage=say,
+                root_stress=root_stress,
+            )  # fmt: skip
         if self.kind == "spur":
             say("finite-element compliance of the pinion's and the wheel's teeth")
             return self.mesh_pair.unmodified.tooth_compliances(
@@ -316,9 +312,10 @@ def _internal_setup(
     )  # fmt: skip
 
 
-def _internal_estimate(mp: Any, tooth_size: float | None) -> Estimate:
+def _internal_estimate(mp: Any, tooth_size: float | None, root_stress: bool = False) -> Estimate:
     """The larger of the planet's and the ring's FE tooth models (the ring's sector is
-    the larger body: its rim)."""
+    the larger body: its rim); ``root_stress``: the ring's dense columns twice (the
+    displacements of the loads too)."""
     from ..contact.compliance import TEETH
     from ..contact.spur_pair import SECTOR_TEETH, model_sizes
     from ..fe.gear_mesh import MeshSizes
@@ -326,7 +323,8 @@ def _internal_estimate(mp: Any, tooth_size: float | None) -> Estimate:
 
     n_u, n_v, ts, bs = model_sizes((6, 9), mp.ring.module, tooth_size, None)
     ring = internal_sector_estimate(
-        mp.ring, SECTOR_TEETH, None, MeshSizes(ts, bs), dense_columns=len(TEETH) * n_u * n_v,
+        mp.ring, SECTOR_TEETH, None, MeshSizes(ts, bs),
+        dense_columns=len(TEETH) * n_u * n_v * (2 if root_stress else 1),
         what=f"contact: the tooth compliance of the ring (z = {mp.ring.teeth})",
     )  # fmt: skip
     planet = spur_compliance_estimate(mp.planet, tooth_size)

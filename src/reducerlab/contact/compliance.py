@@ -46,6 +46,7 @@ from ..kinematics.rotations import rot_z
 from ..threads import with_compute_threads
 
 __all__ = [
+    "FILLET_SIZE",
     "FacetQuadrature",
     "FacetQuadratureError",
     "ToothCompliance",
@@ -53,6 +54,7 @@ __all__ = [
     "compliance_estimate",
     "facet_quadrature",
     "fe_tooth_compliance",
+    "fillet_mesh_size",
     "flank_influence",
     "load_nodes",
     "tooth_sectors",
@@ -158,17 +160,57 @@ def _sizes(m_n: float, tooth_size: float | None, body_size: float | None) -> tup
     return ts, max(bs, ts)
 
 
+#: Default element size of a bevel tooth model's root band (``fe.gear_mesh.FILLET_BAND``)
+#: with ``root_stress``, in normal modules: the fillet stress of the nutation drive's
+#: external gear is converged there to 1.7 % (its internal gear's is not: a root without
+#: a fillet radius; docs/contact.md, "Tooth-root stress")
+FILLET_SIZE = 0.2
+
+
+def fillet_mesh_size(
+    tooth_size: float, root_stress: bool, fillet_size: float | None, module: float
+) -> float | None:
+    """The root-band element size (m) of a bevel tooth model (``fe.gear_mesh.
+    FILLET_BAND``): ``fillet_size`` when given (a length ``> 0``, at most the tooth size,
+    equal to it: no refinement; with ``root_stress`` only); else ``FILLET_SIZE m_n``
+    with ``root_stress`` (none where the tooth size is finer) and none without it.
+
+    Raises
+    ------
+    ReducerlabError
+        A ``fillet_size`` that is not a length ``> 0`` or exceeds the tooth size, or one
+        given without ``root_stress``.
+    """
+    if fillet_size is None:
+        fs = FILLET_SIZE * module
+        return fs if root_stress and fs < tooth_size else None
+    if (
+        isinstance(fillet_size, bool)
+        or not isinstance(fillet_size, int | float)
+        or not (math.isfinite(fillet_size) and fillet_size > 0)
+    ):
+        raise ReducerlabError(f"fillet_size: must be a length > 0 (m); got {fillet_size!r}")
+    if fillet_size > tooth_size:
+        raise ReducerlabError(
+            f"fillet_size: must be at most the tooth element size {tooth_size!r} m; "
+            f"got {fillet_size!r}"
+        )
+    if not root_stress:
+        raise ReducerlabError("fillet_size: refines the root fillets for root_stress=True only")
+    return float(fillet_size)
+
+
 def compliance_estimate(
     pair, tooth_size: float | None = None, body_size: float | None = None,
     grid: tuple[int, int] = (6, 9), rim: float | None = None, concurrent: bool = False,
-    root_stress: bool = False,
+    root_stress: bool = False, fillet_size: float | None = None,
 ) -> Any:  # fmt: skip
     """The :class:`~reducerlab.budget.Estimate` of both gears' tooth-compliance models
     of ``pair`` (five tooth sectors each, and the dense loads and responses of the
     flank loads), from the element sizes before any meshing; the larger of the two, or
     with ``concurrent`` (both models built at once, in two processes) their sum.
     ``root_stress``: with the displacements of the loads too (twice the dense
-    columns)."""
+    columns); ``fillet_size``: the root band refined (:func:`fillet_mesh_size`)."""
     import dataclasses
 
     from ..fe.gear_mesh import BlankFeatures, MeshSizes, mesh_estimate
@@ -179,8 +221,10 @@ def compliance_estimate(
         crown, gear = flank.crown, flank.gear
         m_n = crown.profile.module
         ts, bs = _sizes(m_n, tooth_size, body_size)
+        fs = fillet_mesh_size(ts, root_stress, fillet_size, m_n)
         est = mesh_estimate(
-            crown, gear, 2.0 * m_n if rim is None else rim, BlankFeatures(), MeshSizes(ts, bs),
+            crown, gear, 2.0 * m_n if rim is None else rim, BlankFeatures(),
+            MeshSizes(ts, bs, fs),
             what=f"contact: the tooth compliance of the {gear.kind} gear",
             control="the tooth element size (--tooth-size, tooth_size=)", sectors=5,
             dense_columns=len(TEETH) * grid[0] * grid[1] * (2 if root_stress else 1),
@@ -205,6 +249,7 @@ def fe_tooth_compliance(
     rim: float | None = None,
     stage: Stage | None = None,
     root_stress: bool = False,
+    fillet_size: float | None = None,
     _legacy: bool = False,
 ) -> ToothCompliance:
     """Finite-element tooth compliance of a crown-generated bevel gear's flank.
@@ -226,6 +271,12 @@ def fe_tooth_compliance(
         Also the stress influence of every load bump at the root-fillet nodes of the
         three teeth (``contact.rootstress``; :func:`_bevel_fillet`; one backward
         substitution more and about ``24 dofs x loads`` bytes more at the peak).
+    fillet_size : float, optional
+        Element size (m) in the root band (``fe.gear_mesh.FILLET_BAND``), at most the
+        tooth size (equal: no refinement), with ``root_stress`` only; default
+        ``FILLET_SIZE m_n`` with ``root_stress`` (:func:`fillet_mesh_size`), where the
+        external nutation gear's fillet stress is converged to 1.7 %, at 1.8x the DOFs of
+        the plain model (docs/contact.md).
     _legacy : bool
         Private: the finite-element path as before issue 28 (:func:`flank_influence`).
     """
@@ -241,9 +292,11 @@ def fe_tooth_compliance(
         raise ReducerlabError(f"grid: needs at least 2 x 2 load points; got {grid!r}")
     if not isinstance(root_stress, bool):
         raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
+    fs = fillet_mesh_size(ts, root_stress, fillet_size, m_n)
     a = 2.0 * ts  # bump radius: two tooth elements
     say("meshing five tooth sectors")
-    mesh = mesh_gear(crown, gear, rim=rim, sizes=MeshSizes(ts, bs), sectors=tooth_sectors(flank))
+    sizes = MeshSizes(ts, bs, fs)
+    mesh = mesh_gear(crown, gear, rim=rim, sizes=sizes, sectors=tooth_sectors(flank))
     # load grid, inset by the bump radius from the flank's edges (arc length)
     u_nodes, v_nodes = load_nodes(flank, a, n_u, n_v)
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
@@ -418,8 +471,10 @@ class _bevel_fillet:
         nt /= np.maximum(np.linalg.norm(nt, axis=1, keepdims=True), 1e-300)
         angle = np.arcsin(np.clip(np.abs(np.einsum("ij,ij->i", nt, e_h)), 0.0, 1.0))
         face = L - 0.5 * (self.blank.front + self.blank.back)
+        ends = np.minimum(L - self.blank.front, self.blank.back - L)
         return FilletInfluence(p, n, np.asarray(tooth, np.int64), np.asarray(side, np.int64),
-                               np.hypot(p[:, 0], p[:, 1]), face, angle, S)  # fmt: skip
+                               np.hypot(p[:, 0], p[:, 1]), face, angle, S, ends,
+                               self.module)  # fmt: skip
 
 
 def flank_influence(

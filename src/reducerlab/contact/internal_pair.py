@@ -47,7 +47,14 @@ from ..kinematics.rotations import rot_z
 from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
 from .flanks import Flank, GearPose
 from .modifications import PairModifications, modified
-from .spur_pair import SpurFlank, held_sector_dofs, model_sizes, spur_tooth_compliance
+from .spur_pair import (
+    SpurFlank,
+    fillet_facets,
+    fillet_influence,
+    held_sector_dofs,
+    model_sizes,
+    spur_tooth_compliance,
+)
 
 __all__ = [
     "RING_DEDENDUM_CLEARANCE",
@@ -384,12 +391,14 @@ class InternalMeshPair:
         planet_rim: float | None = None,
         ring_rim: float | None = None,
         stage: Stage | None = None,
+        root_stress: bool = False,
     ) -> tuple[ToothCompliance, ToothCompliance]:
         """Bending compliances of planet (:func:`~reducerlab.contact.spur_pair.
         spur_tooth_compliance`, bore held) and ring (:func:`internal_tooth_compliance`,
-        outer surface held), in this pair's tooth order (both ``direction = +1``)."""
+        outer surface held), in this pair's tooth order (both ``direction = +1``); with
+        ``root_stress`` each with its root-fillet stress influence."""
         kw = dict(material=material, grid=grid, tooth_size=tooth_size, body_size=body_size,
-                  stage=stage)  # fmt: skip
+                  stage=stage, root_stress=root_stress)  # fmt: skip
         ca = spur_tooth_compliance(self.planet, 1, direction=1, rim=planet_rim, **kw)
         cb = internal_tooth_compliance(self.ring, -1, direction=1, rim=ring_rim, **kw)
         return ca, cb
@@ -411,6 +420,7 @@ def internal_tooth_compliance(
     rim: float | None = None,
     direction: int = 1,
     stage: Stage | None = None,
+    root_stress: bool = False,
 ) -> ToothCompliance:
     """Finite-element bending compliance of teeth ``-1, 0, 1`` of an internal gear.
 
@@ -441,11 +451,19 @@ def internal_tooth_compliance(
         :class:`InternalMeshPair`.
     stage : callable, optional
         ``stage(text)`` at each step.
+    root_stress : bool
+        Also the stress influence of every load bump at the root-fillet nodes of the
+        three teeth (``contact.rootstress``): the boundary facets between the root form
+        circle and the root circle (outside the form circle: the ring's fillets and root
+        land), side +1 the loaded flank's fillet (its tension side); the same
+        factorisation, one backward substitution more, the dense columns counted twice
+        in the estimate.
 
     Returns
     -------
     ToothCompliance
-        Teeth ``(-1, 0, 1)``, flank parameters of :class:`InternalFlank`, m/N.
+        Teeth ``(-1, 0, 1)``, flank parameters of :class:`InternalFlank`, m/N; with
+        ``root_stress`` its ``fillet``.
 
     Raises
     ------
@@ -464,10 +482,13 @@ def internal_tooth_compliance(
         raise ReducerlabError(f"direction: must be +1 or -1; got {direction!r}")
     if not isinstance(material, Material):
         raise ReducerlabError(f"material: must be a Material; got {type(material).__name__}")
+    if not isinstance(root_stress, bool):
+        raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
     n_u, n_v, ts, bs = model_sizes(grid, gear.module, tooth_size, body_size)
     mesh_sizes = MeshSizes(ts, bs)
+    columns = len(TEETH) * n_u * n_v * (2 if root_stress else 1)
     internal_sector_estimate(
-        gear, SECTOR_TEETH, rim, mesh_sizes, dense_columns=len(TEETH) * n_u * n_v,
+        gear, SECTOR_TEETH, rim, mesh_sizes, dense_columns=columns,
         what=f"contact: the tooth compliance of the internal gear (z = {gear.teeth})",
     ).check()  # fmt: skip
     say = stage or (lambda _s: None)
@@ -479,7 +500,9 @@ def internal_tooth_compliance(
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
     P0, N0 = iflank.evaluate(uu.ravel(), vv.ravel())
     angles = [direction * gear.pitch * k for k in TEETH]
-    K, dofs = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
-                              angles, a, material, stage=say,
-                              name=f"internal gear (z = {gear.teeth})")  # fmt: skip
-    return ToothCompliance(u_nodes, v_nodes, TEETH, K, dofs, a)
+    fillet = fillet_facets(mesh, flank, direction) if root_stress else None
+    out = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
+                          angles, a, material, stage=say,
+                          name=f"internal gear (z = {gear.teeth})", fillet=fillet)  # fmt: skip
+    inf = fillet_influence(gear, out[2], direction) if root_stress else None
+    return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)

@@ -21,6 +21,20 @@ negative principal stress on the opposite fillet the compressive side.
 Sides: the loaded flank's fillet (side +1) is the tension side of a tooth in bending,
 the other fillet (side -1) the compression side.
 
+Face ends: the flank loads are bumps of radius ``a`` (``ToothCompliance.radius``, two
+tooth elements) on a grid inset by ``a`` from the flank's edges; a load nearer a face
+end than that is extrapolated from the grid (the same stencil as the compliance), so
+that its force and moment are right but not its local spread, and the fillet meets the
+end face in an edge. The fillet stress there does not converge: on the nutation drive's
+internal gear (pair 1 of ``examples/nutation_surface.toml``, a line load over the face)
+the fillet maximum within 2 mm (one module) of the end faces rose by 27-53 % from tooth
+elements of 0.3 to 0.25 m_n, while beyond it the face slices of those two meshes agree
+to 10 % (docs/contact.md; that gear's root is not converged elsewhere either).
+:func:`tooth_root_stress` takes the tensile and compressive root stresses from the
+fillet nodes at least ``FilletInfluence.end_margin`` (one normal module) from the end
+faces (``FilletInfluence.end_distance``) and reports the largest principal stress of the
+end zones apart (``ToothRootStress.end_tensile``: not converged, for information).
+
 Units: SI (m, N, Pa, rad).
 """
 
@@ -74,6 +88,12 @@ class FilletInfluence:
     matrix : ndarray (n, 6, T L)
         Stress (Voigt order ``xx, yy, zz, yz, xz, xy``, Pa) at each node per unit bump
         (N): Pa/N, bumps in the compliance's column order.
+    end_distance : ndarray (n,), optional
+        Distance from the nearer end face along the face (m); None: not known (every
+        node counts as inside the face).
+    end_margin : float
+        Nodes nearer an end face than this (m; the builders: one normal module) are the
+        face-end zones (module docstring).
     """
 
     points: Array
@@ -84,6 +104,8 @@ class FilletInfluence:
     face: Array
     angle: Array
     matrix: Array
+    end_distance: Array | None = None
+    end_margin: float = 0.0
 
     def stress(self, amplitudes: Array) -> Array:
         """Stress (n, 6) (Pa) at the fillet nodes under bump amplitudes (T L,) (N)."""
@@ -100,7 +122,8 @@ class FilletInfluence:
         bumps per tooth."""
         order = np.concatenate([np.arange(block) + teeth.index(-k) * block for k in teeth])
         return FilletInfluence(self.points, self.normals, -self.tooth, self.side, self.radius,
-                               self.face, self.angle, self.matrix[:, :, order])  # fmt: skip
+                               self.face, self.angle, self.matrix[:, :, order],
+                               self.end_distance, self.end_margin)  # fmt: skip
 
     @property
     def memory(self) -> int:
@@ -128,6 +151,10 @@ class ToothRootStress:
         Where, as for the tensile side.
     von_mises : ndarray (T,)
         Largest von Mises stress on either fillet of the tooth (Pa).
+    end_tensile : ndarray (T,)
+        Largest principal stress on the loaded flank's fillet within
+        ``FilletInfluence.end_margin`` of the end faces (Pa; module docstring: not
+        converged, excluded from the others; NaN where the fillet has no such nodes).
     """
 
     teeth: tuple[int, ...]
@@ -140,6 +167,7 @@ class ToothRootStress:
     compressive_face: Array
     compressive_angle: Array
     von_mises: Array
+    end_tensile: Array
 
 
 def von_mises(sigma: Array) -> Array:
@@ -196,18 +224,25 @@ def tooth_root_stress(
     Returns
     -------
     ToothRootStress
+        The fillet nodes within ``end_margin`` of the end faces excluded from all but
+        ``end_tensile`` (module docstring).
     """
     inf = _influence(compliance)
     sigma = inf.stress(bump_amplitudes(compliance, tooth, u, v, force))
     p = principal_stresses(sigma)  # (n, 3) ascending
     vm = von_mises(sigma)
     teeth = tuple(int(k) for k in compliance.teeth)
+    inner = np.ones(len(p), dtype=bool)
+    if inf.end_distance is not None:
+        inner = inf.end_distance >= inf.end_margin
     out: dict[str, list[float]] = {k: [] for k in ("t", "tr", "tf", "ta", "c", "cr", "cf", "ca")}
-    out["vm"] = []
+    out["vm"], out["e"] = [], []
     for k in teeth:
-        out["vm"].append(float(vm[inf.tooth == k].max(initial=0.0)))
+        out["vm"].append(float(vm[(inf.tooth == k) & inner].max(initial=0.0)))
+        ends = (inf.tooth == k) & (inf.side == 1) & ~inner
+        out["e"].append(float(p[ends, 2].max()) if ends.any() else math.nan)
         for side, key, val in ((1, "t", p[:, 2]), (-1, "c", p[:, 0])):
-            idx = np.flatnonzero((inf.tooth == k) & (inf.side == side))
+            idx = np.flatnonzero((inf.tooth == k) & (inf.side == side) & inner)
             if idx.size == 0:  # a fillet outside the model (cut by a sector's end wall)
                 for suffix in ("", "r", "f", "a"):
                     out[key + suffix].append(math.nan)
@@ -219,7 +254,7 @@ def tooth_root_stress(
             out[key + "a"].append(float(inf.angle[j]))
     a = {k: np.array(v) for k, v in out.items()}
     return ToothRootStress(teeth, a["t"], a["tr"], a["tf"], a["ta"], a["c"], a["cr"], a["cf"],
-                           a["ca"], a["vm"])  # fmt: skip
+                           a["ca"], a["vm"], a["e"])  # fmt: skip
 
 
 def line_load_root_stress(
@@ -258,6 +293,7 @@ class PairRootStress:
     compressive_face: Array
     compressive_angle: Array
     von_mises: Array
+    end_tensile: Array
 
     def peak(self) -> dict[str, float | int]:
         """The largest tensile root stress of the run and where: ``gear`` (0 A, 1 B),
@@ -311,6 +347,6 @@ def contact_root_stress(pair, contacts, compliance_a, compliance_b) -> PairRootS
 
     names = ("tensile", "tensile_radius", "tensile_face", "tensile_angle", "compressive",
              "compressive_radius", "compressive_face", "compressive_angle",
-             "von_mises")  # fmt: skip
+             "von_mises", "end_tensile")  # fmt: skip
     return PairRootStress(teeth, np.array([c.phi for c in contacts]),
                           *(grab(n) for n in names))  # fmt: skip

@@ -25,6 +25,7 @@ import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -36,7 +37,15 @@ from .compliance import TEETH, ToothCompliance, flank_influence, load_nodes
 from .flanks import Flank, GearPose
 from .modifications import PairModifications, modified
 
-__all__ = ["SpurFlank", "SpurMeshPair", "held_sector_dofs", "model_sizes", "spur_tooth_compliance"]
+__all__ = [
+    "SpurFlank",
+    "SpurMeshPair",
+    "fillet_facets",
+    "fillet_influence",
+    "held_sector_dofs",
+    "model_sizes",
+    "spur_tooth_compliance",
+]
 
 Array = NDArray[np.float64]
 Stage = Callable[[str], None]
@@ -221,13 +230,16 @@ def _reverse_teeth(c: ToothCompliance) -> ToothCompliance:
                            c.dofs, c.radius, fillet)  # fmt: skip
 
 
-def _fillet_facets(mesh, flank: int, direction: int) -> Callable:
-    """``fillet(basis) -> (facets, tooth block, side)`` of the spur sector ``mesh``: the
-    boundary facets between the root circle and the root form circle (the generated
-    fillets and the root land), not on the end faces, of the modelled teeth; a facet
-    belongs to the tooth whose centre line is nearest, on the side of its polar angle
-    (side +1 toward the loaded ``flank``)."""
+def fillet_facets(mesh, flank: int, direction: int) -> Callable:
+    """``fillet(basis) -> (facets, tooth block, side)`` of a cylindrical gear's tooth
+    sector ``mesh`` (``fe.spur_mesh``, ``fe.internal_mesh``; tooth 0 centred on ``+x``):
+    the boundary facets between the root circle and the root form circle (the generated
+    fillets and the root land; inside the root circle for an external gear, outside it
+    for an internal one), not on the end faces, of the modelled teeth; a facet belongs
+    to the tooth whose centre line is nearest, on the side of its polar angle (side +1
+    toward the loaded ``flank``)."""
     g = mesh.gear
+    lo, hi = sorted((g.root_radius, g.form_radius))
 
     def select(basis):
         skm = basis.mesh
@@ -235,7 +247,7 @@ def _fillet_facets(mesh, flank: int, direction: int) -> Callable:
         P = skm.p[:, skm.facets[:, bf]]  # (3 coords, 3 corners, facets)
         r = np.hypot(P[0], P[1])
         tol = 1e-6 * g.module
-        band = np.all((r >= g.root_radius - tol) & (r <= g.form_radius + tol), axis=0)
+        band = np.all((r >= lo - tol) & (r <= hi + tol), axis=0)
         nrm = np.cross((P[:, 1] - P[:, 0]).T, (P[:, 2] - P[:, 0]).T)
         lateral = np.abs(nrm[:, 2]) < 0.5 * np.linalg.norm(nrm, axis=1)
         c = P.mean(axis=1)
@@ -249,10 +261,11 @@ def _fillet_facets(mesh, flank: int, direction: int) -> Callable:
     return select
 
 
-def _spur_fillet_influence(gear: SpurGear, raw, direction: int):
-    """The :class:`~reducerlab.contact.rootstress.FilletInfluence` of a spur sector from
-    ``flank_influence``'s fillet output: radius, face position ``z`` and the tangent
-    angle to the centre line of the node's tooth."""
+def fillet_influence(gear: Any, raw, direction: int):
+    """The :class:`~reducerlab.contact.rootstress.FilletInfluence` of a cylindrical
+    gear's sector (``SpurGear`` or ``InternalGear``) from ``flank_influence``'s fillet
+    output: radius, face position ``z`` and the tangent angle to the centre line (the
+    radial line) of the node's tooth."""
     from .rootstress import FilletInfluence
 
     ss, tooth, side, S = raw
@@ -262,7 +275,8 @@ def _spur_fillet_influence(gear: SpurGear, raw, direction: int):
     nt = n[:, :2] / np.maximum(np.linalg.norm(n[:, :2], axis=1, keepdims=True), 1e-300)
     angle = np.arcsin(np.clip(np.abs(np.einsum("ij,ij->i", nt, e)), 0.0, 1.0))
     return FilletInfluence(p, n, np.asarray(tooth, np.int64), np.asarray(side, np.int64),
-                           np.hypot(p[:, 0], p[:, 1]), p[:, 2].copy(), angle, S)  # fmt: skip
+                           np.hypot(p[:, 0], p[:, 1]), p[:, 2].copy(), angle, S,
+                           0.5 * gear.face_width - np.abs(p[:, 2]), gear.module)  # fmt: skip
 
 
 def held_sector_dofs(basis, mesh, radius: float, what: str) -> NDArray[np.int64]:
@@ -414,9 +428,9 @@ def spur_tooth_compliance(
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
     P0, N0 = sflank.evaluate(uu.ravel(), vv.ravel())
     angles = [direction * gear.pitch * k for k in TEETH]
-    fillet = _fillet_facets(mesh, flank, direction) if root_stress else None
+    fillet = fillet_facets(mesh, flank, direction) if root_stress else None
     out = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
                           angles, a, material, stage=say, name=f"spur gear (z = {gear.teeth})",
                           fillet=fillet)  # fmt: skip
-    inf = _spur_fillet_influence(gear, out[2], direction) if root_stress else None
+    inf = fillet_influence(gear, out[2], direction) if root_stress else None
     return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)
