@@ -205,3 +205,37 @@ def test_cli_method_option_refuses_bad_values():
     assert r.exit_code != 0 and "--tooth-size" in r.output
     r = runner.invoke(app, ["rating", ex, "--method", "A", "--positions", "1"])
     assert r.exit_code != 0 and "positions" in r.output
+
+
+def test_method_a_rating_file_figure_report_and_verdict(spur, tmp_path):
+    from reducerlab.analysis.rating import RatingResult
+    from reducerlab.analysis.verdict import verdict
+    from reducerlab.reporting import report
+
+    path = tmp_path / "rating.nc"
+    spur.save(path)
+    back = RatingResult.load(path)
+    assert back.pairs() == spur.pairs()
+    assert back.value("S_F_A", "2") == spur.value("S_F_A", "2")
+    assert "method A:" in back.table() and "judged by min(A, B)" in back.table()
+    fig = back.figure()
+    labels = [t.get_text() for t in fig.axes[0].get_yticklabels()]
+    assert labels == ["pinion (B)", "gear (B)", "pinion (A)", "gear (A)"]
+    design = load_design(EXAMPLES / "gear_pair.toml")
+    rep = report(design, results=[path], only=["capacity"])
+    (sec,) = [s for s in rep.sections if s.id == "capacity"]
+    assert sec.values["safety"] == spur.pairs()
+    v = verdict(design, rating=back, run_response=False)
+    cap = [r for r in v.reasons if r["rule"] == "capacity"]
+    assert len(cap) == 4 and all("method min(A, B)" in r["text"] for r in cap)
+    s_h = min(spur.pairs()["pair"]["S_H"])
+    assert min(r["value"] for r in cap if r["factor"] == "S_H") == pytest.approx(s_h)
+
+
+def test_a_pair_beyond_the_memory_limit_is_refused_before_any_work(monkeypatch):
+    from reducerlab.errors import BudgetError
+
+    monkeypatch.setenv("REDUCERLAB_MEMORY_LIMIT", "50M")
+    d = load_design(EXAMPLES / "nutation_double_sided.toml")
+    with pytest.raises(BudgetError, match="tooth"):
+        load_capacity(d, ltca=MethodA(tooth_size=0.95e-3))

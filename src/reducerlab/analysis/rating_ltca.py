@@ -310,9 +310,16 @@ def method_a_pairs(
     if not loads:
         return {}
     from .contact import contact_analysis
+    from .contact_setup import pair_setup
 
     given = settings.compliance or {}
     say = stage or (lambda _s: None)
+    # every pair's finite-element models estimated before the first one is built: a
+    # second pair beyond the memory limit is refused before minutes of work on the first
+    for load in loads:
+        if given.get(load.label) is None:
+            setup = pair_setup(design, load.index)
+            setup.compliance_estimate(settings.tooth_size, root_stress=True).check()
     out = {}
     for load in loads:
         say(f"method A, {load.label}: contact analysis")
