@@ -25,6 +25,14 @@ load cycles (``Y_NT = 1``); pinion ``s_Fn = 7.423 mm``, ``rho_F = 1.023 mm``,
 (``sigma_FP = sigma_Flim Y_ST Y_NT Y_deltarelT Y_RrelT Y_X``: ISO 10300-3 prints the
 permissible stress without ``S_Fmin``; ``S_F = sigma_FP / sigma_F``).
 
+Also the 30 deg tangent construction (``theta``, ``s_Fn``, ``rho_F``) on the example's
+virtual normal pinion (:func:`test_critical_section_of_sample_1_pinion`).
+
+Not checked by any published digits (none found): ISO 6336-3's load point and bending
+arm ``h_Fe`` at ``d_en`` (ISO 10300 loads the tip), ``Y_beta``, ``Y_B``, ``Y_DT``,
+``K_Fbeta``, ``Y_NT`` away from 3e6 cycles, ``Y_X`` above 5 mm, ``Y_RrelT`` below 1 um
+and for other materials, ``Y_deltarelT``'s slip layers of other materials.
+
 Tolerances: half a unit of the last printed digit, plus what the rounding of the
 printed inputs (half a unit of their last digit) moves the result, stated per line.
 """
@@ -86,3 +94,30 @@ def test_stress_correction_and_form_factor_equations_of_sample_1():
     # +-0.0005 deg move Y_F by up to 2.2e-4 relative, 4.5e-4
     y_f = p3.form_factor(H_FA, S_FN, ALPHA_FAN, MN, ALPHA_N)
     assert y_f == pytest.approx(2.033, abs=0.0005 + 0.00045)
+
+
+def test_critical_section_of_sample_1_pinion():
+    """ISO 6336-3's 30 deg tangent construction (Eq. 11-17: E, G, H, theta, s_Fn, rho_F)
+    on Sample 1's virtual normal pinion: ``z_vn = 25.594``, ``m_mn = 3.213 mm``,
+    ``x_hm = 0.505``, tool ``h_fP = 1.25 m_mn``, edge radius ``rho_a0 = 0.8 mm``; printed
+    ``theta = 50.783 deg``, ``s_Fn = 7.423 mm``, ``rho_F = 1.023 mm``. ISO 10300-3's
+    ``E = (pi/4 - x_sm) m_mn - h_fP tan(alpha_n) + s_pr / cos(alpha_n) - (1 - sin
+    alpha_n) rho_a0 / cos(alpha_n)`` carries the thickness modification ``x_sm = 0.036``
+    (``s_pr = 0``), which ISO 6336-3's ``E`` (its ``x`` the generating shift) does not;
+    it enters exactly as a residual undercut ``s_pr = -x_sm m_mn cos(alpha_n)`` would,
+    which is how it is passed here. ``tip_diameter`` and ``contact_ratio`` (``d_van1``,
+    ``eps_va``) only place ISO 6336-3's load point, not checked (ISO 10300 loads the tip).
+
+    Tolerances: half a unit of the last printed digit plus the sum of what the rounding
+    of the printed inputs (``z_vn``, ``x_hm``, ``x_sm``, ``m_mn`` to half their last
+    digit) moves each value, computed by perturbing them: theta 0.0048 deg, s_Fn 0.0049
+    mm (``x_sm`` to three decimals alone 0.0031 mm), rho_F 0.0005 mm.
+    """
+    f = p3.tooth_form(
+        teeth=25.594, module=MN, pressure_angle=ALPHA_N, shift=0.505, tip_diameter=91.915e-3,
+        contact_ratio=1.165, dedendum=1.25, root_fillet=0.8e-3 / MN,
+        residual_undercut=-0.036 * MN * math.cos(ALPHA_N),
+    )  # fmt: skip
+    assert math.degrees(f.theta) == pytest.approx(50.783, abs=0.0005 + 0.0048)  # 50.7834
+    assert f.s_Fn == pytest.approx(S_FN, abs=(0.0005 + 0.0049) * 1e-3)  # 7.4195 mm
+    assert f.rho_F == pytest.approx(RHO_F, abs=(0.0005 + 0.0005) * 1e-3)  # 1.0228 mm
