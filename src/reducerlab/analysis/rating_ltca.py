@@ -283,6 +283,14 @@ def rate_from_contact(
                 "(the fillet lies outside them); the method A rating cannot judge its root"
             )
         row("sigma_F_A", g, sf_a, "Pa", f"{H1}: largest principal fillet stress (FE)")
+        # where: a peak at a face end or far from ISO's 30 deg tangent deserves a look
+        # (docs/assumptions.md, "Method A": a known mesh-dependent defect)
+        at = np.unravel_index(int(np.nanargmax(rs[i])), rs[i].shape)
+        for name, var, unit in (("radius", "root_stress_radius", "m"),
+                                ("face", "root_stress_face", "m"),
+                                ("angle", "root_stress_angle", "rad")):  # fmt: skip
+            row(f"sigma_F_A_{name}", g, float(ds[var].values[i][at]), unit,
+                f"where sigma_F_A is ({name}: {var})")  # fmt: skip
         row("sigma_HP_A", g, lim["sigma_HG"] / c.S_Hmin, "Pa",
             f"ISO 6336-2:2019 Eq. 5-6 (S_Hmin = {c.S_Hmin:g})")  # fmt: skip
         row("sigma_FP_A", g, lim["sigma_FG"] / c.S_Fmin, "Pa",
