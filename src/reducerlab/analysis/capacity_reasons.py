@@ -4,7 +4,11 @@ tooth-root safety factor falls below its minimum is a risk.
 The rating is :func:`reducerlab.analysis.rating.load_capacity` at the design's own load
 (ISO 6336-2/-3:2019 method B for spur and internal pairs; the bevel pairs on their
 ISO 10300-1 virtual cylindrical gears), with its documented conditions
-(:class:`~reducerlab.rating.material.RatingConditions`: ``S_Hmin``, ``S_Fmin``).
+(:class:`~reducerlab.rating.material.RatingConditions`: ``S_Hmin``, ``S_Fmin``). The
+verdict makes only the method B rating itself (milliseconds); a rating handed to it with
+method A (the loaded contact analysis: minutes, ``reducerlab rating --method A``) is
+judged by its judged safety factors: method A's for a pair method B does not cover (the
+double-arc pairs), the smaller of A and B where both were computed (``method="both"``).
 """
 
 from __future__ import annotations
@@ -54,7 +58,7 @@ def capacity_reasons(design: Any, rating: Any = None) -> list[dict[str, Any]]:
         from .rating import load_capacity
 
         try:
-            rating = load_capacity(design)
+            rating = load_capacity(design, method="B")
         except ReducerlabError as e:
             return [reason("capacity", "note", f"load capacity not rated: {e}", None, None)]
     cond = json.loads(rating.data.attrs.get("conditions", "{}"))
@@ -68,7 +72,7 @@ def capacity_reasons(design: Any, rating: Any = None) -> list[dict[str, Any]]:
                 out.append(reason(
                     "capacity", status,
                     f"{what} safety {key} = {s:.3g} {rel} {floor_key} = {floor:g} "
-                    f"({name}, {gear}; {p['standard']})",
+                    f"({name}, {gear}; method {p.get('judged_by', 'B')}: {p['standard']})",
                     s, floor, pair=name, gear=str(gear), factor=key,
                 ))  # fmt: skip
     return out

@@ -19,12 +19,18 @@
 
 The result lists every factor with its value, unit and clause, and ``S_H``, ``S_F`` per
 gear (``pair``: which pair, ``gear``: ``1`` or ``2`` of that pair).
+
+``method`` adds or replaces these by method A, the safety factors from the loaded tooth
+contact analysis and its FE root stresses (:mod:`reducerlab.analysis.rating_ltca`):
+by default (``auto``) for the pairs method B does not cover, the double circular-arc
+nutation pairs, which no standard rates.
 """
 
 from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from typing import Any, ClassVar
 
 import numpy as np
@@ -35,6 +41,7 @@ from ..errors import ReducerlabError
 from ..rating.cylindrical import PairRating, rate_internal_pair, rate_spur_pair
 from ..rating.material import GearMaterial, RatingConditions
 from ..results import Result, provenance
+from .rating_ltca import METHODS, MethodA, PairLoad, judged, method_a_pairs
 
 __all__ = ["RatingResult", "design_materials", "load_capacity"]
 
@@ -50,9 +57,13 @@ class RatingResult(Result):
     """
 
     kind: ClassVar[str] = "rating"
+    #: method A's contact results by pair label (in memory only, not in the netCDF file)
+    contacts: dict[str, Any] | None = None
 
     def pairs(self) -> dict[str, dict[str, Any]]:
-        """Per pair: ``standard``, ``gears`` (names), ``S_H`` and ``S_F`` (gear 1, 2)."""
+        """Per pair: ``standard``, ``gears`` (names), ``S_H`` and ``S_F`` (gear 1, 2: the
+        judged values), ``judged_by`` (``A``, ``B`` or ``min(A, B)``) and ``methods``
+        (per method ``A``/``B`` computed: its ``S_H``, ``S_F`` and standard)."""
         return dict(json.loads(self.data.attrs["pairs"]))
 
     def value(self, symbol: str, gear: str = "pair", pair: str | None = None) -> float:
@@ -105,7 +116,13 @@ class RatingResult(Result):
             lines.append(
                 f"  S_H: {g1} {p['S_H'][0]:.3f}, {g2} {p['S_H'][1]:.3f}   "
                 f"S_F: {g1} {p['S_F'][0]:.3f}, {g2} {p['S_F'][1]:.3f}"
+                + (f"   (judged by {p['judged_by']})" if len(p.get("methods", {})) > 1 else "")
             )
+            for key, m in p.get("methods", {}).items() if len(p.get("methods", {})) > 1 else ():
+                lines.append(
+                    f"    method {key}: S_H {m['S_H'][0]:.3f}, {m['S_H'][1]:.3f}   "
+                    f"S_F {m['S_F'][0]:.3f}, {m['S_F'][1]:.3f}"
+                )
             lines.append(f"  {'symbol':<12} {'gear':<8} {'value':>14}  {'unit':<9} clause")
             for i in np.nonzero(ds["pair"].values == label)[0]:
                 unit, v = str(ds["unit"].values[i]), float(ds["value"].values[i])
@@ -160,9 +177,14 @@ def load_capacity(
     torque: float | None = None,
     power: float | None = None,
     conditions: RatingConditions | None = None,
+    method: str = "auto",
+    ltca: MethodA | None = None,
+    stage: Callable[[str], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> RatingResult:
     """Rate every gear pair of ``design`` (ISO 6336-2/-3:2019; ISO 10300-1/-2/-3:2023
-    method B1 for bevel pairs).
+    method B1 for bevel pairs; method A from the loaded tooth contact analysis,
+    :mod:`reducerlab.analysis.rating_ltca`).
 
     Parameters
     ----------
@@ -175,6 +197,18 @@ def load_capacity(
     conditions : RatingConditions, optional
         K-factors, life, lubricant, roughness, minimum safety factors; defaults
         documented in :class:`~reducerlab.rating.material.RatingConditions`.
+    method : {"auto", "A", "B", "both"}
+        ``B``: ISO 6336 method B only (milliseconds; refuses double-arc teeth). ``A``:
+        the LTCA-based method A only (a contact analysis with root stresses per pair:
+        minutes). ``both``: both, judged by the smaller safety factor. ``auto``
+        (default): B where the standard covers the pair, A where it does not (the
+        double circular-arc pairs).
+    ltca : MethodA, optional
+        Settings of method A's contact analyses (positions, tooth element size, cell,
+        workers); default :class:`~reducerlab.analysis.rating_ltca.MethodA`.
+    stage, progress : callable, optional
+        Passed to the contact analyses of method A (``stage(text)``,
+        ``progress(done, total)``).
 
     Raises
     ------
@@ -183,6 +217,10 @@ def load_capacity(
         rate, or geometry outside the standard's range, naming the field.
     """
     c = conditions or RatingConditions()
+    if method not in METHODS:
+        raise ReducerlabError(f"method: one of {', '.join(METHODS)}; got {method!r}")
+    if ltca is not None and not isinstance(ltca, MethodA):
+        raise ReducerlabError(f"ltca: a MethodA (rating_ltca) or None; got {ltca!r}")
     _pinion_torque(design, torque, power)
     kind = getattr(design, "type", "")
     if kind not in ("gear_pair", "khv", "nutation"):
@@ -199,6 +237,9 @@ def load_capacity(
         t = _load(design, torque, power, speed, lambda p: p.input_torque)
         pair = design.spur_pair()  # type: ignore[attr-defined]
         ratings["pair"] = (rate_spur_pair(pair, t, speed, (mat, mat), c), ("pinion", "gear"))
+        g1 = pair.pinion
+        loads = [PairLoad("pair", 1, ("pinion", "gear"), t, speed, pair.wheel.teeth / g1.teeth,
+                          g1.reference_radius, g1.module)]  # fmt: skip
     elif kind == "khv":
         g = design.gears  # type: ignore[attr-defined]
         w_h = float(design.input_speed)  # type: ignore[attr-defined]
@@ -210,9 +251,22 @@ def load_capacity(
             rate_internal_pair(pair, t, rel, (mat, mat), c),
             ("planet V", "ring K"),
         )
+        ratio = g.ring_teeth / g.planet_teeth
+        loads = [PairLoad("mesh K-V", 1, ("planet V", "ring K"), t, rel, ratio,
+                          pair.pitch_radius(1), pair.module)]  # fmt: skip
     else:  # nutation
-        ratings.update(_nutation(design, mat, c, torque, power))
-    return _result(design, ratings, c)
+        b, loads = _nutation(design, mat, c, torque, power, method)
+        ratings.update(b)
+    if method == "B":
+        return _result(design, ratings, c)
+    want = [ld for ld in loads if method != "auto" or ld.label not in ratings]
+    rated_b = {k: r for k, (r, _) in ratings.items()}
+    contacts: dict[str, Any] = {}
+    a = method_a_pairs(design, want, (mat, mat), c, ltca or MethodA(), rated_b, stage, progress,
+                       contacts)  # fmt: skip
+    out = _result(design, ratings, c, a, {ld.label: ld.gears for ld in loads}, method)
+    out.contacts = contacts
+    return out
 
 
 def _nutation(
@@ -221,9 +275,11 @@ def _nutation(
     c: RatingConditions,
     torque: float | None,
     power: float | None,
-) -> dict[str, tuple[PairRating, tuple[str, str]]]:
+    method: str = "B",
+) -> tuple[dict[str, tuple[PairRating, tuple[str, str]]], list[PairLoad]]:
     """Each bevel pair of a nutation design by ISO 10300 method B1
-    (:func:`reducerlab.rating.bevel.rate_bevel_pair`), loaded by the torque flow."""
+    (:func:`reducerlab.rating.bevel.rate_bevel_pair`), loaded by the torque flow, and the
+    pairs' loads for method A (double-arc pairs: method A only)."""
     from ..rating.bevel import rate_bevel_pair
     from .torque_flow import torque_flow
 
@@ -239,9 +295,12 @@ def _nutation(
             "surface: the rating needs the tooth geometry of a [surface] table "
             "(profile, face_width)"
         )
-    if sf.profile != "involute":
+    arcs = sf.profile != "involute"
+    if arcs and method == "B":
         raise ReducerlabError(
-            f"surface.profile: the ISO rating covers involute teeth; got {sf.profile!r}"
+            f"surface.profile: the ISO rating (method B) covers involute teeth; got "
+            f"{sf.profile!r}: rate double-arc teeth by method A (method='A' or 'auto', "
+            "reducerlab rating --method A)"
         )
     if torque is not None or power is not None:
         w_in = abs(float(design.input_speed))
@@ -256,12 +315,18 @@ def _nutation(
         )
     theta = design.theta
     freqs = list(design.kinematics().mesh_frequencies(design.input_speed).values())
-    out = {}
+    out, loads = {}, []
     for k, (d_nut, d_cen) in enumerate(design.cones(theta)):
         nut, cen = getattr(design, f"gear{2 * k + 1}"), getattr(design, f"gear{2 * k + 2}")
         mesh = flow.meshes[f"mesh{k + 1}"]
         m_n = sf.normal_module or design.surface_module(2 * k + 1)
         w_rel = 2 * math.pi * freqs[k] / cen.teeth
+        names = (f"gear {2 * k + 2}", f"gear {2 * k + 1}")
+        t_ext = abs(float(mesh.external_torque))
+        loads.append(PairLoad(f"pair {k + 1}", k + 1, names, t_ext, w_rel, nut.teeth / cen.teeth,
+                              cen.mean_radius, m_n, arcs))  # fmt: skip
+        if arcs:
+            continue
         r = rate_bevel_pair(
             teeth=(cen.teeth, nut.teeth), mean_radii=(cen.mean_radius, nut.mean_radius),
             cone_angles=(d_cen, d_nut), normal_module=m_n, spiral_angle=design.spiral_angle,
@@ -269,8 +334,8 @@ def _nutation(
             torque=abs(float(mesh.external_torque)), speed=w_rel, internal=True,
             materials=(mat, mat), conditions=c,
         )  # fmt: skip
-        out[f"pair {k + 1}"] = (r, (f"gear {2 * k + 2}", f"gear {2 * k + 1}"))
-    return out
+        out[f"pair {k + 1}"] = (r, names)
+    return out, loads
 
 
 def _load(design: Design, torque, power, speed, pick) -> float:
@@ -292,18 +357,22 @@ def _load(design: Design, torque, power, speed, pick) -> float:
 
 
 def _result(
-    design: Design, ratings: dict[str, tuple[PairRating, tuple[str, str]]], c: RatingConditions
+    design: Design,
+    ratings: dict[str, tuple[PairRating, tuple[str, str]]],
+    c: RatingConditions,
+    method_a: dict[str, PairRating] | None = None,
+    names: dict[str, tuple[str, str]] | None = None,
+    method: str = "B",
 ) -> RatingResult:
-    rows = [(label, f) for label, (r, _) in ratings.items() for f in r.factors]
-    pairs = {
-        label: {
-            "standard": r.standard,
-            "gears": list(names),
-            "S_H": list(r.S_H),
-            "S_F": list(r.S_F),
-        }
-        for label, (r, names) in ratings.items()
-    }
+    a = method_a or {}
+    order = list(names) if names else list(ratings)
+    rows = [(label, f) for label in order if label in ratings for f in ratings[label][0].factors]
+    rows += [(label, f) for label in order if label in a for f in a[label].factors]
+    pairs = {}
+    for label in order:
+        b = ratings[label][0] if label in ratings else None
+        gears = names[label] if names else ratings[label][1]
+        pairs[label] = judged(b, a.get(label), gears, method)
     ds = xr.Dataset(
         {
             "pair": ("factor", np.array([p for p, _ in rows], dtype=str)),
@@ -316,6 +385,7 @@ def _result(
         attrs={
             "title": "Load capacity (pitting, tooth root)",
             "pairs": json.dumps(pairs),
+            "method": method,
             "conditions": json.dumps(c.__dict__),
             **provenance(design.provenance),
         },

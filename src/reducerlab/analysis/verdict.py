@@ -407,6 +407,7 @@ def verdict(
     speed_range: tuple[float, float] | None = None,
     response_options: Mapping[str, Any] | None = None,
     capacity: bool = True,
+    rating: Any = None,
 ) -> Verdict:
     """Whether a drive is at risk over its operating range and at its operating point.
 
@@ -439,6 +440,10 @@ def verdict(
     capacity : bool
         Judge the load capacity of a design's gear pairs (:mod:`.capacity_reasons`;
         designs of the types the rating covers).
+    rating : RatingResult, optional
+        A load capacity rating already made (e.g. with method A,
+        ``load_capacity(..., method="A")``); default the method B rating at the
+        design's load.
 
     Returns
     -------
@@ -505,7 +510,7 @@ def verdict(
     if capacity and design is not None:
         from .capacity_reasons import capacity_reasons
 
-        reasons += capacity_reasons(design)
+        reasons += capacity_reasons(design, rating)
     reasons += extra
     reasons.sort(key=lambda r: STATUSES.index(r["status"]))
     return Verdict(reasons, t, resonance, responses, title, model.speed * RPM)

@@ -1,6 +1,7 @@
 """``reducerlab rating``: load capacity of a design's gear pairs, pitting and tooth root
 safety factors (ISO 6336-2/-3:2019 method B; ISO 10300-1/-2/-3:2023 method B1 for the
-bevel pairs, every factor listed with its clause; issue 29)."""
+bevel pairs, every factor listed with its clause; method A from the loaded tooth contact
+analysis, ``analysis.rating_ltca``; issue 29)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import typer
 
 from ..errors import ReducerlabError
 from .options import DesignArgument, Format, FormatOption, SetOption, quantity_option
-from .output import output_set, savefig, user_errors, write_json
+from .output import output_set, progress_bar, savefig, user_errors, write_json
 
 
 def _factor(text: str | None, option: str) -> float | None:
@@ -64,6 +65,25 @@ def rating(
             max=1e5,
         ),
     ] = None,
+    method: Annotated[
+        str,
+        typer.Option(
+            help="auto: ISO 6336 method B where the standard covers the pair, method A (the "
+            "loaded contact analysis with FE root stresses, minutes per pair) where it does "
+            "not (double-arc teeth); B; A; both (judged by the smaller)."
+        ),
+    ] = "auto",
+    positions: Annotated[
+        int | None,
+        typer.Option(help="Method A: positions over the mesh cycle (8).", min=2, max=48),
+    ] = None,
+    tooth_size: Annotated[
+        str | None,
+        typer.Option(
+            "--tooth-size",
+            help="Method A: element size of the FE tooth models, e.g. '1 mm' (0.3 m_n).",
+        ),
+    ] = None,
     output: Annotated[
         Path | None, typer.Option("--output", "-o", help="Output folder (netCDF, JSON, table).")
     ] = None,
@@ -75,6 +95,7 @@ def rating(
     from dataclasses import replace
 
     from ..analysis.rating import load_capacity
+    from ..analysis.rating_ltca import METHODS, MethodA
     from ..drives import load_design
     from ..rating.material import RatingConditions
 
@@ -98,7 +119,22 @@ def rating(
         if viscosity is not None:
             changes["viscosity_40"] = viscosity * 1e-6
         cond = replace(RatingConditions(), **changes)
-        res = load_capacity(d, torque=T, power=P, conditions=cond)
+        if method not in METHODS:
+            raise ReducerlabError(f"--method: one of {', '.join(METHODS)}; got {method!r}")
+        settings = MethodA(
+            positions=8 if positions is None else positions,
+            tooth_size=quantity_option(tooth_size, "--tooth-size", "length"),
+        )
+        if method == "B":
+            res = load_capacity(d, torque=T, power=P, conditions=cond, method="B")
+        else:
+            with progress_bar() as bar:
+                task = bar.add_task("rating", total=None)
+                res = load_capacity(
+                    d, torque=T, power=P, conditions=cond, method=method, ltca=settings,
+                    stage=lambda text: bar.update(task, description=text),
+                    progress=lambda done, total: bar.update(task, completed=done, total=total),
+                )  # fmt: skip
         if files is not None:
             with files:
                 res.save(files.path("rating.nc"))

@@ -3,7 +3,9 @@
 :func:`plot_rating` draws, for every gear of every rated pair, the pitting safety factor
 ``S_H`` (ISO 6336-2 / the bevel pairs' virtual cylindrical gears) and the tooth-root
 safety factor ``S_F`` (ISO 6336-3) as bars against the minimum safety factors of the
-rating's conditions; a bar short of its minimum is drawn in red. Plain
+rating's conditions; a bar short of its minimum is drawn in red. With method A (the
+loaded contact analysis, ``analysis.rating_ltca``) each gear has a bar per method,
+labelled ``(A)`` and ``(B)``. Plain
 :class:`matplotlib.figure.Figure` (no pyplot, Agg-safe).
 """
 
@@ -39,10 +41,13 @@ def plot_rating(result: RatingResult) -> Figure:
     cond = json.loads(result.data.attrs.get("conditions", "{}"))
     labels, s_h, s_f = [], [], []
     for name, p in pairs.items():
-        for gear, h, f in zip(p["gears"], p["S_H"], p["S_F"], strict=True):
-            labels.append(f"{name}: {gear}" if len(pairs) > 1 else str(gear))
-            s_h.append(h)
-            s_f.append(f)
+        methods = p.get("methods") or {"B": p}
+        for key, m in methods.items():
+            for gear, h, f in zip(p["gears"], m["S_H"], m["S_F"], strict=True):
+                label = f"{name}: {gear}" if len(pairs) > 1 else str(gear)
+                labels.append(f"{label} ({key})" if "A" in methods else label)
+                s_h.append(h)
+                s_f.append(f)
     fig = Figure(figsize=(8.0, 0.9 + 0.55 * len(labels)), layout="constrained")
     axes = fig.subplots(1, 2, sharey=True)
     y = np.arange(len(labels))

@@ -47,6 +47,7 @@ from ..geometry.spur import SpurGear, SpurPair
 __all__ = [
     "ToothForm",
     "fillet_tangent_point",
+    "form_factor",
     "gear_tooth_form",
     "helix_factor",
     "internal_tooth_form",
@@ -104,6 +105,17 @@ def virtual_teeth(teeth: float, helix_angle: float, pressure_angle: float) -> fl
     Eq. 9 / ISO 21771), ``beta_b`` from ``sin beta_b = sin beta cos a_n``."""
     beta_b = math.asin(math.sin(helix_angle) * math.cos(pressure_angle))
     return teeth / (math.cos(beta_b) ** 2 * math.cos(helix_angle))
+
+
+def form_factor(
+    h_Fe: float, s_Fn: float, alpha_Fen: float, module: float, pressure_angle: float
+) -> float:
+    """Tooth form factor ``Y_F = 6 (h_Fe / m_n) cos(alpha_Fen) / ((s_Fn / m_n)^2
+    cos(alpha_n))`` (ISO 6336-3:2019 Eq. 8): bending arm ``h_Fe`` and root chord
+    ``s_Fn`` (m), load angle ``alpha_Fen`` and pressure angle ``alpha_n`` (rad), normal
+    module (m)."""
+    mn = float(module)
+    return 6 * (h_Fe / mn) * math.cos(alpha_Fen) / ((s_Fn / mn) ** 2 * math.cos(pressure_angle))
 
 
 def stress_correction(s_Fn: float, h_Fe: float, rho_F: float) -> tuple[float, float]:
@@ -233,7 +245,7 @@ def tooth_form(
             + rho_fP / mn
         )
     )
-    Y_F = 6 * (h_Fe / mn) * math.cos(alpha_Fen) / ((s_Fn / mn) ** 2 * math.cos(an))
+    Y_F = form_factor(h_Fe, s_Fn, alpha_Fen, mn, an)
     Y_S, q_s = stress_correction(s_Fn, h_Fe, rho_F)
     return ToothForm(h_Fe, s_Fn, rho_F, alpha_Fen, theta, d_en, Y_F, Y_S, q_s)
 

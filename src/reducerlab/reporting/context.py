@@ -77,8 +77,10 @@ class Context:
             from ..analysis.verdict import verdict
 
             responses, notes = self.responses()
+            given = self.given("rating")
             self.cache["verdict"] = verdict(self.design, components=self.components(),
-                                            responses=responses, extra_reasons=notes)  # fmt: skip
+                                            responses=responses, extra_reasons=notes,
+                                            rating=given[0] if given else None)  # fmt: skip
         return self.cache["verdict"]
 
     def has_model(self) -> bool:

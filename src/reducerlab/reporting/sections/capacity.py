@@ -36,7 +36,7 @@ def _rating(ctx: Context) -> tuple[Any | None, str]:
     from ...analysis.rating import load_capacity
 
     try:
-        return load_capacity(ctx.design), ""
+        return load_capacity(ctx.design, method="B"), ""
     except ReducerlabError as e:  # no load, no tooth geometry, double-arc teeth
         return None, str(e)
 
@@ -95,11 +95,16 @@ def capacity_section(ctx: Context) -> Section | None:
     s.values["minimum"] = rating.minimum_safety
     rows = []
     for name, p in pairs.items():
-        for gear, h, f in zip(p["gears"], p["S_H"], p["S_F"], strict=True):
-            rows.append((name, gear, h, f, p["standard"]))
+        methods = p.get("methods") or {"B": p}
+        for key, m in methods.items():
+            for gear, h, f in zip(p["gears"], m["S_H"], m["S_F"], strict=True):
+                rows.append((name, gear, key, h, f, m["standard"]))
+        if len(methods) > 1:
+            for gear, h, f in zip(p["gears"], p["S_H"], p["S_F"], strict=True):
+                rows.append((name, gear, "judged", h, f, p["standard"]))
     s.blocks.append(
         table(
-            ["pair", "gear", "S_H", "S_F", "standard"],
+            ["pair", "gear", "method", "S_H", "S_F", "standard"],
             rows,
             digits=4,
             name="safety",
