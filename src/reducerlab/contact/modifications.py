@@ -51,6 +51,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 
 __all__ = [
+    "CROWNED_APPROACH",
     "C_GAMMA",
     "MAX_AMOUNT",
     "NONE",
@@ -76,6 +77,16 @@ MAX_AMOUNT = 0.2e-3
 #: single contact point, ``(eps_alpha - 1) p_b`` of the path ``g_alpha = eps_alpha
 #: p_b``) for a transverse contact ratio of about 1.65
 TIP_SHARE = 0.4
+
+#: Loaded approach of the crowned layout's contact at its design load, in units of
+#: ``delta = F_t / (b c_gamma)``: on a foundation of stiffness ``c_gamma`` per face width
+#: a line contact with the pair's parabolic crown ``C = 2 delta`` (``(2y/b)^2``) carries
+#: ``F = (2/3) c_gamma b A^(3/2) / C^(1/2)`` at the approach ``A`` while its loaded length
+#: ``b sqrt(A / C)`` is shorter than the face; ``F = c_gamma b delta`` gives
+#: ``A = (3 / sqrt 2)^(2/3) delta = 1.651 delta`` (loaded length 0.91 b). The tip relief
+#: must clear this approach, not ``delta`` (the uncrowned mesh's): a tooth entering
+#: mesh meets the others' approach at its tip
+CROWNED_APPROACH = (3.0 / math.sqrt(2.0)) ** (2.0 / 3.0)
 
 #: Points of the tables mapping flank parameters to profile and face positions
 TABLE = 201
@@ -422,8 +433,11 @@ def crowned_layout(
       foundation of stiffness ``c_gamma`` a parabolic crown of ``1.5 delta`` just spans
       the face at the design load; ``2 delta`` loads ``0.91 b`` and keeps the load off
       both face ends (``docs/contact.md``);
-    * tip relief ``C_a = C_eff = delta`` on each flank, parabolic (no kink in the
-      flank, so no pressure spike where the relief starts), over the outer
+    * tip relief ``C_a = CROWNED_APPROACH delta = 1.651 delta`` on each flank: the
+      approach of the crowned contact at the design load (:data:`CROWNED_APPROACH`;
+      ISO/TS 6336-20's ``C_eff = delta`` is the uncrowned mesh's, and left 4-7 % of a
+      crowned nutation pair's load on the tips, ``docs/contact.md``), parabolic (no
+      kink in the flank, so no pressure spike where the relief starts), over the outer
       :data:`TIP_SHARE` of its active profile (ISO/TS 6336-20's long relief);
     * no profile crowning, no root relief (each tip relief relieves the mating root).
 
@@ -453,8 +467,15 @@ def crowned_layout(
             f"{delta * 1e6:.4g} um (F_t / (b c_gamma)), more than micro-geometry "
             f"({MAX_AMOUNT * 1e3:g} mm) can relieve"
         )
+    tip = CROWNED_APPROACH * delta
+    if tip > MAX_AMOUNT:
+        raise ReducerlabError(
+            f"force: {force:.4g} N on a {face_width * 1e3:.4g} mm face needs a tip relief of "
+            f"{tip * 1e6:.4g} um (1.651 F_t / (b c_gamma)), more than micro-geometry "
+            f"({MAX_AMOUNT * 1e3:g} mm)"
+        )
     return PairModifications(*(
-        FlankModification(lead_crowning=delta, tip_relief=delta,
+        FlankModification(lead_crowning=delta, tip_relief=tip,
                           tip_relief_length=TIP_SHARE * length, relief_shape="parabolic")
         for length in (profile_a, profile_b)
     ))  # fmt: skip
