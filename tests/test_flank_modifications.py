@@ -226,6 +226,44 @@ def test_crowned_layout_at_the_analysed_load_keeps_the_nutation_tips_unloaded():
         assert max(r.edge_share for r in runs) < 0.01
 
 
+def test_corner_relief_is_measured_from_the_profile_corner():
+    # the double arc's flank (GB/T 12759: one corner, concave/transition joint): the
+    # ease-off is C_c (1 - |s - s_c| / L_Cc)^2 about the corner's profile position s_c
+    # (FlankCoordinates: arc length along the mid-face profile), 0 beyond L_Cc; exact
+    # to the tables' linear interpolation (201 points: asserted 1e-3 of C_c)
+    from reducerlab.contact.modifications import ModifiedFlank, profile_corners
+
+    mp = contact_pair(load_design(NUTATION), 1, profile="double-arc")
+    flank = mp.flank_a
+    (corner,) = profile_corners(flank)
+    m = FlankModification(corner_relief=2e-6, corner_relief_length=0.4e-3,
+                          relief_shape="parabolic")  # fmt: skip
+    f = ModifiedFlank(flank, m)
+    c = f.coordinates
+    (s_c,) = f.corner_positions
+    assert s_c == pytest.approx(c.positions(np.array([corner]), np.array([0.5]))[0][0])
+    s = s_c + np.array([-0.5e-3, -0.2e-3, 0.0, 0.1e-3, 0.39e-3, 0.6e-3])
+    u = np.interp(s, c.s, c.u)
+    e = f.ease_off(u, np.full(u.size, 0.5))
+    want = 2e-6 * np.clip(1 - np.abs(s - s_c) / 0.4e-3, 0, None) ** 2
+    np.testing.assert_allclose(e, want, rtol=0, atol=2e-9)
+    # refused: no corner (an involute flank), length without amount rules, too long
+    spur = spur_mesh_pair(load_design(SPUR))
+    with pytest.raises(ReducerlabError, match="corner_relief: the flank's profile has no corner"):
+        ModifiedFlank(spur.flank_a, m)
+    with pytest.raises(ReducerlabError, match="corner_relief_length: must be > 0"):
+        FlankModification(corner_relief=1e-6)
+    with pytest.raises(ReducerlabError, match=r"corner_relief_length: .* more than half"):
+        ModifiedFlank(flank, FlankModification(corner_relief=1e-6, corner_relief_length=3e-3))
+    with pytest.raises(DesignError, match=r"gear2\.modifications\.corner_relief_length"):
+        load_design(NUTATION, ['gear2.modifications.corner_relief="2 um"'])
+    with pytest.raises(DesignError, match=r"gear2\.modifications\.corner_relief"):
+        load_design(NUTATION, ['gear2.modifications.corner_relief="-2 um"'])
+    # the involute pair's crowned layout has no corner relief, the double arc's has
+    inv = contact_pair(load_design(NUTATION, ["surface.flank_modifications=crowned"]), 1)
+    assert inv.modifications.a.corner_relief == 0.0
+
+
 # ------------------------------------------------------------------ (a) closed forms
 def test_unloaded_separation_is_the_sum_of_the_ease_offs():
     # spur pair at the pitch point: conjugate involutes touch along the whole face (t = 0);

@@ -327,9 +327,9 @@ def contact_analysis(
     cell : float, optional
         Fine contact cell (m), along the profile and the face; default from pilot runs
         at the analysed positions (cells of ``0.1 m_n``): 3 cells across the Hertz
-        half-width of the narrowest patch of the cycle, 40 along the shortest, each
-        within ``CELL_RANGE`` (``contact.ltca.auto_grid``; profile and face cells
-        differ); ``0.1 m_n`` when ``rigid``.
+        half-width of the narrowest patch of the cycle, 40 along the shortest, at most
+        ``MAX_CELLS`` loaded cells, each within ``CELL_RANGE``
+        (``contact.ltca.auto_grid``; profile and face cells differ); ``0.1 m_n`` when ``rigid``.
     face_cell : float, optional
         Fine contact cell along the face (m), with ``cell`` (then the profile's); default
         ``cell``. ``attrs["cell_m"]`` and ``attrs["face_cell_m"]`` of a result give its
@@ -423,7 +423,7 @@ def contact_analysis(
             say(f"pilot contact at {positions} positions (grid size)")
             pilot = loaded_contact(mp, T_a, phis, ContactGrid(PILOT * m_n), **kw)
             h, h_v = auto_grid(mp, pilot, E_star, PILOT * m_n,
-                               (CELL_RANGE[0] * m_n, CELL_RANGE[1] * m_n))  # fmt: skip
+                               (CELL_RANGE[0] * m_n, CELL_RANGE[1] * m_n), MAX_CELLS)  # fmt: skip
             s0 = pilot[0].s_max  # the separation the pilot needed: the first guess
             grid_estimate(mp, ContactGrid(h, face_cell=h_v)).check()
         else:

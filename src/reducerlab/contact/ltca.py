@@ -810,6 +810,8 @@ class PatchWidth:
     across : tuple of float
         Components of the unit minor axis (across the patch) along gear A's profile and
         face directions at the patch, absolute values.
+    centre : tuple of float
+        Gear A's flank parameters ``(u, v)`` of the patch's load centre.
     """
 
     tooth: int
@@ -819,6 +821,7 @@ class PatchWidth:
     half_width: float
     p0: float
     across: tuple[float, float]
+    centre: tuple[float, float] = (math.nan, math.nan)
 
 
 #: half-span of the stencil on which ``patch_widths`` fits the gap, m (and its steps):
@@ -917,7 +920,7 @@ def patch_widths(pair: MeshPair, run: PositionContact, E_star: float) -> list[Pa
         w = F / length
         b = math.sqrt(4.0 * w * R / (math.pi * E_star))
         out.append(PatchWidth(int(k), F, length, R, b, 2.0 * w / (math.pi * b),
-                              (dirs[0], dirs[1])))  # fmt: skip
+                              (dirs[0], dirs[1]), (float(uv0[0]), float(uv0[1]))))  # fmt: skip
     return out
 
 
@@ -935,7 +938,7 @@ RESOLVE = 0.5
 
 def auto_grid(
     pair: MeshPair, runs: Sequence[PositionContact], E_star: float, start: float,
-    bounds: tuple[float, float],
+    bounds: tuple[float, float], max_cells: int | None = None,
 ) -> tuple[float, float]:  # fmt: skip
     """Fine cell sizes (m) along the profile and along the face, from coarse pilot runs
     at the analysed positions.
@@ -947,10 +950,13 @@ def auto_grid(
     profile cell is the least of ``b / (HALF_WIDTH_CELLS c_u)`` and ``L / ALONG``, the
     face cell the least of ``b / (HALF_WIDTH_CELLS c_v)`` and ``L / ALONG`` (``c_u,
     c_v``: the minor axis's components along the profile and the face), each within
-    ``bounds``. A contact line along the face so gets cells narrow across the profile
-    and long along the face: the narrowest patch of the cycle (a spur pair's two-pair
-    zone, near a root) has ``HALF_WIDTH_CELLS`` cells across its half-width (unless
-    the lower bound stops it) at the cost of a line.
+    ``bounds``. A patch within the graded band of a curvature jump of the profile (its
+    centre within ``GRADED_WINDOW`` of the jump's cells plus a half-width) has cells
+    ``GRADED_FACTOR`` times shorter there already (``_axis``): its profile cell is
+    sized ``GRADED_FACTOR`` times longer. A contact line along the face so gets cells
+    narrow across the profile and long along the face: the narrowest patch of the
+    cycle (a spur pair's two-pair zone, near a root) has ``HALF_WIDTH_CELLS`` cells
+    across its half-width (unless a bound stops it) at the cost of a line.
 
     Parameters
     ----------
@@ -963,10 +969,20 @@ def auto_grid(
         Cell size (m) with no patch to size (the pilot's).
     bounds : tuple of float
         Least and largest cell (m).
+    max_cells : int, optional
+        Loaded cells at most at any position (its contact area, :func:`loaded_area`,
+        over a cell's area): beyond, both cells grow by the square root of the excess,
+        and the cells per half-width fall below ``HALF_WIDTH_CELLS`` (a wide conformal
+        patch, the double arc's, beside a narrow one).
     """
     lo, hi = bounds
     if not (0 < lo <= hi and math.isfinite(hi)):
         raise ReducerlabError(f"bounds: must be lengths 0 < lo <= hi (m); got {bounds!r}")
+    A = pair.flank_a
+    prof = getattr(getattr(A, "crown", None), "profile", None)
+    u_lo, u_hi = A.u_range
+    jumps = [b for b in getattr(prof, "breaks", ()) if u_lo < b < u_hi]
+    jumps = [b for b in jumps if b not in getattr(prof, "corners", ())]
     h_u = h_v = float(start)
     for r in runs:
         ps = patch_widths(pair, r, E_star)
@@ -976,6 +992,19 @@ def auto_grid(
                 continue
             along = p.length / ALONG
             c_u, c_v = p.across
-            h_u = min(h_u, along, p.half_width / (HALF_WIDTH_CELLS * max(c_u, 1e-9)))
+            need = p.half_width / (HALF_WIDTH_CELLS * max(c_u, 1e-9))
+            if jumps:  # a patch at a curvature jump lies in its graded band (``_axis``)
+                u0, v0 = p.centre
+                P, _ = A.evaluate(np.array([u0, *jumps]), np.full(len(jumps) + 1, v0))
+                gap = float(np.min(np.linalg.norm(P[1:] - P[0], axis=1)))
+                if gap <= GRADED_WINDOW * GRADED_FACTOR * need + p.half_width:
+                    need *= GRADED_FACTOR
+            h_u = min(h_u, along, need)
             h_v = min(h_v, along, p.half_width / (HALF_WIDTH_CELLS * max(c_v, 1e-9)))
-    return float(np.clip(h_u, lo, hi)), float(np.clip(h_v, lo, hi))
+    h_u, h_v = float(np.clip(h_u, lo, hi)), float(np.clip(h_v, lo, hi))
+    if max_cells is not None and runs:
+        n = max(r.contact_area for r in runs) / (h_u * h_v)
+        if n > max_cells:
+            f = math.sqrt(n / max_cells)
+            h_u, h_v = min(f * h_u, hi), min(f * h_v, hi)
+    return h_u, h_v
