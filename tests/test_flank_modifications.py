@@ -259,6 +259,9 @@ def test_corner_relief_is_measured_from_the_profile_corner():
         load_design(NUTATION, ['gear2.modifications.corner_relief="2 um"'])
     with pytest.raises(DesignError, match=r"gear2\.modifications\.corner_relief"):
         load_design(NUTATION, ['gear2.modifications.corner_relief="-2 um"'])
+    with pytest.raises(DesignError, match=r"pinion\.modifications\.corner_relief.*an involute"):
+        load_design(SPUR, ['pinion.modifications.corner_relief="2 um"',
+                           'pinion.modifications.corner_relief_length="1 mm"'])  # fmt: skip
     # the involute pair's crowned layout has no corner relief, the double arc's has
     inv = contact_pair(load_design(NUTATION, ["surface.flank_modifications=crowned"]), 1)
     assert inv.modifications.a.corner_relief == 0.0
