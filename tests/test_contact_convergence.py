@@ -23,7 +23,8 @@ def runs():
     default = contact_analysis(design, 1, power=3000.0, positions=3, order=1)
     fine = contact_analysis(
         design, 1, power=3000.0, positions=3, order=1,
-        cell=0.5 * default.data.attrs["cell_m"], compliance=default.compliance,
+        cell=0.5 * default.data.attrs["cell_m"], face_cell=0.5 * default.data.attrs["face_cell_m"],
+        compliance=default.compliance,
     )  # fmt: skip
     return default, fine
 

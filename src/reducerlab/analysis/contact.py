@@ -293,6 +293,7 @@ def contact_analysis(
     positions: int = 24,
     order: int = 7,
     cell: float | None = None,
+    face_cell: float | None = None,
     profile: str | None = None,
     misalignment: Any = None,
     tooth_size: float | None = None,
@@ -324,9 +325,15 @@ def contact_analysis(
     order : int
         Harmonics of the Eq. 8 fit (paper 000: 7).
     cell : float, optional
-        Fine contact cell (m); default from a pilot run at position 0 (cells of
-        ``0.1 m_n``): ``ACROSS`` = 10 cells across its most loaded contact patch, at
-        most ``MAX_CELLS`` loaded cells (:func:`auto_cell`); ``0.1 m_n`` when ``rigid``.
+        Fine contact cell (m), along the profile and the face; default from pilot runs
+        at the analysed positions (cells of ``0.1 m_n``): 3 cells across the Hertz
+        half-width of the narrowest patch of the cycle, 40 along the shortest, at most
+        ``MAX_CELLS`` loaded cells, each within ``CELL_RANGE``
+        (``contact.ltca.auto_grid``; profile and face cells differ); ``0.1 m_n`` when ``rigid``.
+    face_cell : float, optional
+        Fine contact cell along the face (m), with ``cell`` (then the profile's); default
+        ``cell``. ``attrs["cell_m"]`` and ``attrs["face_cell_m"]`` of a result give its
+        grid, e.g. to halve it.
     profile : {"involute", "double-arc"}, optional
         Overrides ``surface.profile``.
     misalignment : contact.flanks.Misalignment, optional
@@ -356,7 +363,7 @@ def contact_analysis(
         Also the tooth-root stresses of both gears at every position (the tooth models'
         fillet stress influence, ``analysis.contact_rootstress``).
     """
-    from ..contact.ltca import ContactGrid, grid_estimate, loaded_contact
+    from ..contact.ltca import ContactGrid, auto_grid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
     from .contact_rootstress import add_root_stress, check_root_compliance
     from .contact_setup import pair_setup
@@ -384,8 +391,16 @@ def contact_analysis(
         )
     nu, E_star = setup.material.nu, setup.E_star
     check_load(mp, T_a, setup.load_radius, E_star, design.operating_speed, power is not None)
+    if face_cell is not None and (cell is None or not (
+        isinstance(face_cell, (int, float)) and math.isfinite(face_cell)
+        and 0 < face_cell <= 0.5 * m_n
+    )):  # fmt: skip
+        raise ReducerlabError(
+            f"face_cell: must be a length in (0, m_n/2] = (0, {0.5 * m_n * 1e3:.4g} mm], "
+            f"given with cell; got {face_cell!r} (cell {cell!r})"
+        )
     if cell is not None:
-        grid_estimate(mp, ContactGrid(float(cell))).check()
+        grid_estimate(mp, ContactGrid(float(cell), face_cell=face_cell)).check()
     if root_stress:
         check_root_compliance(compliance, rigid)
     n = contact_processes(workers, rigid=rigid, positions=positions)
@@ -401,17 +416,20 @@ def contact_analysis(
             comp_a, comp_b = setup.compliances(tooth_size, say, pool, root_stress)
         kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": E_star}
         s0 = ContactGrid.s_max
+        h_v = None
         if cell is None and rigid:
             h = PILOT * m_n  # the quick pattern: the pilot's grid
         elif cell is None:
-            say("pilot contact (grid size)")
-            pilot = loaded_contact(mp, T_a, phis[:1], ContactGrid(PILOT * m_n), **kw)
-            h = auto_cell(pilot[0], m_n)
+            say(f"pilot contact at {positions} positions (grid size)")
+            pilot = loaded_contact(mp, T_a, phis, ContactGrid(PILOT * m_n), **kw)
+            h, h_v = auto_grid(mp, pilot, E_star, PILOT * m_n,
+                               (CELL_RANGE[0] * m_n, CELL_RANGE[1] * m_n), MAX_CELLS)  # fmt: skip
             s0 = pilot[0].s_max  # the separation the pilot needed: the first guess
+            grid_estimate(mp, ContactGrid(h, face_cell=h_v)).check()
         else:
-            h = float(cell)
+            h, h_v = float(cell), None if face_cell is None else float(face_cell)
         say(f"loaded contact at {positions} positions" + (f" ({n} processes)" if pool else ""))
-        grid = ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n)
+        grid = ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n, face_cell=h_v)
         if pool is None:
             runs = loaded_contact(mp, T_a, phis, grid, **kw, progress=progress)
             vm, depth = _stresses(runs, nu, h)
@@ -471,7 +489,7 @@ def contact_analysis(
         teeth_external=setup.teeth[0], teeth_internal=setup.teeth[1],
         torque_external=T_a, torque_internal=T_b, speed=float(design.input_speed),
         mesh_frequency=f_mesh, k_mean=fit.mean, fit_residual=fit.residual, order=order,
-        cell_m=h, rigid=int(rigid), lever_arm_m=arm,
+        cell_m=h, face_cell_m=grid.cell_v, rigid=int(rigid), lever_arm_m=arm,
         modifications=json.dumps(mp.modifications.to_dict()),
         fe_dofs=0 if comp_a is None else comp_a.dofs + comp_b.dofs,
         seconds=time.perf_counter() - t0,

@@ -21,6 +21,7 @@ from ..contact.modifications import (
     FlankModification,
     PairModifications,
     crowned_layout,
+    profile_corners,
 )
 from ..design import Design
 from ..errors import DesignError, ReducerlabError
@@ -127,7 +128,8 @@ def design_modifications(
     if _at(design, switch) == "crowned" and any(s is None for s in specs):
         force, face = design_force(design, pair)
         profiles = [FlankCoordinates.of(f).profile for f in (flank_a, flank_b)]
-        layout = crowned_layout(force, face, *profiles)
+        corners = (bool(profile_corners(flank_a)), bool(profile_corners(flank_b)))
+        layout = crowned_layout(force, face, *profiles, corners=corners)
         mods = [layout.a if specs[0] is None else mods[0],
                 layout.b if specs[1] is None else mods[1]]  # fmt: skip
     return PairModifications(*mods)

@@ -45,12 +45,15 @@ __all__ = [
     "MAX_CANDIDATES",
     "MAX_GRID_CELLS",
     "ContactGrid",
+    "PatchWidth",
     "PositionContact",
+    "auto_grid",
     "candidate_estimate",
     "flank_size",
     "grid_estimate",
     "loaded_area",
     "loaded_contact",
+    "patch_widths",
 ]
 
 Array = NDArray[np.float64]
@@ -100,7 +103,11 @@ class ContactGrid:
         automatically when too small.
     edge_band : float, optional
         Width of the band along the flank edges whose cells count as edge contact (m);
-        default two cells. Fix it in length when comparing grids.
+        default two of the longer cells. Fix it in length when comparing grids.
+    face_cell : float, optional
+        Fine cell size along the face (m), if other than ``cell`` (which then sizes the
+        cells along the profile): a contact line running along the face is narrow
+        across the profile and long along the face (``analysis.contact.auto_grid``).
     """
 
     cell: float
@@ -108,10 +115,19 @@ class ContactGrid:
     teeth: tuple[int, ...] = (-1, 0, 1)
     s_max: float = 1e-6
     edge_band: float | None = None
+    face_cell: float | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.cell) and self.cell > 0):
             raise ReducerlabError(f"grid.cell: must be a length > 0; got {self.cell!r}")
+        fc = self.face_cell
+        if fc is not None and not (isinstance(fc, int | float) and math.isfinite(fc) and fc > 0):
+            raise ReducerlabError(f"grid.face_cell: must be a length > 0 or None; got {fc!r}")
+
+    @property
+    def cell_v(self) -> float:
+        """Fine cell size along the face (m): ``face_cell``, else ``cell``."""
+        return self.cell if self.face_cell is None else float(self.face_cell)
         if not (isinstance(self.coarse, int) and 1 <= self.coarse <= 16):
             raise ReducerlabError(f"grid.coarse: must be an integer in 1..16; got {self.coarse!r}")
         if not self.teeth:
@@ -460,10 +476,11 @@ def grid_estimate(pair: MeshPair, grid: ContactGrid, control: str = CELL_CONTROL
     for flank in (pair.flank_a, pair.flank_b):
         su, sv = flank_size(flank)
         nu = math.ceil(su / grid.cell) + grid.coarse + math.ceil(extra * len(jumps))
-        nv = math.ceil(sv / grid.cell) + grid.coarse
+        nv = math.ceil(sv / grid.cell_v) + grid.coarse
         cells.append(float(nu) * float(nv))
     return Estimate(
-        f"contact: the grid of {grid.cell * 1e3:.3g} mm cells on the flanks",
+        f"contact: the grid of {grid.cell * 1e3:.3g} x {grid.cell_v * 1e3:.3g} mm cells "
+        "on the flanks",
         GRID_BYTES * sum(cells), max(cells), "fine cells", MAX_GRID_CELLS, control,
     )  # fmt: skip
 
@@ -547,13 +564,13 @@ def loaded_contact(
     corners = list(getattr(getattr(getattr(A, "crown", None), "profile", None), "corners", ()))
     graded = [b for b in breaks if b not in corners]
     ax_u = _axis(pu, arc_u, breaks, grid.cell, grid.coarse, graded)
-    ax_v = _axis(pv, arc_v, (), grid.cell, grid.coarse)
+    ax_v = _axis(pv, arc_v, (), grid.cell_v, grid.coarse)
     T_B = torque * pair.torque_ratio
     # fine cell geometry is the same for every tooth (tooth k = tooth 0 turned)
     fu, fv = np.meshgrid(ax_u.centres, ax_v.centres, indexing="ij")
     dfu, dfv = np.meshgrid(np.diff(ax_u.edges), np.diff(ax_v.edges), indexing="ij")
     cu, cv = np.meshgrid(ax_u.coarse_centres, ax_v.coarse_centres, indexing="ij")
-    band = grid.edge_band if grid.edge_band is not None else 2.0 * grid.cell
+    band = grid.edge_band if grid.edge_band is not None else 2.0 * max(grid.cell, grid.cell_v)
     B = pair.flank_b
     dist_a = np.minimum(_edge_distance(A, ax_u, ax_v, pu, arc_u, pv, arc_v),
                         _corner_distance(ax_u, pu, arc_u, corners)[:, None])  # fmt: skip
@@ -561,7 +578,7 @@ def loaded_contact(
     pub, arc_ub = _arc(B, True, 0.5)
     pvb, arc_vb = _arc(B, False, 0.5 * sum(B.u_range))
     bu = _axis(pub, arc_ub, breaks, grid.cell, 1, graded)
-    bv = _axis(pvb, arc_vb, (), grid.cell, 1)
+    bv = _axis(pvb, arc_vb, (), grid.cell_v, 1)
     dist_b = np.minimum(_edge_distance(B, bu, bv, pub, arc_ub, pvb, arc_vb),
                         _corner_distance(bu, pub, arc_ub, corners)[:, None])  # fmt: skip
     edge_b = RegularGridInterpolator(
@@ -769,3 +786,225 @@ def _select(pair, phi, coarse, sign, psi0, s_max, cache, fu, fv, fine_coarse, cs
         "psi0": psi_min, "rot": rot,
         "left_gap": np.concatenate(left_gap), "left_lam": np.concatenate(left_lam),
     }  # fmt: skip
+
+
+@dataclass(frozen=True)
+class PatchWidth:
+    """Hertz estimate of one loaded contact patch (one tooth pair at one position).
+
+    Attributes
+    ----------
+    tooth : int
+        Tooth pair.
+    force : float
+        Normal force the pair carries (N).
+    length : float
+        Length of the patch along its long axis (m).
+    radius : float
+        Relative radius of curvature across the patch ``R`` (m), from the gap.
+    half_width : float
+        Hertz line-contact half-width ``b = sqrt(4 w R / (pi E*))`` at the mean line
+        load ``w = force / length`` (m) (Johnson 1985 §4.3).
+    p0 : float
+        Its peak pressure ``2 w / (pi b)`` (Pa).
+    across : tuple of float
+        Components of the unit minor axis (across the patch) along gear A's profile and
+        face directions at the patch, absolute values.
+    centre : tuple of float
+        Gear A's flank parameters ``(u, v)`` of the patch's load centre.
+    """
+
+    tooth: int
+    force: float
+    length: float
+    radius: float
+    half_width: float
+    p0: float
+    across: tuple[float, float]
+    centre: tuple[float, float] = (math.nan, math.nan)
+
+
+#: half-span of the stencil on which ``patch_widths`` fits the gap, m (and its steps):
+#: well inside an involute's radius of curvature near the root (several mm), wider
+#: than Newton's tolerance of the separations (1e-11 m) over its quadratic (1e-9 m)
+STENCIL = 0.2e-3
+
+
+def patch_widths(pair: MeshPair, run: PositionContact, E_star: float) -> list[PatchWidth]:
+    """Hertz minor half-width of every loaded patch of a (coarse) contact run.
+
+    The width of a patch narrower than the run's cells cannot be read off its loaded
+    cells; the Hertz half-width follows from what a coarse grid does resolve: the force
+    the tooth pair carries, the patch's length along its long axis (its loaded cells'
+    extent plus a cell), and the relative curvature across it. The exact gap
+    (``contact.flanks.separations``, less the lever times the unloaded TE) on a 5 x 5
+    stencil of ``+-STENCIL`` around the patch's load centre is fitted by a quadratic in
+    the tangent plane (``g = c + d.x + x.H.x / 2``); ``1/R`` is the larger eigenvalue of
+    ``H`` (the gap of two bodies is ``x^2 / (2 R)`` across the contact, Johnson 1985
+    §4.1). Then ``b = sqrt(4 w R / (pi E*))`` at the mean line load ``w = F / L``
+    (Johnson 1985 §4.3). For an elliptical patch of major axis ``L`` the line load at
+    its centre is ``3 F / (2 L)``: the mean underrates ``b`` by up to ``sqrt(2/3)``, on
+    the side of finer cells.
+
+    Parameters
+    ----------
+    pair : MeshPair
+        The pair the run was computed for.
+    run : PositionContact
+    E_star : float
+        Combined modulus ``E*`` (Pa).
+
+    Returns
+    -------
+    list of PatchWidth
+        One per tooth pair carrying load whose gap has a positive curvature across it.
+    """
+    if not (math.isfinite(E_star) and E_star > 0):
+        raise ReducerlabError(f"E_star: must be a modulus > 0 (Pa); got {E_star!r}")
+    out = []
+    loaded = run.force > 0
+    for k in np.unique(run.tooth[loaded]):
+        m = (run.tooth == k) & loaded
+        F = float(run.force[m].sum())
+        wt = run.force[m] / F
+        c = wt @ run.points[m]
+        n = wt @ run.normals[m]
+        n /= np.linalg.norm(n)
+        h = math.sqrt(float(np.median(run.area[m])))
+        d = run.points[m] - c
+        d -= (d @ n)[:, None] * n  # into the tangent plane
+        if len(d) > 1 and np.ptp(d, axis=0).max() > 0:
+            e1 = np.linalg.svd(d - d.mean(axis=0), full_matrices=False)[2][0]
+            length = float(np.ptp(d @ e1)) + h
+        else:
+            length = h
+        # the stencil in flank parameters: steps of STENCIL / 2 in arc length
+        uv0 = wt @ run.uv[m]
+        fa = pair.flank_a
+        du, dv = 1e-4 * (fa.u_range[1] - fa.u_range[0]), 1e-4
+        P0, _ = fa.evaluate(np.array([uv0[0], uv0[0] + du, uv0[0]]),
+                            np.array([uv0[1], uv0[1], uv0[1] + dv]))  # fmt: skip
+        su = 0.5 * STENCIL * du / float(np.linalg.norm(P0[1] - P0[0]))
+        sv = 0.5 * STENCIL * dv / float(np.linalg.norm(P0[2] - P0[0]))
+        iu, iv = np.meshgrid(np.arange(-2, 3), np.arange(-2, 3), indexing="ij")
+        u = np.clip(uv0[0] + su * iu.ravel(), *fa.u_range)
+        v = np.clip(uv0[1] + sv * iv.ravel(), 0.0, 1.0)
+        s = separations(pair, run.phi, int(k), u, v)
+        ok = np.isfinite(s.distance)
+        if ok.sum() < 6:
+            continue
+        g = s.distance[ok] - s.lever[ok] * run.unloaded_te
+        x3 = s.points[ok] - c
+        x3 -= (x3 @ n)[:, None] * n
+        t1 = x3[np.argmax(np.linalg.norm(x3, axis=1))]
+        t1 = t1 / np.linalg.norm(t1)
+        t2 = np.cross(n, t1)
+        X, Y = x3 @ t1, x3 @ t2
+        M = np.column_stack([np.ones_like(X), X, Y, 0.5 * X * X, X * Y, 0.5 * Y * Y])
+        coef = np.linalg.lstsq(M, g, rcond=None)[0]
+        lam, vec = np.linalg.eigh([[coef[3], coef[4]], [coef[4], coef[5]]])
+        if not lam[-1] > 0:
+            continue
+        minor = vec[0, -1] * t1 + vec[1, -1] * t2
+        # the flank's profile and face directions at the patch, from the stencil's rows
+        dirs = []
+        for step, fixed in ((iu.ravel(), iv.ravel()), (iv.ravel(), iu.ravel())):
+            row = np.flatnonzero(ok & (fixed == 0))
+            if row.size < 2:  # unknown: as if the minor axis ran this way (finer cells)
+                dirs.append(1.0)
+                continue
+            i0, i1 = row[np.argmin(step[row])], row[np.argmax(step[row])]
+            t = s.points[i1] - s.points[i0]
+            dirs.append(abs(float(minor @ t)) / max(float(np.linalg.norm(t)), 1e-300))
+        R = 1.0 / float(lam[-1])
+        w = F / length
+        b = math.sqrt(4.0 * w * R / (math.pi * E_star))
+        out.append(PatchWidth(int(k), F, length, R, b, 2.0 * w / (math.pi * b),
+                              (dirs[0], dirs[1]), (float(uv0[0]), float(uv0[1]))))  # fmt: skip
+    return out
+
+
+#: cells across the Hertz half-width of the narrowest patch of the cycle (``auto_grid``):
+#: a cell's mean of ``p0 sqrt(1 - x^2/b^2)`` falls short of ``p0`` by up to ``h^2 /
+#: (6 b^2)`` (a cell with the peak at its edge; ``h^2 / (24 b^2)`` centred), so halving
+#: ``h = b/3`` moves the peak by at most ``3/4`` of ``1/54``: 1.4 %, under issue 29's 2 %
+HALF_WIDTH_CELLS = 3.0
+#: cells along the shortest sized patch's long axis (``auto_grid``)
+ALONG = 40.0
+#: patches whose Hertz peak reaches this share of their position's highest are sized
+#: (a lighter one, entering or leaving mesh, cannot carry the position's peak pressure)
+RESOLVE = 0.5
+
+
+def auto_grid(
+    pair: MeshPair, runs: Sequence[PositionContact], E_star: float, start: float,
+    bounds: tuple[float, float], max_cells: int | None = None,
+) -> tuple[float, float]:  # fmt: skip
+    """Fine cell sizes (m) along the profile and along the face, from coarse pilot runs
+    at the analysed positions.
+
+    At every position each loaded patch whose Hertz peak reaches ``RESOLVE`` of that
+    position's highest is sized (:func:`patch_widths`: half-width ``b`` from the gap's
+    curvature, the pair's force and the patch length ``L``; a pilot cell of ``0.1 m_n``
+    cannot measure a patch 0.1 mm wide, the curvature it can). Over those patches the
+    profile cell is the least of ``b / (HALF_WIDTH_CELLS c_u)`` and ``L / ALONG``, the
+    face cell the least of ``b / (HALF_WIDTH_CELLS c_v)`` and ``L / ALONG`` (``c_u,
+    c_v``: the minor axis's components along the profile and the face), each within
+    ``bounds``. A patch within the graded band of a curvature jump of the profile (its
+    centre within ``GRADED_WINDOW`` of the jump's cells plus a half-width) has cells
+    ``GRADED_FACTOR`` times shorter there already (``_axis``): its profile cell is
+    sized ``GRADED_FACTOR`` times longer. A contact line along the face so gets cells
+    narrow across the profile and long along the face: the narrowest patch of the
+    cycle (a spur pair's two-pair zone, near a root) has ``HALF_WIDTH_CELLS`` cells
+    across its half-width (unless a bound stops it) at the cost of a line.
+
+    Parameters
+    ----------
+    pair : MeshPair
+    runs : sequence of PositionContact
+        The pilot runs (one per analysed position).
+    E_star : float
+        Combined modulus (Pa).
+    start : float
+        Cell size (m) with no patch to size (the pilot's).
+    bounds : tuple of float
+        Least and largest cell (m).
+    max_cells : int, optional
+        Loaded cells at most at any position (its contact area, :func:`loaded_area`,
+        over a cell's area): beyond, both cells grow by the square root of the excess,
+        and the cells per half-width fall below ``HALF_WIDTH_CELLS`` (a wide conformal
+        patch, the double arc's, beside a narrow one).
+    """
+    lo, hi = bounds
+    if not (0 < lo <= hi and math.isfinite(hi)):
+        raise ReducerlabError(f"bounds: must be lengths 0 < lo <= hi (m); got {bounds!r}")
+    A = pair.flank_a
+    prof = getattr(getattr(A, "crown", None), "profile", None)
+    u_lo, u_hi = A.u_range
+    jumps = [b for b in getattr(prof, "breaks", ()) if u_lo < b < u_hi]
+    jumps = [b for b in jumps if b not in getattr(prof, "corners", ())]
+    h_u = h_v = float(start)
+    for r in runs:
+        ps = patch_widths(pair, r, E_star)
+        top = max((p.p0 for p in ps), default=0.0)
+        for p in ps:
+            if p.p0 < RESOLVE * top:
+                continue
+            along = p.length / ALONG
+            c_u, c_v = p.across
+            need = p.half_width / (HALF_WIDTH_CELLS * max(c_u, 1e-9))
+            if jumps:  # a patch at a curvature jump lies in its graded band (``_axis``)
+                u0, v0 = p.centre
+                P, _ = A.evaluate(np.array([u0, *jumps]), np.full(len(jumps) + 1, v0))
+                gap = float(np.min(np.linalg.norm(P[1:] - P[0], axis=1)))
+                if gap <= GRADED_WINDOW * GRADED_FACTOR * need + p.half_width:
+                    need *= GRADED_FACTOR
+            h_u = min(h_u, along, need)
+            h_v = min(h_v, along, p.half_width / (HALF_WIDTH_CELLS * max(c_v, 1e-9)))
+    h_u, h_v = float(np.clip(h_u, lo, hi)), float(np.clip(h_v, lo, hi))
+    if max_cells is not None and runs:
+        n = max(r.contact_area for r in runs) / (h_u * h_v)
+        if n > max_cells:
+            f = math.sqrt(n / max_cells)
+            h_u, h_v = min(f * h_u, hi), min(f * h_v, hi)
+    return h_u, h_v

@@ -51,6 +51,8 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 
 __all__ = [
+    "CORNER_SHARE",
+    "CROWNED_APPROACH",
     "C_GAMMA",
     "MAX_AMOUNT",
     "NONE",
@@ -60,6 +62,7 @@ __all__ = [
     "PairModifications",
     "crowned_layout",
     "modified",
+    "profile_corners",
 ]
 
 Array = NDArray[np.float64]
@@ -77,10 +80,25 @@ MAX_AMOUNT = 0.2e-3
 #: p_b``) for a transverse contact ratio of about 1.65
 TIP_SHARE = 0.4
 
+#: Loaded approach of the crowned layout's contact at its design load, in units of
+#: ``delta = F_t / (b c_gamma)``: on a foundation of stiffness ``c_gamma`` per face width
+#: a line contact with the pair's parabolic crown ``C = 2 delta`` (``(2y/b)^2``) carries
+#: ``F = (2/3) c_gamma b A^(3/2) / C^(1/2)`` at the approach ``A`` while its loaded length
+#: ``b sqrt(A / C)`` is shorter than the face; ``F = c_gamma b delta`` gives
+#: ``A = (3 / sqrt 2)^(2/3) delta = 1.651 delta`` (loaded length 0.91 b). The tip relief
+#: must clear this approach, not ``delta`` (the uncrowned mesh's): a tooth entering
+#: mesh meets the others' approach at its tip
+CROWNED_APPROACH = (3.0 / math.sqrt(2.0)) ** (2.0 / 3.0)
+
+#: Share of the active profile over which the crowned layout's corner relief runs out on
+#: each side of a profile corner (the double arc's, docs/assumptions.md): 0.41 mm on the
+#: nutation example (m_n 2 mm), 2-4 Hertz half-widths of its contact
+CORNER_SHARE = 0.1
+
 #: Points of the tables mapping flank parameters to profile and face positions
 TABLE = 201
 
-_AMOUNTS = ("lead_crowning", "profile_crowning", "tip_relief", "root_relief")
+_AMOUNTS = ("lead_crowning", "profile_crowning", "tip_relief", "root_relief", "corner_relief")
 _LENGTHS = ("tip_relief_length", "root_relief_length")
 _SLOPES = ("lead_slope", "profile_slope")
 
@@ -107,6 +125,12 @@ class FlankModification:
         Helix and profile slope deviations ``f_Hbeta``, ``f_Halpha`` (m, signed): the
         difference of ease-off between the ends of the face (``v = 1`` minus ``v = 0``)
         and of the profile (tip minus root end).
+    corner_relief, corner_relief_length : float
+        ``C_c`` (m) at a corner of the basic profile (``BasicProfile.corners``: the
+        double arc's concave/transition joint) and the length ``L_Cc`` (m, along the
+        profile) over which it runs out on each side of the corner, in
+        ``relief_shape``; ``L_Cc > 0`` when ``C_c > 0``. Only for a flank whose profile
+        has a corner.
     """
 
     lead_crowning: float = 0.0
@@ -118,6 +142,8 @@ class FlankModification:
     relief_shape: Literal["linear", "parabolic"] = "linear"
     lead_slope: float = 0.0
     profile_slope: float = 0.0
+    corner_relief: float = 0.0
+    corner_relief_length: float = 0.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -145,7 +171,8 @@ class FlankModification:
                 f'relief_shape: must be "linear" or "parabolic"; got {self.relief_shape!r}'
             )
         for amount, length in (("tip_relief", "tip_relief_length"),
-                               ("root_relief", "root_relief_length")):  # fmt: skip
+                               ("root_relief", "root_relief_length"),
+                               ("corner_relief", "corner_relief_length")):  # fmt: skip
             if getattr(self, amount) > 0 and getattr(self, length) <= 0:
                 raise ReducerlabError(
                     f"{length}: must be > 0 (m) with {amount} = "
@@ -157,7 +184,9 @@ class FlankModification:
         """Whether the flank is unmodified."""
         return not any(getattr(self, n) for n in (*_AMOUNTS, *_SLOPES))
 
-    def ease_off(self, s: Array, w: Array, profile: float, face: float) -> Array:
+    def ease_off(
+        self, s: Array, w: Array, profile: float, face: float, corners: tuple[float, ...] = ()
+    ) -> Array:
         """Material removed (m) at profile position ``s`` and face position ``w`` (m).
 
         Parameters
@@ -167,6 +196,10 @@ class FlankModification:
             the face from ``v = 0`` (m); beyond the flank the law continues.
         profile, face : float
             ``L_alpha`` and ``L_beta``: lengths of the active profile and of the face (m).
+        corners : tuple of float
+            Profile positions ``s_c`` (m) of the profile's corners: the corner relief
+            ``C_c (1 - |s - s_c| / L_Cc)`` (linear) or its square (parabolic) within
+            ``L_Cc`` of each (the larger where two overlap).
         """
         s = np.asarray(s, float)
         w = np.asarray(w, float)
@@ -182,6 +215,11 @@ class FlankModification:
         if self.root_relief > 0:
             r = np.maximum(self.root_relief_length - s, 0.0)
             e = e + self.root_relief * (r / self.root_relief_length) ** power
+        if self.corner_relief > 0:
+            near = np.zeros_like(s)
+            for sc in corners:
+                near = np.maximum(near, 1.0 - np.abs(s - sc) / self.corner_relief_length)
+            e = e + self.corner_relief * near**power
         return e
 
     def check_lengths(self, profile: float, where: str = "") -> None:
@@ -201,6 +239,12 @@ class FlankModification:
                     f"{pre}{name}: {v * 1e3:.4g} mm runs beyond the flank: the active profile "
                     f"is {profile * 1e3:.4g} mm long"
                 )
+        if self.corner_relief_length > 0.5 * profile * (1 + 1e-12):
+            raise ReducerlabError(
+                f"{pre}corner_relief_length: {self.corner_relief_length * 1e3:.4g} mm on each "
+                f"side of the corner is more than half the active profile "
+                f"({profile * 1e3:.4g} mm)"
+            )
         both = (self.tip_relief > 0) and (self.root_relief > 0)
         if both and self.tip_relief_length + self.root_relief_length > profile * (1 + 1e-12):
             raise ReducerlabError(
@@ -352,14 +396,25 @@ class ModifiedFlank:
     modification: FlankModification
     where: str = field(default="", compare=False)
     coordinates: FlankCoordinates = field(init=False, repr=False, compare=False)
+    corner_positions: tuple[float, ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.modification, FlankModification):
             raise ReducerlabError(
                 f"modification: must be a FlankModification; got {type(self.modification).__name__}"
             )
-        object.__setattr__(self, "coordinates", FlankCoordinates.of(self.flank))
-        self.modification.check_lengths(self.coordinates.profile, self.where)
+        c = FlankCoordinates.of(self.flank)
+        object.__setattr__(self, "coordinates", c)
+        self.modification.check_lengths(c.profile, self.where)
+        at = profile_corners(self.flank)
+        corners = tuple(float(x) for x in c.positions(np.array(at), np.full(len(at), 0.5))[0])
+        if self.modification.corner_relief > 0 and not corners:
+            pre = f"{self.where}." if self.where else ""
+            raise ReducerlabError(
+                f"{pre}corner_relief: the flank's profile has no corner (only a profile "
+                "with one, the double arc's, takes a corner relief)"
+            )
+        object.__setattr__(self, "corner_positions", corners)
 
     def __getattr__(self, name: str) -> Any:
         # only for attributes not found on the wrapper itself; never during unpickling
@@ -382,7 +437,7 @@ class ModifiedFlank:
         """Material removed (m) at flank parameters ``u, v``."""
         c = self.coordinates
         s, w = c.positions(u, v)
-        return self.modification.ease_off(s, w, c.profile, c.face)
+        return self.modification.ease_off(s, w, c.profile, c.face, self.corner_positions)
 
     def evaluate(self, u: Array, v: Array) -> tuple[Array, Array]:
         """Points of the modified flank (m) and the unmodified unit outward normals,
@@ -394,6 +449,15 @@ class ModifiedFlank:
     def inside(self, points: Array) -> NDArray[np.bool_]:
         """Whether points lie on the gear's real tooth (the wrapped flank's blank)."""
         return self.flank.inside(points)
+
+
+def profile_corners(flank: Any) -> tuple[float, ...]:
+    """Profile parameters ``u`` of the corners of a flank's basic profile inside its
+    ``u_range`` (``BasicProfile.corners`` of a bevel flank's generating crown, whose
+    parameter is the flank's ``u``); none for a flank without one (an involute)."""
+    prof = getattr(getattr(flank, "crown", None), "profile", None)
+    lo, hi = flank.u_range
+    return tuple(float(u) for u in getattr(prof, "corners", ()) if lo < u < hi)
 
 
 def modified(flank: Any, modification: FlankModification | None, where: str = "") -> Any:
@@ -411,6 +475,7 @@ def crowned_layout(
     profile_b: float,
     *,
     stiffness: float = C_GAMMA,
+    corners: tuple[bool, bool] = (False, False),
 ) -> PairModifications:
     """The default crowned layout of a gear pair at its design load.
 
@@ -422,10 +487,17 @@ def crowned_layout(
       foundation of stiffness ``c_gamma`` a parabolic crown of ``1.5 delta`` just spans
       the face at the design load; ``2 delta`` loads ``0.91 b`` and keeps the load off
       both face ends (``docs/contact.md``);
-    * tip relief ``C_a = C_eff = delta`` on each flank, parabolic (no kink in the
-      flank, so no pressure spike where the relief starts), over the outer
+    * tip relief ``C_a = CROWNED_APPROACH delta = 1.651 delta`` on each flank: the
+      approach of the crowned contact at the design load (:data:`CROWNED_APPROACH`;
+      ISO/TS 6336-20's ``C_eff = delta`` is the uncrowned mesh's, and left 4-7 % of a
+      crowned nutation pair's load on the tips, ``docs/contact.md``), parabolic (no
+      kink in the flank, so no pressure spike where the relief starts), over the outer
       :data:`TIP_SHARE` of its active profile (ISO/TS 6336-20's long relief);
-    * no profile crowning, no root relief (each tip relief relieves the mating root).
+    * no profile crowning, no root relief (each tip relief relieves the mating root);
+    * on a flank whose profile has a corner (``corners``; the double arc's 46 deg
+      concave/transition joint), a corner relief of the same amount as the tip relief,
+      parabolic, over :data:`CORNER_SHARE` of the active profile on each side: the
+      corner is an edge in the contact path, and like a tip it must clear the approach.
 
     Parameters
     ----------
@@ -437,6 +509,8 @@ def crowned_layout(
         Lengths of the active profiles of both flanks (m) (``FlankCoordinates.profile``).
     stiffness : float
         ``c_gamma`` (N/m per m of face width); default :data:`C_GAMMA`.
+    corners : tuple of bool
+        Whether flank A's and flank B's profiles have a corner.
     """
     for name, v in (("force", force), ("face_width", face_width), ("profile_a", profile_a),
                     ("profile_b", profile_b), ("stiffness", stiffness)):  # fmt: skip
@@ -453,8 +527,19 @@ def crowned_layout(
             f"{delta * 1e6:.4g} um (F_t / (b c_gamma)), more than micro-geometry "
             f"({MAX_AMOUNT * 1e3:g} mm) can relieve"
         )
+    tip = CROWNED_APPROACH * delta
+    if tip > MAX_AMOUNT:
+        raise ReducerlabError(
+            f"force: {force:.4g} N on a {face_width * 1e3:.4g} mm face needs a tip relief of "
+            f"{tip * 1e6:.4g} um (1.651 F_t / (b c_gamma)), more than micro-geometry "
+            f"({MAX_AMOUNT * 1e3:g} mm)"
+        )
+    if not (isinstance(corners, tuple) and len(corners) == 2):
+        raise ReducerlabError(f"corners: must be a pair of booleans; got {corners!r}")
     return PairModifications(*(
-        FlankModification(lead_crowning=delta, tip_relief=delta,
-                          tip_relief_length=TIP_SHARE * length, relief_shape="parabolic")
-        for length in (profile_a, profile_b)
+        FlankModification(lead_crowning=delta, tip_relief=tip,
+                          tip_relief_length=TIP_SHARE * length, relief_shape="parabolic",
+                          corner_relief=tip if corner else 0.0,
+                          corner_relief_length=CORNER_SHARE * length if corner else 0.0)
+        for length, corner in zip((profile_a, profile_b), corners, strict=True)
     ))  # fmt: skip

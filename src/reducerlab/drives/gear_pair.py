@@ -170,6 +170,11 @@ class GearPairDesign(Design):
             return self  # the tooth geometry's own error comes where the teeth are used
         problems = []
         for name in given:
+            if getattr(self, name).modifications.corner_relief > 0:
+                problems.append((
+                    f"{name}.modifications.corner_relief",
+                    "an involute profile has no corner to relieve (the double arc's has)",
+                ))  # fmt: skip
             g = pair.pinion if name == "pinion" else pair.wheel
             roll = g.tip_roll - g.form_roll
             spec = getattr(self, name).modifications

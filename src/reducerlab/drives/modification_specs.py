@@ -51,6 +51,9 @@ class ModificationSpec(Spec):
     lead_slope, profile_slope : float
         ``f_Hbeta``, ``f_Halpha`` (m, signed): ease-off difference between the face ends
         (second minus first) and between tip and root end.
+    corner_relief, corner_relief_length : float
+        ``C_c`` (m) at the profile's corner (the double arc's concave/transition joint),
+        running out over ``L_Cc`` (m, along the profile) on each side of it.
     """
 
     lead_crowning: Amount = 0.0  # type: ignore[valid-type]
@@ -62,10 +65,12 @@ class ModificationSpec(Spec):
     relief_shape: Literal["linear", "parabolic"] = "linear"
     lead_slope: Slope = 0.0  # type: ignore[valid-type]
     profile_slope: Slope = 0.0  # type: ignore[valid-type]
+    corner_relief: Amount = 0.0  # type: ignore[valid-type]
+    corner_relief_length: ReliefLength = 0.0  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _lengths(self) -> ModificationSpec:
-        for amount in ("tip_relief", "root_relief"):
+        for amount in ("tip_relief", "root_relief", "corner_relief"):
             if getattr(self, amount) > 0 and getattr(self, f"{amount}_length") <= 0:
                 raise field_rules((
                     f"{amount}_length",
