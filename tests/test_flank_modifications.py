@@ -267,6 +267,80 @@ def test_corner_relief_is_measured_from_the_profile_corner():
     assert inv.modifications.a.corner_relief == 0.0
 
 
+def test_transition_relief_covers_the_double_arc_transition_arc():
+    # GB/T 12759's transition arc runs from the concave/transition corner (u = 0.4904)
+    # to the transition/convex curvature jump (u = 0.6654; BasicProfile.breaks): the
+    # relief is C_t over the whole arc and C_t (1 - d / L_Ct)^3 at a distance d beyond
+    # either end (cubic whatever relief_shape says), 0 further out; exact to the tables'
+    # linear interpolation (201 points: asserted 1e-3 of C_t). With a corner relief the
+    # larger of the two counts.
+    from reducerlab.contact.modifications import ModifiedFlank, profile_transition
+
+    mp = contact_pair(load_design(NUTATION), 1, profile="double-arc")
+    prof = mp.crown.profile
+    for flank in (mp.flank_a, mp.flank_b):
+        piece = profile_transition(flank)
+        assert piece == pytest.approx((prof.corners[0], prof.breaks[2]))
+        m = FlankModification(transition_relief=2e-6, transition_relief_length=0.3e-3,
+                              relief_shape="parabolic")  # fmt: skip
+        f = ModifiedFlank(flank, m)
+        c = f.coordinates
+        s0, s1 = sorted(f.transition_positions)
+        assert s1 - s0 > 0.5e-3  # the arc is 0.19 of the profile's u, ~0.95 mm long
+        s = np.array([s0 - 0.4e-3, s0 - 0.15e-3, s0, 0.5 * (s0 + s1), s1, s1 + 0.1e-3,
+                      s1 + 0.31e-3])  # fmt: skip
+        u = np.interp(s, c.s, c.u)
+        e = f.ease_off(u, np.full(u.size, 0.5))
+        d = np.maximum(np.maximum(s0 - s, s - s1), 0)
+        want = 2e-6 * np.clip(1 - d / 0.3e-3, 0, None) ** 3
+        np.testing.assert_allclose(e, want, rtol=0, atol=2e-9)
+        # a corner relief beside it: the larger of the two, not their sum
+        both = ModifiedFlank(flank, FlankModification(
+            transition_relief=2e-6, transition_relief_length=0.3e-3, corner_relief=3e-6,
+            corner_relief_length=0.3e-3, relief_shape="parabolic"))  # fmt: skip
+        (s_c,) = both.corner_positions
+        at = np.interp(np.array([s_c, s_c + 0.15e-3, s_c - 0.15e-3]), c.s, c.u)
+        # 0.15 mm into the arc its plateau (2 um), outside the corner relief's 0.75 um
+        arc_up = s_c == pytest.approx(s0)  # the arc lies on the side of growing s
+        want = [3e-6, 2e-6 if arc_up else 0.75e-6, 0.75e-6 if arc_up else 2e-6]
+        np.testing.assert_allclose(both.ease_off(at, np.full(3, 0.5)), want, rtol=0, atol=3e-9)
+    # refused: no transition (an involute flank), length without amount, too long
+    spur = spur_mesh_pair(load_design(SPUR))
+    m = FlankModification(transition_relief=1e-6, transition_relief_length=0.2e-3)
+    with pytest.raises(ReducerlabError, match="transition_relief: the flank's profile has no"):
+        ModifiedFlank(spur.flank_a, m)
+    with pytest.raises(ReducerlabError, match="transition_relief_length: must be > 0"):
+        FlankModification(transition_relief=1e-6)
+    with pytest.raises(ReducerlabError, match="transition_relief: must be >= 0"):
+        FlankModification(transition_relief=-1e-6, transition_relief_length=1e-4)
+    with pytest.raises(ReducerlabError, match=r"transition_relief_length: .* more than half"):
+        ModifiedFlank(mp.flank_a, FlankModification(transition_relief=1e-6,
+                                                    transition_relief_length=3e-3))  # fmt: skip
+    with pytest.raises(DesignError, match=r"gear2\.modifications\.transition_relief_length"):
+        load_design(NUTATION, ['gear2.modifications.transition_relief="2 um"'])
+    with pytest.raises(DesignError, match=r"gear2\.modifications\.transition_relief"):
+        load_design(NUTATION, ['gear2.modifications.transition_relief="-2 um"'])
+    with pytest.raises(DesignError, match=r"pinion\.modifications\.transition_relief.*involute"):
+        load_design(SPUR, ['pinion.modifications.transition_relief="2 um"',
+                           'pinion.modifications.transition_relief_length="1 mm"'])  # fmt: skip
+    # the crowned layouts: the involute pair's has none, the double arc's the tip
+    # relief's amount over TRANSITION_SHARE beyond each end
+    from reducerlab.contact.modifications import TRANSITION_SHARE, FlankCoordinates
+
+    inv = contact_pair(load_design(NUTATION, ["surface.flank_modifications=crowned"]), 1)
+    assert inv.modifications.a.transition_relief == 0.0
+    dbl = contact_pair(load_design(NUTATION, ["surface.flank_modifications=crowned"]), 1,
+                       profile="double-arc")  # fmt: skip
+    sides = (
+        (dbl.modifications.a, dbl.unmodified.flank_a),
+        (dbl.modifications.b, dbl.unmodified.flank_b),
+    )
+    for side, flank in sides:
+        assert side.transition_relief == side.tip_relief > 0
+        length = FlankCoordinates.of(flank).profile
+        assert side.transition_relief_length == pytest.approx(TRANSITION_SHARE * length)
+
+
 # ------------------------------------------------------------------ (a) closed forms
 def test_unloaded_separation_is_the_sum_of_the_ease_offs():
     # spur pair at the pitch point: conjugate involutes touch along the whole face (t = 0);

@@ -22,6 +22,7 @@ from ..contact.modifications import (
     PairModifications,
     crowned_layout,
     profile_corners,
+    profile_transition,
 )
 from ..design import Design
 from ..errors import DesignError, ReducerlabError
@@ -129,7 +130,8 @@ def design_modifications(
         force, face = design_force(design, pair)
         profiles = [FlankCoordinates.of(f).profile for f in (flank_a, flank_b)]
         corners = (bool(profile_corners(flank_a)), bool(profile_corners(flank_b)))
-        layout = crowned_layout(force, face, *profiles, corners=corners)
+        pieces = tuple(profile_transition(f) is not None for f in (flank_a, flank_b))
+        layout = crowned_layout(force, face, *profiles, corners=corners, transitions=pieces)
         mods = [layout.a if specs[0] is None else mods[0],
                 layout.b if specs[1] is None else mods[1]]  # fmt: skip
     return PairModifications(*mods)

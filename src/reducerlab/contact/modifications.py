@@ -56,6 +56,8 @@ __all__ = [
     "C_GAMMA",
     "MAX_AMOUNT",
     "NONE",
+    "TRANSITION",
+    "TRANSITION_SHARE",
     "FlankCoordinates",
     "FlankModification",
     "ModifiedFlank",
@@ -63,6 +65,7 @@ __all__ = [
     "crowned_layout",
     "modified",
     "profile_corners",
+    "profile_transition",
 ]
 
 Array = NDArray[np.float64]
@@ -95,10 +98,27 @@ CROWNED_APPROACH = (3.0 / math.sqrt(2.0)) ** (2.0 / 3.0)
 #: nutation example (m_n 2 mm), 2-4 Hertz half-widths of its contact
 CORNER_SHARE = 0.1
 
+#: Share of the active profile over which the crowned layout's transition relief runs out
+#: beyond each end of the double arc's transition arc (docs/assumptions.md): 0.61 mm on
+#: the nutation example; shorter (10 %) left the peak pressure of the patches beside it
+#: 2-6 % grid-dependent
+TRANSITION_SHARE = 0.15
+
+#: Name of the basic profile's piece that the transition relief covers (the double arc's
+#: transition arc, ``DoubleCircularArcProfile.segment_names``)
+TRANSITION = "transition"
+
 #: Points of the tables mapping flank parameters to profile and face positions
 TABLE = 201
 
-_AMOUNTS = ("lead_crowning", "profile_crowning", "tip_relief", "root_relief", "corner_relief")
+_AMOUNTS = (
+    "lead_crowning",
+    "profile_crowning",
+    "tip_relief",
+    "root_relief",
+    "corner_relief",
+    "transition_relief",
+)
 _LENGTHS = ("tip_relief_length", "root_relief_length")
 _SLOPES = ("lead_slope", "profile_slope")
 
@@ -131,6 +151,14 @@ class FlankModification:
         profile) over which it runs out on each side of the corner, in
         ``relief_shape``; ``L_Cc > 0`` when ``C_c > 0``. Only for a flank whose profile
         has a corner.
+    transition_relief, transition_relief_length : float
+        ``C_t`` (m) held over the whole transition piece of the basic profile (the double
+        arc's transition arc, from its corner with the concave arc to its curvature jump
+        into the convex arc) and the length ``L_Ct`` (m, along the profile) over which
+        it runs out beyond each end, cubically whatever ``relief_shape`` says (slope and
+        curvature continuous where it meets the working arcs); ``L_Ct > 0`` when
+        ``C_t > 0``. Only for a flank whose profile has a transition piece. Where it
+        overlaps the corner relief the larger of the two is removed.
     """
 
     lead_crowning: float = 0.0
@@ -144,6 +172,8 @@ class FlankModification:
     profile_slope: float = 0.0
     corner_relief: float = 0.0
     corner_relief_length: float = 0.0
+    transition_relief: float = 0.0
+    transition_relief_length: float = 0.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -172,7 +202,8 @@ class FlankModification:
             )
         for amount, length in (("tip_relief", "tip_relief_length"),
                                ("root_relief", "root_relief_length"),
-                               ("corner_relief", "corner_relief_length")):  # fmt: skip
+                               ("corner_relief", "corner_relief_length"),
+                               ("transition_relief", "transition_relief_length")):  # fmt: skip
             if getattr(self, amount) > 0 and getattr(self, length) <= 0:
                 raise ReducerlabError(
                     f"{length}: must be > 0 (m) with {amount} = "
@@ -185,7 +216,13 @@ class FlankModification:
         return not any(getattr(self, n) for n in (*_AMOUNTS, *_SLOPES))
 
     def ease_off(
-        self, s: Array, w: Array, profile: float, face: float, corners: tuple[float, ...] = ()
+        self,
+        s: Array,
+        w: Array,
+        profile: float,
+        face: float,
+        corners: tuple[float, ...] = (),
+        transition: tuple[float, float] | None = None,
     ) -> Array:
         """Material removed (m) at profile position ``s`` and face position ``w`` (m).
 
@@ -200,6 +237,12 @@ class FlankModification:
             Profile positions ``s_c`` (m) of the profile's corners: the corner relief
             ``C_c (1 - |s - s_c| / L_Cc)`` (linear) or its square (parabolic) within
             ``L_Cc`` of each (the larger where two overlap).
+        transition : tuple of float, optional
+            Profile positions ``(s_0, s_1)`` (m) of the ends of the transition piece: the
+            transition relief is ``C_t`` for ``s_0 <= s <= s_1`` and
+            ``C_t (1 - d / L_Ct)^3`` at a distance ``d`` beyond either end, 0 beyond
+            ``L_Ct`` (cubic: no curvature jump where it ends, inside the loaded patches
+            beside the arc); with a corner relief the larger of the two counts.
         """
         s = np.asarray(s, float)
         w = np.asarray(w, float)
@@ -215,12 +258,18 @@ class FlankModification:
         if self.root_relief > 0:
             r = np.maximum(self.root_relief_length - s, 0.0)
             e = e + self.root_relief * (r / self.root_relief_length) ** power
+        joint = np.zeros_like(s)
         if self.corner_relief > 0:
             near = np.zeros_like(s)
             for sc in corners:
                 near = np.maximum(near, 1.0 - np.abs(s - sc) / self.corner_relief_length)
-            e = e + self.corner_relief * near**power
-        return e
+            joint = self.corner_relief * near**power
+        if self.transition_relief > 0 and transition is not None:
+            s0, s1 = min(transition), max(transition)
+            d = np.maximum(np.maximum(s0 - s, s - s1), 0.0)
+            near = np.maximum(1.0 - d / self.transition_relief_length, 0.0)
+            joint = np.maximum(joint, self.transition_relief * near**3)
+        return e + joint
 
     def check_lengths(self, profile: float, where: str = "") -> None:
         """Refuse relief lengths beyond the active profile ``profile`` (m), and a tip and
@@ -243,6 +292,12 @@ class FlankModification:
             raise ReducerlabError(
                 f"{pre}corner_relief_length: {self.corner_relief_length * 1e3:.4g} mm on each "
                 f"side of the corner is more than half the active profile "
+                f"({profile * 1e3:.4g} mm)"
+            )
+        if self.transition_relief_length > 0.5 * profile * (1 + 1e-12):
+            raise ReducerlabError(
+                f"{pre}transition_relief_length: {self.transition_relief_length * 1e3:.4g} mm "
+                f"beyond each end of the transition is more than half the active profile "
                 f"({profile * 1e3:.4g} mm)"
             )
         both = (self.tip_relief > 0) and (self.root_relief > 0)
@@ -397,6 +452,7 @@ class ModifiedFlank:
     where: str = field(default="", compare=False)
     coordinates: FlankCoordinates = field(init=False, repr=False, compare=False)
     corner_positions: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    transition_positions: tuple[float, float] | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.modification, FlankModification):
@@ -415,6 +471,19 @@ class ModifiedFlank:
                 "with one, the double arc's, takes a corner relief)"
             )
         object.__setattr__(self, "corner_positions", corners)
+        piece = profile_transition(self.flank)
+        ends = None
+        if piece is not None:
+            s_ends = c.positions(np.array(piece), np.full(2, 0.5))[0]
+            ends = (float(s_ends[0]), float(s_ends[1]))
+        if self.modification.transition_relief > 0 and ends is None:
+            pre = f"{self.where}." if self.where else ""
+            raise ReducerlabError(
+                f"{pre}transition_relief: the flank's profile has no transition piece on its "
+                "active flank (only a profile with one, the double arc's, takes a "
+                "transition relief)"
+            )
+        object.__setattr__(self, "transition_positions", ends)
 
     def __getattr__(self, name: str) -> Any:
         # only for attributes not found on the wrapper itself; never during unpickling
@@ -437,7 +506,9 @@ class ModifiedFlank:
         """Material removed (m) at flank parameters ``u, v``."""
         c = self.coordinates
         s, w = c.positions(u, v)
-        return self.modification.ease_off(s, w, c.profile, c.face, self.corner_positions)
+        return self.modification.ease_off(
+            s, w, c.profile, c.face, self.corner_positions, self.transition_positions
+        )
 
     def evaluate(self, u: Array, v: Array) -> tuple[Array, Array]:
         """Points of the modified flank (m) and the unmodified unit outward normals,
@@ -460,6 +531,23 @@ def profile_corners(flank: Any) -> tuple[float, ...]:
     return tuple(float(u) for u in getattr(prof, "corners", ()) if lo < u < hi)
 
 
+def profile_transition(flank: Any) -> tuple[float, float] | None:
+    """Profile parameters ``(u_0, u_1)`` of the ends of a flank's transition piece
+    (the basic profile's segment named :data:`TRANSITION`: the double arc's transition
+    arc, from its corner with the concave arc to its curvature jump into the convex
+    arc), clipped to the flank's ``u_range``; ``None`` for a profile without one (an
+    involute) or where the piece lies outside the flank."""
+    prof = getattr(getattr(flank, "crown", None), "profile", None)
+    names = tuple(getattr(prof, "segment_names", ()))
+    if TRANSITION not in names:
+        return None
+    i = names.index(TRANSITION)
+    edges = (0.0, *prof.breaks, 1.0)
+    lo, hi = flank.u_range
+    u0, u1 = max(edges[i], lo), min(edges[i + 1], hi)
+    return (float(u0), float(u1)) if u0 < u1 else None
+
+
 def modified(flank: Any, modification: FlankModification | None, where: str = "") -> Any:
     """``flank`` with ``modification`` (a :class:`ModifiedFlank`), or ``flank`` itself
     when there is none."""
@@ -476,6 +564,7 @@ def crowned_layout(
     *,
     stiffness: float = C_GAMMA,
     corners: tuple[bool, bool] = (False, False),
+    transitions: tuple[bool, bool] = (False, False),
 ) -> PairModifications:
     """The default crowned layout of a gear pair at its design load.
 
@@ -497,7 +586,15 @@ def crowned_layout(
     * on a flank whose profile has a corner (``corners``; the double arc's 46 deg
       concave/transition joint), a corner relief of the same amount as the tip relief,
       parabolic, over :data:`CORNER_SHARE` of the active profile on each side: the
-      corner is an edge in the contact path, and like a tip it must clear the approach.
+      corner is an edge in the contact path, and like a tip it must clear the approach;
+    * on a flank whose profile has a transition piece (``transitions``; the double
+      arc's transition arc, from the corner to the transition/convex curvature jump), a
+      transition relief of the same amount held over the whole piece and running out
+      cubically over :data:`TRANSITION_SHARE` of the active profile beyond each end:
+      the double arc's working profiles are its convex and concave arcs, and the
+      small-radius transition arc would otherwise carry narrow contacts at the
+      curvature jump whose peak pressure no affordable grid resolves
+      (``docs/contact.md``).
 
     Parameters
     ----------
@@ -511,6 +608,8 @@ def crowned_layout(
         ``c_gamma`` (N/m per m of face width); default :data:`C_GAMMA`.
     corners : tuple of bool
         Whether flank A's and flank B's profiles have a corner.
+    transitions : tuple of bool
+        Whether flank A's and flank B's profiles have a transition piece.
     """
     for name, v in (("force", force), ("face_width", face_width), ("profile_a", profile_a),
                     ("profile_b", profile_b), ("stiffness", stiffness)):  # fmt: skip
@@ -534,12 +633,16 @@ def crowned_layout(
             f"{tip * 1e6:.4g} um (1.651 F_t / (b c_gamma)), more than micro-geometry "
             f"({MAX_AMOUNT * 1e3:g} mm)"
         )
-    if not (isinstance(corners, tuple) and len(corners) == 2):
-        raise ReducerlabError(f"corners: must be a pair of booleans; got {corners!r}")
+    for name, pair in (("corners", corners), ("transitions", transitions)):
+        if not (isinstance(pair, tuple) and len(pair) == 2):
+            raise ReducerlabError(f"{name}: must be a pair of booleans; got {pair!r}")
     return PairModifications(*(
         FlankModification(lead_crowning=delta, tip_relief=tip,
                           tip_relief_length=TIP_SHARE * length, relief_shape="parabolic",
                           corner_relief=tip if corner else 0.0,
-                          corner_relief_length=CORNER_SHARE * length if corner else 0.0)
-        for length, corner in zip((profile_a, profile_b), corners, strict=True)
+                          corner_relief_length=CORNER_SHARE * length if corner else 0.0,
+                          transition_relief=tip if piece else 0.0,
+                          transition_relief_length=TRANSITION_SHARE * length if piece else 0.0)
+        for length, corner, piece in zip((profile_a, profile_b), corners, transitions,
+                                         strict=True)
     ))  # fmt: skip

@@ -175,6 +175,12 @@ class GearPairDesign(Design):
                     f"{name}.modifications.corner_relief",
                     "an involute profile has no corner to relieve (the double arc's has)",
                 ))  # fmt: skip
+            if getattr(self, name).modifications.transition_relief > 0:
+                problems.append((
+                    f"{name}.modifications.transition_relief",
+                    "an involute profile has no transition arc to relieve (the double arc's "
+                    "has)",
+                ))  # fmt: skip
             g = pair.pinion if name == "pinion" else pair.wheel
             roll = g.tip_roll - g.form_roll
             spec = getattr(self, name).modifications

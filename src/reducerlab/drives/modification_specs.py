@@ -54,6 +54,10 @@ class ModificationSpec(Spec):
     corner_relief, corner_relief_length : float
         ``C_c`` (m) at the profile's corner (the double arc's concave/transition joint),
         running out over ``L_Cc`` (m, along the profile) on each side of it.
+    transition_relief, transition_relief_length : float
+        ``C_t`` (m) over the whole transition piece of the profile (the double arc's
+        transition arc), running out over ``L_Ct`` (m, along the profile) beyond each
+        end.
     """
 
     lead_crowning: Amount = 0.0  # type: ignore[valid-type]
@@ -67,10 +71,12 @@ class ModificationSpec(Spec):
     profile_slope: Slope = 0.0  # type: ignore[valid-type]
     corner_relief: Amount = 0.0  # type: ignore[valid-type]
     corner_relief_length: ReliefLength = 0.0  # type: ignore[valid-type]
+    transition_relief: Amount = 0.0  # type: ignore[valid-type]
+    transition_relief_length: ReliefLength = 0.0  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _lengths(self) -> ModificationSpec:
-        for amount in ("tip_relief", "root_relief", "corner_relief"):
+        for amount in ("tip_relief", "root_relief", "corner_relief", "transition_relief"):
             if getattr(self, amount) > 0 and getattr(self, f"{amount}_length") <= 0:
                 raise field_rules((
                     f"{amount}_length",
