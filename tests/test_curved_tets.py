@@ -142,3 +142,33 @@ def test_double_arc_root_stress_stays_physical():
         values = np.concatenate([r.tensile, r.end_tensile, -r.compressive, r.von_mises])
         assert np.all(np.abs(values[np.isfinite(values)]) < bound)
         assert math.isfinite(r.end_tensile[r.teeth.index(0)])
+
+
+def test_mended_wall_nodes_keep_the_sectors_conforming():
+    """The involute external gear of ``examples/nutation_surface.toml`` at 1.0 m_n
+    teeth (a coarse body-modal size): 10 folded elements per sector (worst -1.14) are
+    straightened, and three sectors still join node to node (``_pattern`` refuses walls
+    that do not match) and every element of the joined mesh passes. (One of those
+    elements has an edge on a periodic wall, but that edge was straight already: the
+    partner-moving branch of ``gear_mesh._mend_sector`` moves it by round-off only.)"""
+    from reducerlab.analysis.contact import contact_pair
+    from reducerlab.drives import load_design
+    from reducerlab.examples import example_dir
+    from reducerlab.fe.gear_mesh import MeshSizes, mesh_gear
+
+    flank = contact_pair(load_design(example_dir() / "nutation_surface.toml"), 1).flank_a
+    m = flank.crown.profile.module
+    mesh = mesh_gear(flank.crown, flank.gear, sizes=MeshSizes(m, 3 * m), sectors=range(0, 3))
+    assert jacobian_ratio(mesh.points, mesh.tets).min() >= MIN_JACOBIAN_RATIO
+    # conforming: the boundary's faces on planes through the axis are the two outer
+    # walls only (a wall left unmatched between two sectors would be boundary too)
+    skm = mesh.skfem()
+    P = skm.p[:, skm.facets[:, skm.boundary_facets()]]  # (3, 3 corners, facets)
+    nrm = np.cross((P[:, 1] - P[:, 0]).T, (P[:, 2] - P[:, 0]).T)
+    nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+    c = P.mean(axis=1).T
+    through_axis = (np.abs(np.einsum("ij,ij->i", nrm, c)) < 1e-9) & (np.abs(nrm[:, 2]) < 1e-9)
+    azimuth = np.arctan2(c[through_axis, 1], c[through_axis, 0])
+    pitch = 2 * math.pi / flank.gear.teeth
+    planes = np.unique(np.round(azimuth / (0.25 * pitch)))
+    assert len(planes) == 2 and mesh.tets.shape[0] == 3 * mesh.sector_tets
