@@ -13,7 +13,10 @@ over the middle half of the face (robust to which node sits nearest the peak).
 Ring: ``tests/published/test_iso6336_internal_root_stress.py``'s ring at 0.3, 0.25 and
 0.2 m against ISO 6336-3 method B.
 
-Run: ``PYTHONPATH=src .venv/bin/python benchmarks/root_stress_convergence.py [bevel|ring]``
+Corner: the joint of flank and space bottom of both gears of the same pair, from the
+generated sections (the internal gear's root has no fillet: docs/contact.md).
+
+Run: ``PYTHONPATH=src .venv/bin/python benchmarks/root_stress_convergence.py [bevel|ring|corner]``
 (the finest runs need 4-7 GB; set ``REDUCERLAB_MEMORY_LIMIT`` above the conservative
 estimate, e.g. 20G, where the machine has the memory).
 """
@@ -79,6 +82,33 @@ def bevel() -> None:
               f" deg, peak RSS {rss:.2f} GB)", flush=True)  # fmt: skip
 
 
+def root_corner() -> None:
+    """The joint of flank B and the space bottom in a mid-face transverse section of
+    each gear of pair 1 (``geometry.solid.build_gear_solid``, the sections the FE solid
+    is lofted through): how far the section's tangent turns from the last flank segment
+    to the first bottom segment (deg; a generated fillet turns by a few degrees per
+    segment, a corner by the whole angle between flank and bottom at once), and the
+    heights (m_n) of the flank's end and the nominal root cone."""
+    from reducerlab.analysis.contact import contact_pair
+    from reducerlab.drives import load_design
+    from reducerlab.examples import example_dir
+    from reducerlab.geometry.solid import build_gear_solid, cone_coordinates
+
+    mp = contact_pair(load_design(example_dir() / "nutation_surface.toml"), 1)
+    for flank in (mp.flank_a, mp.flank_b):
+        gear, m = flank.gear, flank.crown.profile.module
+        solid = build_gear_solid(flank.crown, gear, n_profile=21, n_face=7, n_land=2, n_space=9)
+        L, h, psi = cone_coordinates(solid.loop[3], gear.cone_angle)
+        y = psi * float(np.mean(L)) * math.sin(gear.cone_angle)  # arc length, m
+        k = np.arange(len(h))[solid.parts["B"]][-1]  # flank B's end at the space
+        t0 = np.array([y[k] - y[k - 1], h[k] - h[k - 1]])
+        t1 = np.array([y[k + 1] - y[k], h[k + 1] - h[k]])
+        turn = math.degrees(math.atan2(t0[0] * t1[1] - t0[1] * t1[0], t0 @ t1))
+        print(f"{gear.kind} (z = {gear.teeth}): tangent turns by {abs(turn):.1f} deg at the "
+              f"flank/space joint; flank end at h = {h[k] / m:+.3f} m_n, root cone "
+              f"{solid.blank.root / m:+.3f} m_n")  # fmt: skip
+
+
 def ring() -> None:
     sys.path.insert(0, "tests/published")
     import test_iso6336_internal_root_stress as t
@@ -104,4 +134,4 @@ def ring() -> None:
 
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "bevel"
-    {"bevel": bevel, "ring": ring}[what]()
+    {"bevel": bevel, "ring": ring, "corner": root_corner}[what]()

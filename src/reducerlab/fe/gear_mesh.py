@@ -20,7 +20,10 @@ tetrahedral mesher; nothing is tessellated by hand:
    the first turned by one pitch), the sector is meshed with a size field (``tooth``
    size in the tooth band, growing to ``body`` size one tooth depth below the root), and
    the ``z`` rotated copies are joined on their matching walls: a conforming mesh of the
-   whole gear, every tooth meshed identically.
+   whole gear, every tooth meshed identically. Curved quadratic elements that fold (a
+   mid-edge node moved onto a sharply turning surface: Jacobian ratio below
+   :data:`~reducerlab.fe.quality.MIN_JACOBIAN_RATIO`) get straight edges first
+   (:func:`~reducerlab.fe.quality.mend_curved_tets`), or the mesh is refused.
 
 Lengths are metres at the interface (gmsh works in millimetres inside).
 """
@@ -206,7 +209,8 @@ class GearBodyMesh:
     tets : ndarray (m, 10)
         Quadratic tetrahedra (corners, then the mid-edge nodes of edges 0-1, 1-2, 0-2,
         0-3, 1-3, 2-3: VTK/meshio order), positively oriented; the mid-edge nodes lie on
-        the curved surfaces.
+        the curved surfaces (except on the edges of elements straightened because the
+        curved element folded, ``fe.quality``).
     gear : BevelGear
     blank : Blank
         The ring's cones (cone distances and heights, m).
@@ -791,6 +795,7 @@ def _mesh_gear(
         index[used] = np.arange(len(used))
         P = coords.reshape(-1, 3)[used] / MM
         T = index[T]
+    P = _mend_sector(P, T, pitch, phi0, tol / MM)
     say("patterning the teeth")
     ks = range(z) if sectors is None else sectors
     if len(ks) == 0 or ks.step != 1 or len(ks) > z:
@@ -968,6 +973,50 @@ def _import_brep(gmsh: Any, brep: str) -> None:
         path.write_text(brep)
         gmsh.model.occ.importShapes(str(path), highestDimOnly=True)
         gmsh.model.occ.synchronize()
+
+
+def _mend_sector(P: Array, T: NDArray[np.int64], pitch: float, phi0: float, tol: float) -> Array:
+    """The sector's nodes with the folded curved tetrahedra straightened
+    (:func:`~reducerlab.fe.quality.mend_curved_tets`); a mid-edge node moved on one
+    periodic wall moves its partner on the other wall alike, so that the walls still
+    match when the sectors are joined (:func:`_pattern`).
+
+    Raises
+    ------
+    MeshError
+        Elements that stay folded or slivers (``fe.quality``).
+    """
+    from scipy.spatial import cKDTree
+
+    from .quality import MIN_JACOBIAN_RATIO, jacobian_ratio, mend_curved_tets
+
+    try:
+        Q, mended = mend_curved_tets(P, T, "gear body")
+    except ReducerlabError as exc:
+        raise MeshError(str(exc)) from None
+    if mended == 0:
+        return P
+    moved = np.flatnonzero(np.any(Q != P, axis=1))
+    nrm = lambda phi: np.array([-math.sin(phi), math.cos(phi), 0.0])  # noqa: E731
+    for wall, turn in ((phi0, -pitch), (phi0 - pitch, pitch)):
+        on = moved[np.abs(P[moved] @ nrm(wall)) < tol]
+        if on.size == 0:
+            continue
+        other = np.flatnonzero(np.abs(P @ nrm(wall + turn)) < tol)
+        dist, j = cKDTree(P[other]).query(_rot(P[on], turn))
+        if np.any(dist > tol):
+            raise MeshError(
+                "gear body: the sector walls' nodes do not match (periodic mesh failed)"
+            )
+        Q[other[j]] = _rot(Q[on], turn)
+    r = jacobian_ratio(Q, T)
+    if r.min() < MIN_JACOBIAN_RATIO:
+        raise MeshError(
+            f"gear body: {np.count_nonzero(r < MIN_JACOBIAN_RATIO)} quadratic tetrahedra "
+            f"keep a Jacobian ratio below {MIN_JACOBIAN_RATIO} (worst {r.min():.3g}) with "
+            "straightened edges; change the element sizes"
+        )
+    return Q
 
 
 def _pattern(

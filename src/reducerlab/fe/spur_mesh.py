@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 from ..geometry.spur import SpurGear
 from .gear_mesh import GMSH_TO_VTK, MeshError, MeshSizes, gmsh_session, tet_options
+from .quality import mend_curved_tets
 
 __all__ = ["SpurSectorMesh", "default_spur_sizes", "mesh_spur_sector", "quadratic_tets"]
 
@@ -354,8 +355,10 @@ def quadratic_tets(gmsh, what: str) -> tuple[Array, Array]:
     Raises
     ------
     MeshError
-        gmsh fails, returns other elements, or inverted tetrahedra (``what`` names the
-        part in the message).
+        gmsh fails, returns other elements, inverted tetrahedra, or curved elements
+        that stay folded with straight edges (``fe.quality.mend_curved_tets``, which
+        straightens those below its Jacobian ratio first; ``what`` names the part in
+        the message).
     """
     gmsh.option.setNumber("General.NumThreads", 1)
     try:
@@ -379,4 +382,8 @@ def quadratic_tets(gmsh, what: str) -> tuple[Array, Array]:
     vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
     if np.any(vol <= 0):
         raise MeshError(f"{what}: the mesher returned inverted tetrahedra")
+    try:  # folded curved elements straightened (unchanged where there are none)
+        P, _ = mend_curved_tets(P, T, what)
+    except ReducerlabError as exc:
+        raise MeshError(str(exc)) from None
     return P, T
