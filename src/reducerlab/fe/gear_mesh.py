@@ -795,7 +795,13 @@ def _mesh_gear(
         index[used] = np.arange(len(used))
         P = coords.reshape(-1, 3)[used] / MM
         T = index[T]
-    P = _mend_sector(P, T, pitch, phi0, tol / MM)
+    if sectors is not None:
+        # tooth models (nodal stresses and flank compliances are read there): folded
+        # curved elements straightened. Whole-gear bodies keep gmsh's curved elements,
+        # whose signed Jacobian still integrates mass and inertia right (nutation_surface
+        # gear 2 at 1.0 m_n: +0.06 % against the CAD volume as meshed, +0.8 % mended;
+        # docs/assumptions.md)
+        P = _mend_sector(P, T, pitch, phi0, tol / MM)
     say("patterning the teeth")
     ks = range(z) if sectors is None else sectors
     if len(ks) == 0 or ks.step != 1 or len(ks) > z:
