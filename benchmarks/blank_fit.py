@@ -70,6 +70,7 @@ def fe_mass_inertia(design: Any, gear: int, factor: float = COARSE) -> dict[str,
         _mesh,
         _rigid_inertia,
         _translation_mass,
+        body_estimate,
         check_bodies,
         gear_blank,
     )
@@ -82,7 +83,8 @@ def fe_mass_inertia(design: Any, gear: int, factor: float = COARSE) -> dict[str,
     cap = max_tooth_size(crown, bevel, rim)
     sizes = MeshSizes(min(sizes.tooth, cap), max(sizes.body, min(sizes.tooth, cap)))
     t0 = time.perf_counter()
-    mesh = _mesh(design, gear, crown, bevel, rim, features, sizes, lambda _s: None)
+    budget = body_estimate(design, gear, sizes, "full").check()
+    mesh = _mesh(design, gear, crown, bevel, rim, features, sizes, lambda _s: None, budget)
     M, basis = mass_matrix(mesh.skfem(), design.material.density)
     mass = _translation_mass(basis, M)
     J_x, J_y, J_z = _rigid_inertia(basis, M, mass)

@@ -16,7 +16,8 @@ Ring: ``tests/published/test_iso6336_internal_root_stress.py``'s ring at 0.3, 0.
 Corner: the joint of flank and space bottom of both gears of the same pair, from the
 generated sections (the internal gear's root has no fillet: docs/contact.md).
 
-Run: ``PYTHONPATH=src .venv/bin/python benchmarks/root_stress_convergence.py [bevel|ring|corner]``
+Run: ``PYTHONPATH=src .venv/bin/python benchmarks/root_stress_convergence.py
+[bevel|external|internal|ring|corner]`` (``external``/``internal``: one gear's bevel runs)
 (the finest runs need 4-7 GB; set ``REDUCERLAB_MEMORY_LIMIT`` above the conservative
 estimate, e.g. 20G, where the machine has the memory).
 """
@@ -57,7 +58,7 @@ def slice_mean(c, u: float, force: float, width: float = 1e-3) -> float:
     return float(np.mean([s[(z >= lo) & (z < hi)].max() for lo, hi in itertools.pairwise(edges)]))
 
 
-def bevel() -> None:
+def bevel(gears: str = "ab") -> None:
     from reducerlab.analysis.contact import contact_pair
     from reducerlab.contact.compliance import fe_tooth_compliance
     from reducerlab.drives import load_design
@@ -66,6 +67,8 @@ def bevel() -> None:
     mp = contact_pair(load_design(example_dir() / "nutation_surface.toml"), 1)
     print("gear teeth band | DOFs | tensile end-zone compressive MPa | slice mean | s")
     for which, ts, fs in BEVEL_RUNS:
+        if which not in gears:
+            continue
         flank = mp.flank_a if which == "a" else mp.flank_b
         m = flank.crown.profile.module
         t = time.time()
@@ -134,4 +137,10 @@ def ring() -> None:
 
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "bevel"
-    {"bevel": bevel, "ring": ring, "corner": root_corner}[what]()
+    {
+        "bevel": bevel,
+        "external": lambda: bevel("a"),
+        "internal": lambda: bevel("b"),
+        "ring": ring,
+        "corner": root_corner,
+    }[what]()

@@ -71,6 +71,12 @@ def main(out: Path) -> dict:
                     "subsurface_von_mises_MPa": 1e-6 * s["von_mises_max"],
                     "root_stress_MPa": 1e-6 * float(a.get("root_stress_peak", float("nan"))),
                     "root_stress_gear": a.get("root_stress_peak_gear", ""),
+                    "root_stress_by_gear_MPa": {
+                        str(g): 1e-6 * float(res.data["root_stress"].sel(gear=g).max())
+                        for g in res.data["gear"].values
+                    },
+                    "root_stress_face_ends_MPa": 1e-6 * float(
+                        res.data["root_stress_face_ends"].max()),
                     "k_mean_N_per_m": s["k_mean"],
                     "te_peak_to_peak_um": 1e6 * s["te_peak_to_peak"],
                     "seconds": time.perf_counter() - t0,

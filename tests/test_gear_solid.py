@@ -219,3 +219,36 @@ def test_solid_rejects_a_foreign_crown_and_non_integer_grids():
         build_gear_solid(crown, BevelGear(10, 0.3), **COARSE)
     with pytest.raises(SolidError, match="integers"):
         build_gear_solid(crown, EXT, n_profile=5.5)
+
+
+@pytest.mark.parametrize("name", ["involute", "double_arc"])
+def test_internal_gear_root_is_a_fillet_not_a_corner(name):
+    """The internal gear's space is the basic tooth, whose tip line meets the flanks in
+    a corner; the solid rounds it with a root fillet tangent to the flank ends (a
+    re-entrant corner there made the FE root stress grow with every mesh refinement,
+    like r^-0.40 for the involute's 65 deg turn: docs/contact.md)."""
+    from reducerlab.geometry.solid import _rot_z
+
+    S = build_gear_solid(crown_for(PROFILES[name]), INT, n_profile=41, n_face=5, n_land=3,
+                         n_space=41)  # fmt: skip
+    prof = PROFILES[name]
+    x_root, x_tip = prof.x_range()
+    A, B, sp = S.parts["A"], S.parts["B"], S.parts["space"]
+    for j in range(S.loop.shape[0]):
+        path = np.concatenate([S.loop[j, B], S.loop[j, sp], _rot_z(S.loop[j, A], -S.pitch_angle)])
+        d = np.diff(path, axis=0)
+        seg = np.linalg.norm(d, axis=1)
+        t = d / seg[:, None]
+        turn = np.degrees(np.arccos(np.clip((t[1:] * t[:-1]).sum(1), -1, 1)))
+        nb, ns = B.stop - B.start, sp.stop - sp.start
+        for k in (nb - 2, nb + ns - 1):  # the turns at the two flank/fillet joints
+            # tangent joint: no larger than its neighbours' (a corner turns at once)
+            assert turn[k] <= max(turn[k - 1], turn[k + 1]) + 0.5, (j, k, turn[k - 2 : k + 3])
+        assert turn[nb - 2 : nb + ns].max() < 5.0
+        # radius of curvature of the fillet-bottom path (section): >= 0.3 m_n
+        kappa = np.radians(turn[nb : nb + ns - 2]) / seg[nb : nb + ns - 2]
+        assert 1 / kappa.max() > 0.3 * M
+        # the bottom lies beyond the flank ends by at most the clearance h_f - h_a
+        _, h, _ = cone_coordinates(S.loop[j], INT.cone_angle)
+        depth = h[sp].max() - max(h[B][-1], h[A][0])
+        assert 0.05 * M < depth <= (-x_root - x_tip) * (1 + 1e-9)

@@ -25,15 +25,16 @@ Face ends: the flank loads are bumps of radius ``a`` (``ToothCompliance.radius``
 tooth elements) on a grid inset by ``a`` from the flank's edges; a load nearer a face
 end than that is extrapolated from the grid (the same stencil as the compliance), so
 that its force and moment are right but not its local spread, and the fillet meets the
-end face in an edge. The fillet stress there does not converge: on the nutation drive's
-internal gear (pair 1 of ``examples/nutation_surface.toml``, a line load over the face)
-the fillet maximum within 2 mm (one module) of the end faces rose by 27-53 % from tooth
-elements of 0.3 to 0.25 m_n, while beyond it the face slices of those two meshes agree
-to 10 % (docs/contact.md; that gear's root is not converged elsewhere either).
+end face in an edge. The fillet stress there need not converge: on the nutation
+drive's internal gear (pair 1 of ``examples/nutation_surface.toml``, a line load over
+the face, its former root without a fillet) the fillet maximum within 2 mm (one module)
+of the end faces rose by 27-53 % from tooth elements of 0.3 to 0.25 m_n, while beyond it
+the face slices of those two meshes agreed to 10 % (docs/contact.md).
 :func:`tooth_root_stress` takes the tensile and compressive root stresses from the
 fillet nodes at least ``FilletInfluence.end_margin`` (one normal module) from the end
 faces (``FilletInfluence.end_distance``) and reports the largest principal stress of the
-end zones apart (``ToothRootStress.end_tensile``: not converged, for information).
+end zones apart (``ToothRootStress.end_tensile``: not a converged root stress, for
+information).
 
 Units: SI (m, N, Pa, rad).
 """

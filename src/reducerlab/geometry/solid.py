@@ -36,10 +36,15 @@ Tooth spaces:
   the mate's tip height ``x = -h_a``) and the root cone: at the heel the two root
   lines leave a gap (filled by the root cone), at the toe they overlap and the space
   bottom is their upper envelope (the crown tooth is the intersection of the two sides);
-* internal gear: the space is the basic tooth itself; its bottom joins the two flank
-  ends (profile ``u = 1``) by a ruled strip in cone coordinates. The flank ends lie
+* internal gear: the space is the basic tooth itself down to the flank ends (profile
+  ``u = 1``, the basic tooth's tip line, which has no rounding). The flank ends lie
   deeper than the nominal root cone ``h = +h_a`` (the plane top land of the generating
-  tooth reaches beyond the internal gear's root cone off the pitch line).
+  tooth reaches beyond the internal gear's root cone off the pitch line). Beyond them
+  the space has a root fillet: in each section an arc tangent to each flank at its end
+  and to a bottom line the basic profile's clearance ``h_f - h_a`` deeper, or a full
+  round where the two arcs meet first (:func:`_internal_space`). Joining the flank
+  ends directly (as before issue 29) left a re-entrant corner, where the root stress
+  has no converged value.
 
 At a profile corner (the double circular-arc profile's concave/transition junction
 turns by 46 deg) both one-sided envelopes are kept as two grid rows at the same profile
@@ -698,8 +703,8 @@ def build_gear_solid(
     if ext:
         space = _external_space(A, B, L, split, psi_b0, psi_a1, bl.root, n_space, ang, delta)
     else:
-        tt = np.arange(1, n_space + 1) / (n_space + 1)
-        space = _ruled(L, hb[:, -1], ha[:, 0], psi_b0, psi_a1, tt, delta)
+        space = _internal_space(A, B, L, PB_loop[:, -1], _rot_z(PA_loop[:, 0], ang),
+                                n_space, ang, delta, _root_clearance(prof))  # fmt: skip
     tick()
     loop = np.concatenate([PA_loop, land, PB_loop, space], axis=1)
     n_a, n_l, n_b = PA_loop.shape[1], land.shape[1], PB_loop.shape[1]
@@ -793,6 +798,108 @@ def _external_space(
     return from_cone_coordinates(L[:, None], out_h, out_p, delta)
 
 
+def _root_clearance(profile: BasicProfile) -> float:
+    """Depth (m) by which the internal gear's tooth space reaches beyond the flank ends:
+    the external gear's clearance ``h_f - h_a`` of the basic profile (ISO 53: 0.25 m_n,
+    GB/T 12759: 0.2 m_n), at least 0.1 m_n."""
+    x_root, x_tip = profile.x_range()
+    return max(-x_root - x_tip, 0.1 * profile.module)
+
+
+def _root_fillet(Pb: Array, nb: Array, Pa: Array, na: Array, clearance: float) -> Array:
+    """Dense path (2k, 2) in section coordinates ``(h, v)`` (``h`` deeper positive) from
+    the flank end ``Pb`` round a fillet, along the bottom, round the other fillet to
+    ``Pa``; ``nb``, ``na``: unit normals of the flanks at their ends, into the space.
+
+    Each fillet circle is tangent to its flank at the end (centre ``P + rho n``) and to
+    the bottom line ``h = H``: ``rho = (H - h_P) / (1 + n_h)``, with ``H`` the deeper end
+    plus ``clearance``, or lower where the two circles would pass each other (their
+    centres' ``v`` is linear in ``H``: solved for equal ``v``, a full-round root)."""
+    if nb[0] >= 1 - 1e-9 or na[0] >= 1 - 1e-9:  # pragma: no cover - flank along the bottom
+        raise SolidError("solid: the internal gear's flank ends point into the root")
+    kb, ka = nb[1] / (1.0 + nb[0]), na[1] / (1.0 + na[0])
+    H = max(Pb[0], Pa[0]) + clearance
+    if Pb[1] + (H - Pb[0]) * kb > Pa[1] + (H - Pa[0]) * ka:
+        H = (Pa[1] - Pb[1] + kb * Pb[0] - ka * Pa[0]) / (kb - ka)
+        if max(Pb[0], Pa[0]) >= H:
+            raise SolidError(
+                "solid: no root fillet fits the internal gear's tooth space (its flank "
+                "ends are too close); change the profile"
+            )
+    rb, ra = (H - Pb[0]) / (1.0 + nb[0]), (H - Pa[0]) / (1.0 + na[0])
+    cb, ca = Pb + rb * nb, Pa + ra * na
+    k = 400
+    # angles in (h, v) from the centres: 0 is the bottom's tangent point (+h)
+    sb = np.linspace(math.atan2(*(Pb - cb)[::-1]), 0.0, k)
+    sa = np.linspace(0.0, math.atan2(*(Pa - ca)[::-1]), k)
+    return np.concatenate([
+        np.stack([cb[0] + rb * np.cos(sb), cb[1] + rb * np.sin(sb)], 1),
+        np.stack([ca[0] + ra * np.cos(sa), ca[1] + ra * np.sin(sa)], 1),
+    ])  # fmt: skip
+
+
+def _internal_space(
+    A: _Flank,
+    B: _Flank,
+    L: Array,
+    end_b: Array,
+    end_a: Array,
+    n: int,
+    ang: float,
+    delta: float,
+    clearance: float,
+) -> Array:
+    """Space bottom of the internal gear: a root fillet from each flank end to a bottom
+    line ``clearance`` beyond the deeper flank end (n_face, n, 3).
+
+    The internal gear's tooth space is the basic tooth, whose tip end (profile ``u = 1``)
+    has no rounding: joining the two flank ends directly leaves a re-entrant corner in
+    the root (tangent turn 65 deg for the involute of paper 001), where the elastic
+    stress is singular. A cutter gives the root a fillet instead. In each transverse
+    section, in the coordinates ``(h, v)`` with ``v = psi R cos(beta)`` (``R`` the
+    radius of the flank end, ``beta`` the local spiral angle of the flank-end line, so
+    that ``v`` measures across the tooth as the normal section does), a circle tangent
+    to each flank at its end (the flank's tangent there from the envelope) touches the
+    bottom line ``h = h_end,max + clearance``; where the two circles would pass each
+    other the bottom is raised until they meet (a full-round root). The fillet-bottom-
+    fillet path is sampled at ``n`` points evenly by arc length. The flanks themselves,
+    and so the contact, are unchanged; the space is deeper than before by
+    ``clearance``."""
+    eps = 1e-4
+    _, hb, pb = cone_coordinates(end_b, delta)
+    _, ha, pa = cone_coordinates(end_a, delta)
+    sgn_pitch = float(np.sign(np.median(np.angle(np.exp(1j * (pa - pb))))))
+    near_b, _, _ = B.at(np.full_like(L, 1.0 - eps), L)
+    near_a, _, _ = A.at(np.full_like(L, 1.0 - eps), L)
+    _, hnb, pnb = cone_coordinates(near_b, delta)
+    _, hna, pna = cone_coordinates(_rot_z(near_a, ang), delta)
+    pa = _unwrap_to(pa, pb)
+    pnb, pna = _unwrap_to(pnb, pb), _unwrap_to(pna, pb)
+    R = L * math.sin(delta) + 0.5 * (ha + hb) * math.cos(delta)
+    # local spiral angle of the flank-end line: tan(beta) = R dpsi/dL (n_face >= 2)
+    tanb = R * np.gradient(np.unwrap(0.5 * (pa + pb)), L)
+    scale = R / np.sqrt(1.0 + tanb**2) * sgn_pitch  # v = (psi - psi_b) * scale
+    out_h = np.empty((len(L), n))
+    out_p = np.empty((len(L), n))
+    for j in range(len(L)):
+        ends = []
+        for h0, p0, h1, p1, inward in ((hb, pb, hnb, pnb, 1.0), (ha, pa, hna, pna, -1.0)):
+            P = np.array([h0[j], (p0[j] - pb[j]) * scale[j]])
+            t = P - np.array([h1[j], (p1[j] - pb[j]) * scale[j]])
+            t /= np.hypot(*t)
+            nrm = np.array([-t[1], t[0]])
+            if nrm[1] * inward < 0:  # into the space: toward the other flank end
+                nrm = -nrm
+            ends.append((P, nrm))
+        path = _root_fillet(*ends[0], *ends[1], clearance)
+        seg = np.hypot(*np.diff(path, axis=0).T)
+        s = np.concatenate([[0.0], np.cumsum(seg)])
+        q = s[-1] * np.arange(1, n + 1) / (n + 1)
+        out_h[j] = np.interp(q, s, path[:, 0])
+        out_p[j] = pb[j] + np.interp(q, s, path[:, 1]) / scale[j]
+    return from_cone_coordinates(L[:, None], out_h, out_p, delta)
+
+
 # --------------------------------------------------------------------------- estimate
 
 
@@ -815,6 +922,24 @@ def _tooth_area(
     return abs(area), mom * np.sign(area)
 
 
+def _root_fillet_area(profile: BasicProfile) -> tuple[float, float]:
+    """Area (m^2) and first moment about the pitch line (m^3) of the internal gear's
+    root-fillet space beyond the basic tooth's tip line, in the normal section: the
+    fillet path of :func:`_root_fillet` from the basic profile's two flank ends (a
+    construction in the profile plane, independent of the generated sections)."""
+    p = profile.evaluate(np.array([1.0]), 1)
+    x, y, nx, ny = float(p.x[0]), float(p.y[0]), float(p.nx[0]), float(p.ny[0])
+    # (h, v) = (x, y); into the space (the basic tooth) is against T's outward normal
+    path = _root_fillet(np.array([x, -y]), np.array([-nx, ny]), np.array([x, y]),
+                        np.array([-nx, -ny]), _root_clearance(profile))  # fmt: skip
+    xs = np.concatenate([[x], path[:, 0], [x]])
+    ys = np.concatenate([[-y], path[:, 1], [y]])
+    xn, yn = np.roll(xs, -1), np.roll(ys, -1)
+    cr = ys * xn - yn * xs
+    area = 0.5 * cr.sum()
+    return abs(area), float((cr * (xs + xn)).sum() / 6.0) * float(np.sign(area))
+
+
 def independent_volume_estimate(solid: GearSolid) -> dict[str, float]:
     """Volume of the gear from the blank and the basic tooth, without the mesh (m^3).
 
@@ -828,8 +953,10 @@ def independent_volume_estimate(solid: GearSolid) -> dict[str, float]:
 
     ``V_tooth = (A b + Q ln(L_e / L_i) / tan(delta)) / cos(beta)``.
 
-    Neglected: the difference between the generated (conjugate) tooth and ``T``, and
-    for the internal gear the part of the spaces deeper than the nominal root cone.
+    The internal gear's spaces also lose the root fillets beyond the basic tooth's tip
+    line (:func:`_root_fillet_area`, normal section). Neglected: the difference between
+    the generated (conjugate) tooth and ``T`` (for the internal gear, its flank ends lie
+    up to 0.15 m_n deeper than ``T``'s tip line).
     """
     bl, g, c = solid.blank, solid.gear, solid.crown
     prof = c.profile
@@ -839,7 +966,8 @@ def independent_volume_estimate(solid: GearSolid) -> dict[str, float]:
         A, Q = _tooth_area(prof, bl.root, h_a)
     else:
         AT, QT = _tooth_area(prof, -h_a, h_a)
-        A, Q = prof.pitch * 2 * h_a - AT, -QT
+        AF, QF = _root_fillet_area(prof)
+        A, Q = prof.pitch * 2 * h_a - AT - AF, -QT - QF
     ring = bl.ring_volume(delta, bl.body, bl.root)
     cb = math.cos(c.spiral_angle)
     tooth = (A * bl.face_width + Q * math.log(bl.back / bl.front) / math.tan(delta)) / cb
