@@ -14,7 +14,7 @@ Ring: ``tests/published/test_iso6336_internal_root_stress.py``'s ring at 0.3, 0.
 0.2 m against ISO 6336-3 method B.
 
 Corner: the joint of flank and space bottom of both gears of the same pair, from the
-generated sections (the internal gear's root has no fillet: docs/contact.md).
+generated sections (the internal gear's root fillet: docs/contact.md; a corner before issue 29).
 
 Run: ``PYTHONPATH=src .venv/bin/python benchmarks/root_stress_convergence.py
 [bevel|external|internal|ring|corner]`` (``external``/``internal``: one gear's bevel runs)
