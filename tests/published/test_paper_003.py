@@ -50,7 +50,8 @@ def test_lumped_stiffness_eq_1_2_10(design):
     assert design.mesh_stiffness == pytest.approx(2.87e7 * 39 / (2 * 0.9978), rel=1e-15)
     model = build_model(design)
     assert model.parameter("cross_ball.stiffness") == pytest.approx(6 * 4.44e7)
-    # Eq. 10 time-varying form: amplitude (1 - K^-2) K^Z of the mean at the input speed
+    # Eq. 10 time-varying form: amplitude (1 - K^-2) K^Z of the mean; as printed (no
+    # engagement count) at the input speed
     law = cycloid_ball_law(2.87e7, 39, 0.9978, 0.8, 104.72)
     k = cycloid_ball_stiffness(2.87e7, 39, 0.9978)
     assert law.mean == pytest.approx(k)
@@ -201,3 +202,64 @@ def test_bad_designs(design, section, field, value, message):
     with pytest.raises(DesignError, match=r"c\.toml") as exc:
         design_from_dict(data, "c.toml")
     assert message in str(exc.value)
+
+
+def _ball_normals(phi, K=0.8, zc=38):
+    """Ball centres and contact normals of paper 003's grooves, from the trochoids alone
+    (independent of reducerlab): the centre disc's epitrochoid ``A e^{it} - d e^{iZt}``
+    (``Z = zc + 1`` balls, ``d = e/2``, ``A = Z d / K``) turned by the output angle
+    ``alpha = (phi - pi) / i`` (``i = -19``), the planetary disc's hypotrochoid
+    ``e e^{i phi} + A e^{is} + d e^{-iZs}`` on the eccentric, not turning. Returns the
+    ball centres (complex, m), the unit normals and the unit vector of the line of
+    centres ``u = e^{i phi}``; checks that each ball lies on both grooves and that they
+    are tangent there (a frictionless ball can carry torque only where they are)."""
+    e, Z = 2.5e-3, zc + 1
+    d, A = e / 2, Z * e / 2 / K
+    alpha = (phi - np.pi) / (zc / (zc - (zc + 2)))
+    t = (-(Z + 1) * alpha / 2 + 2 * np.pi * np.arange(Z)) / Z
+    B = np.exp(1j * alpha) * (A * np.exp(1j * t) - d * np.exp(1j * Z * t))
+    s = t + alpha
+    Y = e * np.exp(1j * phi) + A * np.exp(1j * s) + d * np.exp(-1j * Z * s)
+    T2 = np.exp(1j * alpha) * 1j * (A * np.exp(1j * t) - Z * d * np.exp(1j * Z * t))
+    T3 = 1j * (A * np.exp(1j * s) - Z * d * np.exp(-1j * Z * s))
+    assert np.abs(B - Y).max() < 1e-15
+    assert np.abs(np.imag(np.conj(T2) * T3) / np.abs(T2) / np.abs(T3)).max() < 1e-9
+    return B, 1j * T2 / np.abs(T2), np.exp(1j * phi)
+
+
+def test_eq_10_harmonic_is_the_ball_engagement_frequency(design):
+    """Eq. 10's sum ``sum sin^2(theta_i)`` (theta_i: a ball's contact normal against the
+    line of centres) computed from the groove geometry over one input revolution: its
+    mean is ``Z/2`` and its one harmonic has Eq. 10's amplitude ``(Z/2)(1 - K^-2) K^Z``,
+    but at 40 cycles per input revolution (the lobes of the planetary disc passing the
+    eccentric), not at ``cos(omega_1 t)`` as printed; the model's law follows the
+    geometry (docs/assumptions.md, paper 003 Eq. 10). Tolerances: the geometric sum
+    differs from Eq. 10 by its next harmonic, ``~K^(2Z)`` = 3e-8 of the mean at K = 0.8."""
+    from reducerlab.drives.cycloid_ball import engagement_per_input
+
+    K, Z, n = 0.8, 39, 960
+    phis = 2 * np.pi * np.arange(n) / n
+    S = np.empty(n)
+    for j, phi in enumerate(phis):
+        _, nrm, u = _ball_normals(phi, K)
+        S[j] = np.sum(np.imag(nrm * np.conj(u)) ** 2)
+    F = np.fft.rfft(S) / n
+    assert F[0].real == pytest.approx(Z / 2, rel=1e-7)
+    k = int(np.argmax(np.abs(F[1:]))) + 1
+    assert k == 40
+    assert 2 * np.abs(F[k]) == pytest.approx(abs(Z / 2 * (1 - K**-2) * K**Z), rel=1e-5)
+    # no other frequency: harmonics off the multiples of 40 vanish to round-off, the
+    # multiples 80, 120 ... are of the order K^(2Z) Z/2 = 5e-7 (Eq. 10 drops them)
+    a = np.abs(F)
+    off = np.ones(a.size, bool)
+    off[::40] = False
+    assert a[off].max() < 1e-12 * Z
+    assert a[80::40].max() < 2 * K ** (2 * Z) * Z / 2
+    # the model's law: Eq. 10's amplitude at 40 x the input speed
+    assert engagement_per_input(design) == pytest.approx(40.0, rel=1e-12)
+    d = design.model_copy(update={"cycloid_pair": design.cycloid_pair.model_copy(
+        update={"short_width_coefficient": K})})  # fmt: skip
+    (law,) = [el.stiffness for el in build_model(d).elements if el.name == "cycloid_pairs"]
+    w1 = float(d.input_speed)
+    assert law.omega == pytest.approx(40 * w1, rel=1e-12)
+    assert law.amplitudes[0] / law.mean == pytest.approx((1 - K**-2) * K**Z, rel=1e-12)

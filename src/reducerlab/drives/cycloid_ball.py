@@ -83,19 +83,38 @@ def cycloid_ball_law(
     deformation_coefficient: float,
     short_width: float | None,
     speed: float,
+    engagement_per_input: float | None = None,
 ) -> TimeLaw:
     """Time-varying lumped stiffness of paper 003 Eq. 10 (N/m).
 
-    ``K_mx(t) = K (1 + (1 - K_s^-2) K_s^Z cos(Omega t))`` with ``K`` the mean of
-    :func:`cycloid_ball_stiffness`, ``K_s`` the short-width coefficient and ``Omega``
-    the input speed; the law follows the model speed. Without ``K_s`` (or at zero
-    speed) the law is its mean.
+    ``K_mx(t) = K (1 + (1 - K_s^-2) K_s^Z cos(Omega_m t))`` with ``K`` the mean of
+    :func:`cycloid_ball_stiffness`, ``K_s`` the short-width coefficient and ``Omega_m``
+    the ball-engagement frequency: ``engagement_per_input`` times the input speed
+    ``speed`` (rad/s). The sum ``sum sin^2(theta_i)`` of Eq. 1 repeats whenever the
+    ball set, seen from the line of centres (the frame of the eccentric), has moved on
+    by one ball pitch, i.e. when a lobe of either groove has passed the line of centres:
+    ``z_c |omega_c - omega_1| = z_p |omega_p - omega_1|`` (``CycloidBallDrive.
+    mesh_frequencies``; 40 per input revolution for paper 003's 38/40 lobes), not once
+    per input revolution as Eq. 10's ``cos(omega_1 t)`` reads (docs/assumptions.md,
+    paper 003 Eq. 10). Without ``engagement_per_input`` the factor is 1 (Eq. 10 as
+    printed). The law follows the model speed. Without ``K_s`` (or at zero speed) the
+    law is its mean.
     """
     mean = cycloid_ball_stiffness(single_pair, balls, deformation_coefficient)
     if short_width is None or speed == 0:
         return Constant(mean)
     amp = mean * (1.0 - short_width**-2) * short_width**balls
-    return Fourier(mean, (amp,), abs(speed), ref_speed=abs(speed))
+    per = 1.0 if engagement_per_input is None else float(engagement_per_input)
+    return Fourier(mean, (amp,), per * abs(speed), ref_speed=abs(speed))
+
+
+def engagement_per_input(design: CycloidBallDesign) -> float:
+    """Ball engagements per input revolution: the ball-engagement frequency of the
+    drive's kinematics over the input speed (``z_c |omega_c / omega_1 - 1|``; 40 for
+    paper 003's centre-disc output with 38/40 lobes)."""
+    kin = design.kinematics()
+    w = 1.0
+    return float(kin.mesh_frequencies(w)["ball engagement"]) * 2.0 * math.pi / w
 
 
 def cross_ball_stiffness(single_pair: float, loaded_balls: int = 6) -> float:
@@ -352,6 +371,7 @@ def build_model(design: CycloidBallDesign) -> Model:
                 pair.deformation_coefficient,
                 pair.short_width_coefficient,
                 design.input_speed,
+                engagement_per_input(design),
             ),
             damping=damping,
             name="cycloid_pairs",
