@@ -1,0 +1,175 @@
+"""Load sharing among the balls of a cycloid ball track (issue 30, paper 003):
+geometry against the trochoid grooves, closed forms of the Hertzian track, paper 003's
+lumped stiffness as the preloaded limit, equilibrium, symmetry, clearances, bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from reducerlab.contact.ball_track import BallTrack, ball_loads, track_stiffness
+from reducerlab.drives.cycloid_ball import cycloid_ball_law, cycloid_ball_stiffness
+from reducerlab.errors import ReducerlabError
+
+E = 2.5e-3  # paper 003 Table 1: eccentricity
+ZC = 38  # its centre disc's lobes
+BETA = math.radians(40)
+
+
+def track(**kw):
+    args = dict(centre_lobes=ZC, eccentricity=E, short_width=0.8, ball_radius=3.175e-3,
+                conformity=0.52, contact_angle=BETA)  # fmt: skip
+    args.update(kw)
+    return BallTrack(**args)
+
+
+def test_normals_pass_through_the_pitch_point_of_the_tangent_trochoids():
+    """The closed form of ``directions`` against the trochoid grooves themselves: the
+    centre disc's epitrochoid (offset e/2, base radius Z e / (2K)) turned by the output
+    angle and the planetary disc's hypotrochoid on the eccentric meet at the balls
+    tangent to each other; each ball's normal (perpendicular to the groove) makes
+    ``theta_i`` with the line of centres and passes through the pitch point."""
+    K = 0.8
+    t = track(short_width=K)
+    Z, d, A = t.balls, E / 2, t.ball_circle_radius
+    for phi in (0.0, 0.37, 1.1):
+        alpha = (phi - math.pi) / (ZC / (ZC - (ZC + 2)))
+        tt = (-(Z + 1) * alpha / 2 + 2 * np.pi * np.arange(Z)) / Z
+        B = np.exp(1j * alpha) * (A * np.exp(1j * tt) - d * np.exp(1j * Z * tt))
+        s = tt + alpha
+        Y = E * np.exp(1j * phi) + A * np.exp(1j * s) + d * np.exp(-1j * Z * s)
+        assert np.abs(B - Y).max() < 1e-15
+        T2 = np.exp(1j * alpha) * 1j * (A * np.exp(1j * tt) - Z * d * np.exp(1j * Z * tt))
+        n = 1j * T2 / np.abs(T2)
+        u = np.exp(1j * phi)  # line of centres: O -> planetary disc's centre
+        P = -t.pitch_radius * u
+        assert np.abs(np.imag(np.conj(n) * (B - P))).max() < 1e-12 * t.pitch_radius
+        # the balls' angles at M from the pitch point's direction, and the formula
+        psi = np.angle((B - E / 2 * u) / (-u))
+        assert np.abs(np.abs(B - E / 2 * u) - A).max() < 1e-15
+        sin_t = np.imag(n * np.conj(u))  # normal's component across the line of centres
+        ref_sin, ref_cos = track(short_width=K).directions(psi[0])
+        order = np.argsort(np.mod(psi - psi[0], 2 * np.pi))
+        np.testing.assert_allclose(np.abs(ref_sin), np.abs(sin_t[order]), atol=1e-12)
+        np.testing.assert_allclose(np.abs(ref_cos), np.abs(np.real(n * np.conj(u)))[order],
+                                   atol=1e-12)  # fmt: skip
+        # one ball pitch per 1/z_p input revolution (the ball-engagement period)
+        assert t.phase_of_input(2 * np.pi / (ZC + 2)) == pytest.approx(-2 * np.pi / Z)
+
+
+def test_power_law_of_the_unpreloaded_track_with_y_held():
+    """No clearance, no preload, ``y`` held: only the balls with ``sin(theta_i) > 0``
+    carry, and ``T / r_2 = K_h sum (cos(beta) sin(theta_i))^(5/2) s^(3/2)`` exactly, so
+    the tangent stiffness is ``1.5 (T / r_2) / s``."""
+    t = track()
+    for phase in (0.0, 0.05):
+        sin, _ = t.directions(phase)
+        lever = np.maximum(math.cos(BETA) * sin, 0.0)
+        for T in (1.0, 30.0, 200.0):
+            r = ball_loads(t, T, phase, y="held")
+            s = (T / t.pitch_radius / (t.hertz_constant * np.sum(lever**2.5))) ** (2 / 3)
+            assert r.s == pytest.approx(s, rel=1e-9)
+            assert r.loaded == np.count_nonzero(sin > 0)
+            assert r.translational_stiffness == pytest.approx(1.5 * T / t.pitch_radius / s,
+                                                              rel=1e-8)  # fmt: skip
+            assert r.torsional_stiffness == pytest.approx(
+                r.translational_stiffness * t.pitch_radius**2, rel=1e-12
+            )
+
+
+def test_equilibrium_and_free_y():
+    t = track(clearance=np.linspace(0, 4e-6, 39))
+    for y in ("free", "held"):
+        r = ball_loads(t, 80.0, 0.03, y=y)
+        sin, cos = t.directions(0.03)
+        cb = math.cos(BETA)
+        assert np.sum(r.force * cb * sin) == pytest.approx(80.0 / t.pitch_radius, rel=1e-9)
+        if y == "free":
+            assert abs(np.sum(r.force * cb * cos)) < 1e-9 * np.sum(r.force)
+        # force law and clearance: F = K_h <delta>^1.5, delta = g.q - c
+        np.testing.assert_allclose(
+            r.force, t.hertz_constant * np.maximum(r.approach, 0) ** 1.5, rtol=1e-12
+        )
+        np.testing.assert_allclose(
+            r.approach, cb * (sin * r.s + cos * r.y) - t.clearances, atol=1e-18
+        )
+
+
+def test_paper_003_lumped_stiffness_is_the_preloaded_limit():
+    """Paper 003 Eq. 1/10: every ball loaded to the same approach (a preload, no
+    clearance), ``y`` held, no torque: the tangent stiffness along ``s`` is ``k_m sum
+    sin^2(theta_i)`` with ``k_m = 1.5 K_h delta_0^(1/2) cos^2(beta)``; its mean over a
+    ball pitch is ``k_m Z / 2`` and its harmonic Eq. 10's ``(1 - K^-2) K^Z`` of the
+    mean. With the preload chosen so that ``k_m`` is paper 003's 2.87e7 N/m, the mean
+    divided by paper 003's deformation coefficient a = 0.9978 is the package's lumped
+    stiffness (5.6088e8 N/m)."""
+    K, km, a = 0.8, 2.87e7, 0.9978
+    t0 = track(short_width=K)
+    d0 = (km / (1.5 * t0.hertz_constant * math.cos(BETA) ** 2)) ** 2
+    t = track(short_width=K, clearance=-d0)
+    n = 64
+    phases = 2 * math.pi / t.balls * np.arange(n) / n
+    k = np.array([ball_loads(t, 0.0, p, y="held").translational_stiffness for p in phases])
+    for p, kk in zip(phases[:3], k[:3], strict=True):
+        assert kk == pytest.approx(km * np.sum(t.directions(p)[0] ** 2), rel=1e-9)
+    assert all(ball_loads(t, 0.0, p, y="held").loaded == 39 for p in phases[:3])
+    mean = k.mean()
+    assert mean == pytest.approx(km * t.balls / 2, rel=1e-9)
+    assert mean / a == pytest.approx(cycloid_ball_stiffness(km, 39, a), rel=1e-9)
+    amp = 2 * np.abs(np.fft.rfft(k)[1]) / n
+    law = cycloid_ball_law(km, 39, 1.0, K, 1.0)
+    assert amp == pytest.approx(abs(law.amplitudes[0]), rel=1e-6)
+
+
+def test_mirror_symmetry_and_ball_pitch_periodicity():
+    t = track()
+    Z = t.balls
+    r = ball_loads(t, 50.0, 0.02)
+    m = ball_loads(t, -50.0, -0.02)
+    np.testing.assert_allclose(m.force, r.force[(-np.arange(Z)) % Z], rtol=1e-9, atol=1e-9)
+    p = ball_loads(t, 50.0, 0.02 + 2 * math.pi / Z)
+    np.testing.assert_allclose(p.force, np.roll(r.force, -1), rtol=1e-9, atol=1e-9)
+    assert p.translational_stiffness == pytest.approx(r.translational_stiffness, rel=1e-9)
+
+
+def test_clearances_decide_how_many_balls_carry():
+    """Graded clearances (0-6 um): more balls come into contact as the torque rises,
+    the stiffness rises with them, and a ball never carries while its approach is
+    below its clearance; a preloaded track loses balls on the unloaded side instead."""
+    rng = np.random.default_rng(3)
+    t = track(clearance=rng.uniform(0, 6e-6, 39))
+    res = track_stiffness(t, [2.0, 20.0, 200.0, 2000.0], phases=3)
+    loaded = res["loaded"]
+    assert np.all(np.diff(loaded, axis=0) >= 0)
+    assert loaded[-1].min() > loaded[0].max()
+    assert np.all(np.diff(res["translational_stiffness"], axis=0) > 0)
+    r = ball_loads(t, 200.0)
+    assert np.all(r.force[r.approach <= 0] == 0)
+    pre = track(clearance=-4e-6)
+    counts = [ball_loads(pre, T, y="held").loaded for T in (0.0, 100.0, 400.0)]
+    assert counts[0] == 39 and counts[0] > counts[1] > counts[2]
+
+
+def test_bad_input_names_the_field():
+    with pytest.raises(ReducerlabError, match="short_width"):
+        track(short_width=1.2)
+    with pytest.raises(ReducerlabError, match="conformity"):
+        track(conformity=0.4)
+    with pytest.raises(ReducerlabError, match="contact_angle"):
+        track(contact_angle=math.radians(95))
+    with pytest.raises(ReducerlabError, match="ball_radius"):
+        track(ball_radius=-1e-3)
+    with pytest.raises(ReducerlabError, match="centre_lobes"):
+        track(centre_lobes=2.5)
+    with pytest.raises(ReducerlabError, match="clearance"):
+        track(clearance=[0.0, 1e-6])
+    with pytest.raises(ReducerlabError, match="torque"):
+        ball_loads(track(), float("nan"))
+    with pytest.raises(ReducerlabError, match="y: must be"):
+        ball_loads(track(), 1.0, y="loose")
+    with pytest.raises(ReducerlabError, match="phases"):
+        track_stiffness(track(), [1.0], phases=0)
+    with pytest.raises(ReducerlabError, match="torques"):
+        track_stiffness(track(), [])
