@@ -20,37 +20,53 @@ sums ``sin^2(theta_i)``). As the input turns by ``phi`` the ball set moves by
 ``d psi_0 = -(z_p / Z) d phi`` relative to the line of centres (one ball pitch per
 ``1/z_p`` input revolution: the ball-engagement period).
 
-Contact: each ball touches both grooves, whose circular sections (radius ``r_g = 2 f
-r_b``, conformity ``f``) hold it at the contact angle ``beta`` (paper 003's half angle
-of the groove) out of the disc plane; the two Hertz contacts (Johnson 1985 §4.2,
-:func:`~reducerlab.contact.hertz.hertz_elliptic`: curvature ``1/r_b`` along the groove,
-``1/r_b - 1/r_g`` across it; the groove's lengthwise curvature is neglected against the
-ball's) act in series, ``F = K_h delta^(3/2)`` with
-``K_h = (K_2^(-2/3) + K_3^(-2/3))^(-3/2)``.
+Contact: each ball lies in both grooves, whose sections (gothic arches of radius ``r_g
+= 2 f r_b``, conformity ``f``) touch it at the contact angle ``beta`` out of the disc
+plane (paper 003's half angle of the groove), on either side: a ball is squeezed along
+its normal line between the centre disc's groove wall on one side and the planetary
+disc's on the other. Line ``+`` (centre disc's wall on the pitch point's side of the
+ball, ``-n_i``) carries when the centre disc moves along ``+n_i`` relative to the
+planetary disc, line ``-`` the other way. Each line is two Hertz contacts in series
+(Johnson 1985 §4.2, :func:`~reducerlab.contact.hertz.hertz_elliptic`), ``F = K_h
+delta^(3/2)``, ``K_h = (K_2^(-2/3) + K_3^(-2/3))^(-3/2)``; a contact's relative
+curvatures are ``1/r_b - 1/r_g`` across the groove and ``1/r_b + k_g`` along it, where
+the groove wall's lengthwise curvature ``k_g = kappa_w cos(beta) / (1 - kappa_w r_b
+cos(beta))`` follows from the ball-centre path's curvature ``kappa_w`` toward the wall
+(the trochoids' curvature at the ball, in closed form:
+
+``kappa_2 = K (1 + Z K^2 - (Z + 1) K cos psi) / (Z d D^(3/2))`` (centre disc),
+``kappa_3 = K (1 - Z K^2 + (Z - 1) K cos psi) / (Z d D^(3/2))`` (planetary disc),
+``D = 1 + K^2 - 2 K cos psi``, ``d = e/2``; line ``+``: ``kappa_w = kappa_2`` and
+``-kappa_3``, line ``-``: ``-kappa_2`` and ``kappa_3``). Where ``kappa_w r_b
+cos(beta) >= 1`` the wall on the inside of the path's turn is undercut (the groove cut
+along the trochoid removes it): that line of that ball carries nothing, and
+:meth:`BallTrack.undercut` reports it (for ``K`` near 1 the trochoids turn within a
+fraction of a millimetre next to the pitch point).
 
 Load sharing: a small relative displacement of the centre disc against the planetary
 disc at the pitch point, ``s`` along ``x`` (paper 003's ``delta_23 = x2 - x3 + u2 -
 u3``: rotations about ``P`` move no ball along its normal) and ``y`` along the line of
-centres, approaches ball ``i`` by
+centres, approaches the lines of ball ``i`` by
 
-``delta_i = cos(beta) (sin(theta_i) s + cos(theta_i) y) - c_i``
+``delta_i(+-) = +- cos(beta) (sin(theta_i) s + cos(theta_i) y) - c_i``
 
-(``c_i``: the ball's clearance along its normal, negative for a preload); its force is
-``K_h <delta_i>^(3/2)``. The torque ``T`` on the centre disc is the generalised force
+(``c_i``: the ball's clearance along its normal, negative for a preload: an interference
+that loads both lines). The torque ``T`` on the centre disc is the generalised force
 ``T / r_2`` on ``s``; ``y`` is free (the planetary disc floats on the eccentric
 bearing: no net force along the line of centres) or held. The equilibrium minimises
-the convex energy ``sum (2/5) K_h <delta_i>^(5/2) - (T / r_2) s`` (Newton's method with
-a backtracking line search): the loaded balls, their forces and the tangent stiffness
-``J = sum 1.5 K_h delta_i^(1/2) g_i g_i^T`` (``g_i = cos(beta) (sin theta_i, cos
-theta_i)``), condensed on ``s`` when ``y`` is free: the translational stiffness of
-paper 003's ``K_mx`` (N/m) and the torsional stiffness ``r_2^2 K_mx`` about the centre
-disc's axis (N m/rad).
+the convex energy ``sum (2/5) K_h <delta>^(5/2) - (T / r_2) s`` over the lines
+(Newton's method with a backtracking line search): the loaded balls, their forces and
+the tangent stiffness ``J = sum 1.5 K_h delta^(1/2) g g^T`` (``g = +- cos(beta) (sin
+theta_i, cos theta_i)``), condensed on ``s`` when ``y`` is free: the translational
+stiffness of paper 003's ``K_mx`` (N/m) and the torsional stiffness ``r_2^2 K_mx``
+about the centre disc's axis (N m/rad).
 
-Paper 003 Eq. 1 is the preloaded, zero-clearance limit: every ball loaded to the same
+Paper 003 Eq. 1 is the preloaded, zero-clearance limit of straight grooves
+(``groove_curvature=False``, one ``K_h`` for every line): every line loaded to the same
 approach ``delta_0``, ``y`` held, the tangent stiffness is ``k_m sum sin^2(theta_i)``
-with ``k_m = 1.5 K_h delta_0^(1/2) cos^2(beta)``, whose mean over a ball pitch is ``k_m
-Z / 2`` (Eq. 10; the paper divides by its deformation coefficient ``a``, a
-normalisation of ``delta_max`` that the contact model has no counterpart for).
+with ``k_m = 3 K_h delta_0^(1/2) cos^2(beta)`` (two lines a ball), whose mean over a
+ball pitch is ``k_m Z / 2`` (Eq. 10; the paper divides by its deformation coefficient
+``a``, a normalisation of ``delta_max`` that the contact model has no counterpart for).
 
 Units: SI (m, N, N m, rad).
 """
@@ -109,7 +125,10 @@ class BallTrack:
         Of balls and discs (Pa, -).
     clearance : float or array_like
         Clearance ``c_i`` (m) of each ball along its normal (one value for all);
-        negative: an interference that preloads the ball.
+        negative: an interference that preloads both of its lines.
+    groove_curvature : bool
+        Take the grooves' lengthwise curvature into the Hertz contacts (default); False:
+        straight grooves, one ``K_h`` for every line (paper 003's uniform ``k_m``).
     """
 
     centre_lobes: int
@@ -121,6 +140,7 @@ class BallTrack:
     youngs_modulus: float = 206e9
     poisson_ratio: float = 0.3
     clearance: ArrayLike = 0.0
+    groove_curvature: bool = True
     _c: Array = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -192,16 +212,52 @@ class BallTrack:
         ``-(z_p / Z) angle``."""
         return phase0 - (self.centre_lobes + 2) / self.balls * float(angle)
 
-    @property
-    def hertz_constant(self) -> float:
-        """``K_h`` (N/m^1.5) of one ball between the two grooves: two equal Hertz
-        contacts in series, ``K_h = K_1 / 2^(3/2)``, ``K_1 = F / delta^(3/2)`` of one
-        ball-groove contact (Johnson 1985 §4.2)."""
-        rb = self.ball_radius
+    def path_curvatures(self, phase: float = 0.0) -> tuple[Array, Array]:
+        """Curvatures (1/m) of the ball-centre paths in the centre disc's and the
+        planetary disc's grooves at each ball, ``kappa_2`` and ``kappa_3`` of the module
+        docstring (positive: curving toward the pitch point's side of the ball)."""
+        psi = float(phase) + 2 * math.pi * np.arange(self.balls) / self.balls
+        k, z = self.short_width, self.balls
+        den = z * 0.5 * self.eccentricity * (1 + k * k - 2 * k * np.cos(psi)) ** 1.5
+        k2 = k * (1 + z * k * k - (z + 1) * k * np.cos(psi)) / den
+        k3 = k * (1 - z * k * k + (z - 1) * k * np.cos(psi)) / den
+        return k2, k3
+
+    def _contact_constant(self, kappa: float) -> float:
+        """``F / delta^(3/2)`` (N/m^1.5) of one ball-groove contact whose ball-centre
+        path curves by ``kappa`` (1/m) toward the wall; 0 where the wall is undercut."""
+        rb, cb = self.ball_radius, math.cos(self.contact_angle)
         rg = 2 * self.conformity * rb
+        if kappa * rb * cb >= 1.0:
+            return 0.0
+        k_g = kappa * cb / (1.0 - kappa * rb * cb)
         e_star = self.youngs_modulus / (2 * (1 - self.poisson_ratio**2))
-        one = hertz_elliptic(1.0, 0.5 / rb, 0.5 * (1 / rb - 1 / rg), e_star)
-        return 1.0 / one.delta**1.5 / 2**1.5
+        one = hertz_elliptic(1.0, 0.5 * (1 / rb + k_g), 0.5 * (1 / rb - 1 / rg), e_star)
+        return 1.0 / one.delta**1.5
+
+    @property
+    def straight_constant(self) -> float:
+        """``K_h`` (N/m^1.5) of a line of straight grooves: two equal contacts in series,
+        ``K_1 / 2^(3/2)``."""
+        return self._contact_constant(0.0) / 2**1.5
+
+    def hertz_constants(self, phase: float = 0.0) -> Array:
+        """``K_h`` (N/m^1.5) of lines ``+`` and ``-`` of every ball, shape ``(Z, 2)``
+        (module docstring); 0 for a line with an undercut wall."""
+        if not self.groove_curvature:
+            return np.full((self.balls, 2), self.straight_constant)
+        k2, k3 = self.path_curvatures(phase)
+        out = np.zeros((self.balls, 2))
+        for i in range(self.balls):
+            for j, (w2, w3) in enumerate(((k2[i], -k3[i]), (-k2[i], k3[i]))):
+                a, b = self._contact_constant(w2), self._contact_constant(w3)
+                if a > 0 and b > 0:
+                    out[i, j] = (a ** (-2 / 3) + b ** (-2 / 3)) ** -1.5
+        return out
+
+    def undercut(self, phase: float = 0.0) -> Array:
+        """``(Z, 2)`` booleans: the lines whose groove wall is undercut at ``phase``."""
+        return self.hertz_constants(phase) == 0
 
 
 @dataclass(frozen=True)
@@ -218,9 +274,10 @@ class BallLoads:
         Relative displacement at the pitch point across and along the line of centres
         (m).
     approach : ndarray
-        ``delta_i`` (m), negative where a ball is clear.
+        ``delta_i`` (m) of lines ``+`` and ``-``, shape ``(Z, 2)``; negative where a
+        line is clear, ``-inf`` where its groove wall is undercut.
     force : ndarray
-        Normal force per ball (N).
+        Normal force of each line (N), ``(Z, 2)``.
     translational_stiffness : float
         Tangent ``d(T / r_2) / ds`` (N/m), paper 003's ``K_mx``, with ``y`` condensed
         when free.
@@ -245,7 +302,12 @@ class BallLoads:
 
     @property
     def loaded(self) -> int:
-        """Number of balls carrying load."""
+        """Number of balls carrying load (on either line)."""
+        return int(np.count_nonzero(np.any(self.force > 0, axis=1)))
+
+    @property
+    def loaded_lines(self) -> int:
+        """Number of contact lines carrying load (two a ball at most)."""
         return int(np.count_nonzero(self.force > 0))
 
     @property
@@ -282,38 +344,40 @@ def ball_loads(
         raise ReducerlabError(f"y: must be 'free' or 'held'; got {y!r}")
     sin, cos = track.directions(phase)
     cb = math.cos(track.contact_angle)
-    G = cb * np.stack([sin, cos], axis=1)  # (Z, 2): d delta_i / d (s, y)
+    Z = track.balls
+    g1 = cb * np.stack([sin, cos], axis=1)  # (Z, 2): d delta(+) / d (s, y)
+    G = np.concatenate([g1, -g1])  # lines + then lines -, (2Z, 2)
     if y == "held":
         G = G[:, :1]
-    c = track.clearances
-    kh = track.hertz_constant
+    kh = track.hertz_constants(phase).T.ravel()  # (2Z,): + lines, then - lines
+    c = np.concatenate([track.clearances, track.clearances])
+    live = kh > 0
+    G, c_l, k_l = G[live], c[live], kh[live]
     Q = np.zeros(G.shape[1])
     Q[0] = T / track.pitch_radius
 
     def energy(q: Array) -> float:
-        d = np.maximum(G @ q - c, 0.0)
-        return float(0.4 * kh * np.sum(d**2.5) - Q @ q)
+        d = np.maximum(G @ q - c_l, 0.0)
+        return float(0.4 * np.sum(k_l * d**2.5) - Q @ q)
 
-    # start: the balls on the loaded side carry the torque with y = 0 and no clearance
+    # start: the lines on the loaded side carry the torque with y = 0 and no clearance
     q = np.zeros(G.shape[1])
     lever = np.maximum(np.sign(T) * G[:, 0], 0.0)
     if T != 0 and np.any(lever > 0):
-        q[0] = np.sign(T) * (abs(Q[0]) / (kh * np.sum(lever**2.5))) ** (2 / 3)
-    scale = max(abs(Q[0]), kh * float(np.max(np.abs(c))) ** 1.5, 1e-300)
+        q[0] = np.sign(T) * (abs(Q[0]) / np.sum(k_l * lever**2.5)) ** (2 / 3)
+    k_ref = float(np.max(k_l)) if k_l.size else 1.0
+    scale = max(abs(Q[0]), k_ref * float(np.max(np.abs(c_l), initial=0.0)) ** 1.5, 1e-300)
     it = 0
     for it in range(1, 201):  # noqa: B007 - the count is reported
-        d = G @ q - c
+        d = G @ q - c_l
         on = d > 0
         dp = np.where(on, d, 0.0)
-        grad = kh * G.T @ dp**1.5 - Q
+        grad = G.T @ (k_l * dp**1.5) - Q
         if np.linalg.norm(grad) <= tol * scale:
             break
-        H = 1.5 * kh * (G[on].T * np.sqrt(dp[on])) @ G[on]
-        reg = 1e-12 * max(float(np.trace(H)), kh * 1e-6)
-        try:
-            step = -np.linalg.solve(H + reg * np.eye(len(q)), grad)
-        except np.linalg.LinAlgError:  # pragma: no cover - regularised
-            step = -grad / reg
+        H = 1.5 * (G[on].T * (k_l[on] * np.sqrt(dp[on]))) @ G[on]
+        reg = 1e-12 * max(float(np.trace(H)), k_ref * 1e-6)
+        step = -np.linalg.solve(H + reg * np.eye(len(q)), grad)
         e0, t = energy(q), 1.0
         while energy(q + t * step) > e0 + 1e-4 * t * float(grad @ step) and t > 1e-12:
             t *= 0.5
@@ -323,20 +387,22 @@ def ball_loads(
             f"ball_loads: no equilibrium for T = {T:g} N m at phase {phase:g} rad "
             "(no ball can carry it: check the clearances)"
         )
-    d = G @ q - c
-    on = d > 0
-    force = kh * np.where(on, d, 0.0) ** 1.5
-    J = 1.5 * kh * (G[on].T * np.sqrt(d[on])) @ G[on]
+    d_all = np.full(2 * Z, -np.inf)
+    d_all[live] = G @ q - c_l
+    force = np.zeros(2 * Z)
+    force[live] = k_l * np.maximum(d_all[live], 0.0) ** 1.5
+    on = d_all > 0
+    Gf = np.concatenate([g1, -g1])
+    J = 1.5 * (Gf[on].T * (kh[on] * np.sqrt(d_all[on]))) @ Gf[on]
     if y == "free":
         k_s = J[0, 0] - (J[0, 1] ** 2 / J[1, 1] if J[1, 1] > 0 else 0.0)
-        k_y = float(J[1, 1])
     else:
         k_s = float(J[0, 0])
-        k_y = float(1.5 * kh * np.sum(np.sqrt(d[on]) * (cb * cos[on]) ** 2))
     r2 = track.pitch_radius
     return BallLoads(
-        T, float(phase), float(q[0]), float(q[1]) if y == "free" else 0.0, d, force,
-        float(k_s), float(k_s * r2 * r2), k_y, it,
+        T, float(phase), float(q[0]), float(q[1]) if y == "free" else 0.0,
+        d_all.reshape(2, Z).T.copy(), force.reshape(2, Z).T.copy(),
+        float(k_s), float(k_s * r2 * r2), float(J[1, 1]), it,
     )  # fmt: skip
 
 
