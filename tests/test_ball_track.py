@@ -227,3 +227,46 @@ def test_hertz_constant_and_undercut():
     assert np.array_equal(c.undercut(0.0), want) and want.any()
     r = ball_loads(c, 300.0)
     assert np.all(r.force[want] == 0)
+
+
+def test_api_and_cli_on_the_example(tmp_path):
+    """The example's ball track through the API and ``reducerlab balls``: dimensions,
+    the rated torque from the torque flow, one ``torsional = r_2^2 translational``,
+    the result file read back, the figure and the table; bad options name themselves."""
+    from typer.testing import CliRunner
+
+    from reducerlab.analysis.ball_track import BallTrackResult, ball_track_analysis
+    from reducerlab.cli import app
+    from reducerlab.drives import load_design
+    from reducerlab.examples import example_dir
+    from reducerlab.results import Result
+
+    example = example_dir() / "cycloid_ball.toml"
+    d = load_design(example)
+    res = ball_track_analysis(d, points=4, phases=2)
+    ds = res.data
+    assert dict(ds.sizes) == {"torque": 4, "phase": 2, "ball": 39, "line": 2}
+    assert ds.attrs["rated_torque_N_m"] == pytest.approx(50.0)
+    assert res.torques[-1] == pytest.approx(75.0)
+    r2 = d.ball_track().pitch_radius
+    np.testing.assert_allclose(ds["torsional_stiffness"], r2**2 * ds["translational_stiffness"])
+    assert np.all(ds["loaded"].values[1:] > 30) and np.all(ds["loaded"].values[0] == 0)
+    path = res.save(tmp_path / "b.nc")
+    back = Result.load(path)
+    assert isinstance(back, BallTrackResult)
+    np.testing.assert_array_equal(back.data["force"].values, ds["force"].values)
+    assert "loaded balls" in res.table()
+    run = CliRunner().invoke(app, ["balls", str(example), "--points", "3", "--phases", "1",
+                                   "-o", str(tmp_path / "out")])  # fmt: skip
+    assert run.exit_code == 0, run.output
+    assert {p.name for p in (tmp_path / "out").iterdir()} >= {"balls.nc", "balls.json", "balls.png"}
+    for args, field in ((["--y", "loose"], "--y"), (["--torque-max", "-5 N*m"], "--torque-max"),
+                        (["--set", "cycloid_pair.ball_radius=null"], "ball_radius")):  # fmt: skip
+        bad = CliRunner().invoke(app, ["balls", str(example), *args])
+        assert bad.exit_code == 2 and field in bad.output, bad.output
+    with pytest.raises(ReducerlabError, match="phases"):
+        ball_track_analysis(d, phases=0)
+    with pytest.raises(ReducerlabError, match="torques"):
+        ball_track_analysis(d, torques=[1.0, float("nan")])
+    with pytest.raises(ReducerlabError, match="cycloid_ball design"):
+        ball_track_analysis(load_design(example_dir() / "khv.toml"))

@@ -50,6 +50,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "rating": "reducerlab.analysis.rating",
     "te-sweep": "reducerlab.analysis.te_sweep",
     "layout": "reducerlab.analysis.layout",
+    "ball-track": "reducerlab.analysis.ball_track",
 }
 
 

@@ -25,7 +25,7 @@ circle radius is ``e / 2`` and ``Z_p - Z_c = 2``), which is paper 003's Table 1
 from __future__ import annotations
 
 import math
-from typing import Annotated, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -45,8 +45,10 @@ from ..design import (
     Stiffness,
     Torque,
     angle_between,
+    quantity,
 )
 from ..design_files import field_rules
+from ..errors import ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import (
     Centripetal,
@@ -63,6 +65,11 @@ from ..model import (
     Support,
 )
 from ..model.laws import TimeLaw
+
+if TYPE_CHECKING:
+    from ..contact.ball_track import BallTrack
+
+SignedLength = quantity("length")
 
 __all__ = ["CycloidBallDesign", "build_model", "cross_ball_stiffness", "cycloid_ball_stiffness"]
 
@@ -173,7 +180,12 @@ class EndCoverDisc(Spec):
 
 
 class CycloidBallPair(Spec):
-    """Cycloid-ball meshing pairs (Eq. 1, 8, 10)."""
+    """Cycloid-ball meshing pairs (Eq. 1, 8, 10) and, for the ball-track contact
+    (``contact.ball_track``, issue 30), the balls and grooves: ``ball_radius``,
+    ``groove_conformity`` (groove section radius over ball diameter), the contact angle
+    ``groove_half_angle``, ``short_width_coefficient``, ``ball_clearance`` along each
+    ball's normal (negative: a preload; one value for every ball) and the elastic
+    constants of balls and discs."""
 
     ball_stiffness: Stiffness
     deformation_coefficient: Annotated[Real, Field(gt=0, le=1)]
@@ -181,6 +193,11 @@ class CycloidBallPair(Spec):
     ball_damping: Damping = 0.0
     short_width_coefficient: Annotated[Real, Field(gt=0, lt=1)] | None = None
     groove_half_angle: angle_between(0, 90) | None = None  # type: ignore[valid-type]
+    ball_radius: Length | None = None
+    groove_conformity: Annotated[Real, Field(gt=0.5, lt=1)] | None = None
+    ball_clearance: SignedLength = 0.0  # type: ignore[valid-type]
+    youngs_modulus: quantity("pressure", gt=0) = 206e9  # type: ignore[valid-type]
+    poisson_ratio: Annotated[Real, Field(gt=-1, lt=0.5)] = 0.3
 
 
 class CrossBall(Spec):
@@ -267,6 +284,36 @@ class CycloidBallDesign(Design):
             "centre disc": self.pitch_radius(self.centre_disc.lobes),
             "planetary disc": self.pitch_radius(self.planetary_disc.lobes),
         }
+
+    def ball_track(self) -> BallTrack:
+        """The ball track of the contact analysis (``contact.ball_track.BallTrack``)
+        from ``[cycloid_pair]``.
+
+        Raises
+        ------
+        ReducerlabError
+            Naming the fields the contact needs that the design does not give.
+        """
+        from ..contact.ball_track import BallTrack
+
+        p = self.cycloid_pair
+        need = {
+            "cycloid_pair.ball_radius": p.ball_radius,
+            "cycloid_pair.groove_conformity": p.groove_conformity,
+            "cycloid_pair.groove_half_angle": p.groove_half_angle,
+            "cycloid_pair.short_width_coefficient": p.short_width_coefficient,
+        }
+        missing = [k for k, v in need.items() if v is None]
+        if missing:
+            raise ReducerlabError(
+                "the ball-track contact needs " + ", ".join(missing) + " (paper 003 gives "
+                "none of them; see examples/cycloid_ball.toml)"
+            )
+        return BallTrack(
+            self.centre_disc.lobes, self.eccentricity, p.short_width_coefficient,
+            p.ball_radius, p.groove_conformity, p.groove_half_angle,
+            p.youngs_modulus, p.poisson_ratio, p.ball_clearance,
+        )  # fmt: skip
 
     @property
     def mesh_stiffness(self) -> float:
