@@ -378,8 +378,11 @@ def ball_loads(
         H = 1.5 * (G[on].T * (k_l[on] * np.sqrt(dp[on]))) @ G[on]
         reg = 1e-12 * max(float(np.trace(H)), k_ref * 1e-6)
         step = -np.linalg.solve(H + reg * np.eye(len(q)), grad)
+        # backtracking on the energy, with its round-off allowed for (near the minimum
+        # the decrease is far below the energy's own rounding)
         e0, t = energy(q), 1.0
-        while energy(q + t * step) > e0 + 1e-4 * t * float(grad @ step) and t > 1e-12:
+        noise = 1e-13 * (0.4 * float(np.sum(k_l * dp**2.5)) + abs(float(Q @ q)))
+        while energy(q + t * step) > e0 + 1e-4 * t * float(grad @ step) + noise and t > 1e-6:
             t *= 0.5
         q = q + t * step
     else:
