@@ -28,6 +28,7 @@ GEAR = str(example_dir() / "gear_pair.toml")
 KHV = str(example_dir() / "khv.toml")
 NUTATION = str(example_dir() / "nutation_double.toml")
 SURFACE = str(example_dir() / "nutation_surface.toml")
+CYCLOID = str(example_dir() / "cycloid_ball.toml")
 SHORT = ["--periods", "20", "--keep", "5"]
 
 # every command that writes files, with arguments for a short run (design first)
@@ -53,6 +54,7 @@ WRITERS = {
     ],
     "khv closed-graph": ["khv", "closed-graph", KHV],
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
+    "balls": ["balls", CYCLOID, "--points", "3", "--phases", "1"],
     "contact": [
         "contact",
         SURFACE,
@@ -69,7 +71,7 @@ WRITERS = {
 
 def _with_design(args: list[str], design: str) -> list[str]:
     """The command's arguments with its design file replaced."""
-    return [design if a in (GEAR, KHV, NUTATION, SURFACE) else a for a in args]
+    return [design if a in (GEAR, KHV, NUTATION, SURFACE, CYCLOID) else a for a in args]
 
 
 # ------------------------------------------------------------------ output convention
@@ -351,6 +353,7 @@ def test_response_takes_the_forcing_period(tmp_path):
 
 # ------------------------------------------------------------------ stamps and reload
 def _result_classes() -> dict[str, type[Result]]:
+    import reducerlab.analysis.ball_track
     import reducerlab.analysis.bifurcation
     import reducerlab.analysis.body_modal
     import reducerlab.analysis.campbell
@@ -420,7 +423,7 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
                 assert text["design_hash"] == design.hash, png
     assert seen == {
         "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response",
-        "contact", "frequency-response",
+        "contact", "frequency-response", "ball-track",
     }  # fmt: skip
 
 

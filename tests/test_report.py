@@ -25,7 +25,8 @@ from reducerlab.reporting import report, sections, write_index
 
 #: Sections each bundled example must show (summary and provenance: always).
 EXPECTED = {
-    "cycloid_ball": {"design", "kinematics", "modal", "sensitivity", "campbell", "response"},
+    "cycloid_ball": {"design", "kinematics", "modal", "sensitivity", "campbell", "response",
+                     "ball-track"},
     "cycloid_ball_kinematics": {"design", "kinematics"},
     "gear_pair": {"design", "kinematics", "modal", "sensitivity", "campbell", "response",
                   "capacity"},

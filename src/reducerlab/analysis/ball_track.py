@@ -11,7 +11,6 @@ and the tangent stiffnesses against torque. The model, its closed forms and its 
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
@@ -194,7 +193,7 @@ def ball_track_analysis(
                  ("radial_stiffness", "N/m"), ("max_force", "N")):  # fmt: skip
         ds[k].attrs["units"] = u
     ds["torque"].attrs["units"] = "N m"
-    ds.attrs.update(provenance({"design": json.loads(design.model_dump_json())}))
+    ds.attrs.update(provenance(design.provenance))
     clearance = track.clearances
     ds.attrs.update({
         "balls": Z, "short_width": track.short_width, "ball_radius_m": track.ball_radius,

@@ -18,7 +18,12 @@ from collections.abc import Callable
 from ..blocks import Section
 from ..context import Context
 from .capacity import capacity_section
-from .geometry import closed_graph_section, contact_section, surfaces_section
+from .geometry import (
+    ball_track_section,
+    closed_graph_section,
+    contact_section,
+    surfaces_section,
+)
 from .inputs import design_section, kinematics_section
 from .modes import bodies_section, campbell_section, modal_section, sensitivity_section
 from .motion import bifurcation_section, regime_map_section, response_section
@@ -38,6 +43,7 @@ SECTIONS: list[tuple[str, str, Callable[[Context], Section | None]]] = [
     ("regime-map", "Regime map", regime_map_section),
     ("surfaces", "Tooth surfaces", surfaces_section),
     ("closed-graph", "Closed graph", closed_graph_section),
+    ("ball-track", "Ball track", ball_track_section),
     ("contact", "Loaded tooth contact", contact_section),
     ("capacity", "Load capacity", capacity_section),
 ]

@@ -8,7 +8,7 @@ import math
 from ..blocks import Section, figure, note, table
 from ..context import Context
 
-__all__ = ["closed_graph_section", "contact_section", "surfaces_section"]
+__all__ = ["ball_track_section", "closed_graph_section", "contact_section", "surfaces_section"]
 
 
 def surfaces_section(ctx: Context) -> Section | None:
@@ -111,4 +111,49 @@ def contact_section(ctx: Context) -> Section | None:
                 "contact pattern, mesh stiffness and transmission error over the mesh cycle",
             )
         )
+    return s
+
+
+def ball_track_section(ctx: Context) -> Section | None:
+    """The cycloid ball drive's ball track against torque (``analysis.ball_track``):
+    loaded balls, torsional stiffness and the largest ball force from zero to 1.5 times
+    the load, the balls' forces round the track at the load (designs that give the
+    balls and grooves: ``CycloidBallDesign.ball_track``)."""
+    d = ctx.design
+    if d.type != "cycloid_ball" or not hasattr(d, "ball_track"):
+        return None
+    from ...errors import ReducerlabError
+
+    try:
+        d.ball_track()
+    except ReducerlabError:  # the design gives no balls and grooves
+        return None
+    from ...analysis.ball_track import ball_track_analysis
+
+    s = Section("ball-track", "Ball track: load sharing and stiffness")
+
+    res = ball_track_analysis(d, points=7, phases=4)
+    rows = [
+        (r["torque_N_m"], f"{r['loaded_min']}-{r['loaded_max']}",
+         r["torsional_stiffness_N_m_per_rad"] / 1e3, r["translational_stiffness_N_per_m"],
+         r["max_force_N"])
+        for r in res.summary()
+    ]  # fmt: skip
+    at = min(res.summary(), key=lambda r: abs(r["torque_N_m"] - res.attrs["rated_torque_N_m"]))
+    s.values.update({
+        "rated_torque": res.attrs["rated_torque_N_m"], "loaded_at_rated": at["loaded_max"],
+        "torsional_stiffness_at_rated": at["torsional_stiffness_N_m_per_rad"],
+        "undercut_lines": res.attrs["undercut_lines"],
+    })  # fmt: skip
+    s.blocks.append(
+        table(
+            ["torque (N m)", "loaded balls", "torsional stiffness (kN m/rad)", "K_mx (N/m)",
+             "largest ball force (N)"],
+            rows, digits=4, name="ball-track",
+            caption=f"{res.attrs['balls']} balls; mean over 4 positions of the ball set; "
+            f"{res.attrs['undercut_lines']} of {2 * res.attrs['balls']} contact lines undercut",
+        )
+    )  # fmt: skip
+    s.blocks.append(figure(res.plot(), "track stiffness and loaded balls against torque; "
+                           "ball forces at the load"))  # fmt: skip
     return s
