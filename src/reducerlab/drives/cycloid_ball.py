@@ -124,6 +124,63 @@ def engagement_per_input(design: CycloidBallDesign) -> float:
     return float(kin.mesh_frequencies(w)["ball engagement"]) * 2.0 * math.pi / w
 
 
+#: ball-set positions over one ball pitch and harmonics of the contact-derived law
+CONTACT_PHASES = 32
+CONTACT_HARMONICS = 6
+
+
+def centre_disc_torque(design: CycloidBallDesign) -> float:
+    """Torque (N m, >= 0) the ball track carries on the centre disc at the operating
+    point: the output torque (centre-disc output), or its reaction ``z_c / z_p`` of it
+    (planetary-disc output, the centre disc held)."""
+    out = abs(design.operating_point().output_torque)
+    if design.output == "planetary":
+        return out * design.centre_disc.lobes / design.planetary_disc.lobes
+    return out
+
+
+def contact_stiffness_law(design: CycloidBallDesign) -> TimeLaw:
+    """``K_mx(t)`` (N/m) of the ball track at the operating torque: the tangent stiffness
+    of :func:`reducerlab.contact.ball_track.ball_loads` along ``delta_23`` (``y`` held:
+    the lumped model has no line-of-centres freedom of the track) at
+    :data:`CONTACT_PHASES` positions over one ball pitch, as a Fourier series of
+    :data:`CONTACT_HARMONICS` harmonics at the ball-engagement frequency (the ball set
+    moves by ``-(z_p / Z)`` of the input angle relative to the line of centres).
+
+    Raises
+    ------
+    ReducerlabError
+        The design lacks the ball and groove fields, or the track has no stiffness at
+        the operating torque (no load and no preload).
+    """
+    import numpy as np
+
+    from ..contact.ball_track import ball_loads
+
+    track = design.ball_track()
+    torque = centre_disc_torque(design)
+    n = CONTACT_PHASES
+    # time samples over one engagement period: psi_0 = -2 pi j / (Z n)
+    psi = -2 * math.pi * np.arange(n) / (track.balls * n)
+    k = np.array([ball_loads(track, torque, float(p), y="held").translational_stiffness
+                  for p in psi])  # fmt: skip
+    if not k.mean() > 0:
+        raise ReducerlabError(
+            "cycloid_pair.stiffness_source = 'contact': the ball track has no stiffness at "
+            f"{torque:g} N m on the centre disc (no load and no preload); give a load "
+            "(output_torque) or a preload (negative cycloid_pair.ball_clearance)"
+        )
+    c = np.fft.rfft(k) / n
+    h = min(CONTACT_HARMONICS, n // 2 - 1)
+    amps = tuple(float(2 * abs(c[r])) for r in range(1, h + 1))
+    phases = tuple(float(np.angle(c[r])) for r in range(1, h + 1))
+    speed = abs(float(design.input_speed))
+    omega = engagement_per_input(design) * speed
+    if speed == 0:
+        return Constant(float(k.mean()))
+    return Fourier(float(c[0].real), amps, omega, phases, ref_speed=speed)
+
+
 def cross_ball_stiffness(single_pair: float, loaded_balls: int = 6) -> float:
     """Lumped torsional stiffness of the cross-ball mechanism (N/m on ``u``), Eq. 2.
 
@@ -185,7 +242,9 @@ class CycloidBallPair(Spec):
     ``groove_conformity`` (groove section radius over ball diameter), the contact angle
     ``groove_half_angle``, ``short_width_coefficient``, ``ball_clearance`` along each
     ball's normal (negative: a preload; one value for every ball) and the elastic
-    constants of balls and discs."""
+    constants of balls and discs. ``stiffness_source = "contact"`` takes the model's
+    ``K_mx(t)`` from the ball track at the operating torque
+    (:func:`contact_stiffness_law`) instead of Eq. 1/10 with ``ball_stiffness``."""
 
     ball_stiffness: Stiffness
     deformation_coefficient: Annotated[Real, Field(gt=0, le=1)]
@@ -198,6 +257,7 @@ class CycloidBallPair(Spec):
     ball_clearance: SignedLength = 0.0  # type: ignore[valid-type]
     youngs_modulus: quantity("pressure", gt=0) = 206e9  # type: ignore[valid-type]
     poisson_ratio: Annotated[Real, Field(gt=-1, lt=0.5)] = 0.3
+    stiffness_source: Literal["lumped", "contact"] = "lumped"
 
 
 class CrossBall(Spec):
@@ -317,7 +377,9 @@ class CycloidBallDesign(Design):
 
     @property
     def mesh_stiffness(self) -> float:
-        """Mean lumped stiffness ``K_mx`` of the cycloid-ball pairs (N/m)."""
+        """Mean lumped stiffness ``K_mx`` of the cycloid-ball pairs (N/m), paper 003 Eq.
+        1/10 with ``ball_stiffness`` (with ``stiffness_source = "contact"`` the model
+        takes :func:`contact_stiffness_law` instead)."""
         p = self.cycloid_pair
         return cycloid_ball_stiffness(p.ball_stiffness, self.balls, p.deformation_coefficient)
 
@@ -412,7 +474,9 @@ def build_model(design: CycloidBallDesign) -> Model:
                 "centre_disc.u": 1.0,
                 "planetary_disc.u": -1.0,
             },
-            stiffness=cycloid_ball_law(
+            stiffness=contact_stiffness_law(design)
+            if pair.stiffness_source == "contact"
+            else cycloid_ball_law(
                 pair.ball_stiffness,
                 design.balls,
                 pair.deformation_coefficient,
