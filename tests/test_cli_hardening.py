@@ -55,6 +55,7 @@ WRITERS = {
     "khv closed-graph": ["khv", "closed-graph", KHV],
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
     "balls": ["balls", CYCLOID, "--points", "3", "--phases", "1"],
+    "khv clearances": ["khv", "clearances", KHV, "--teeth=-1:1", "--positions", "2"],
     "contact": [
         "contact",
         SURFACE,

@@ -91,6 +91,69 @@ def khv_stiffness(
             savefig(plot_mesh_stiffness(laws), files.path("mesh-stiffness.png"), d.provenance)
 
 
+@khv_app.command("clearances")
+def khv_clearances(
+    design: Annotated[Path, typer.Argument(help="KHV design file (TOML).")],
+    teeth: Annotated[
+        str, typer.Option(help="Tooth pairs, a range 'first:last' or a comma list.")
+    ] = "-4:8",
+    positions: Annotated[
+        int, typer.Option(help="Mesh positions over one mesh cycle.", min=1, max=720)
+    ] = 24,
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="Output folder (clearances.png, clearances.json)."),
+    ] = None,
+    sets: SetOption = None,
+) -> None:
+    """Unloaded drive-flank clearance of every tooth pair over one mesh cycle (rigid
+    teeth, the design's flank modifications): which pairs a load can close."""
+    import numpy as np
+
+    from ..analysis.flank_modifications import khv_mesh_pair
+    from ..contact.internal_pair import tooth_pair_clearances
+    from ..drives import load_design
+    from ..io import base_stamp, stamp
+    from ..plot.khv import plot_clearances
+
+    with user_errors():
+        files = output_set(output) if output is not None else None
+        try:
+            if ":" in teeth:
+                lo, hi = (int(t) for t in teeth.split(":"))
+                ks = list(range(lo, hi + 1))
+            else:
+                ks = [int(t) for t in teeth.split(",") if t.strip()]
+        except ValueError:
+            raise ReducerlabError(
+                f"--teeth: a range 'first:last' or a comma list of integers; got {teeth!r}"
+            ) from None
+        if not ks or len(ks) > 60:
+            raise ReducerlabError(f"--teeth: 1 to 60 tooth pairs; got {len(ks)}")
+        d = load_design(design, sets or ())
+        mp = khv_mesh_pair(d)
+        rolls, c = tooth_pair_clearances(mp, ks, positions=positions)
+        if files is not None:
+            with files:
+                savefig(plot_clearances(rolls, ks, c), files.path("clearances.png"),
+                        d.provenance)  # fmt: skip
+                data = {"teeth": ks, "rolls_mm": (rolls * 1e3).tolist(),
+                        "clearance_um": [[None if not np.isfinite(x) else x * 1e6 for x in row]
+                                         for row in c]}  # fmt: skip
+                stamped = stamp({**base_stamp(), **d.provenance})
+                files.path("clearances.json").write_text(
+                    json.dumps({**data, **stamped}, indent=2) + "\n"
+                )
+    typer.echo("pair  min (um)   max (um)   (drive flanks, r_b2 psi over one mesh cycle)")
+    for j, k in enumerate(ks):
+        col = c[:, j][np.isfinite(c[:, j])]
+        if col.size:
+            part = "" if col.size == len(rolls) else f"   ({col.size} of {len(rolls)} positions)"
+            typer.echo(f"{k:+4d}  {col.min() * 1e6:9.2f}  {col.max() * 1e6:9.2f}{part}")
+        else:
+            typer.echo(f"{k:+4d}  no drive-flank contact possible")
+
+
 def register(app: typer.Typer) -> None:
     """Add the ``khv`` command group to the command line."""
     app.add_typer(khv_app, name="khv")

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -62,6 +62,7 @@ __all__ = [
     "InternalFlank",
     "InternalMeshPair",
     "internal_tooth_compliance",
+    "tooth_pair_clearances",
 ]
 
 Array = NDArray[np.float64]
@@ -506,3 +507,91 @@ def internal_tooth_compliance(
                           name=f"internal gear (z = {gear.teeth})", fillet=fillet)  # fmt: skip
     inf = fillet_influence(gear, out[2], direction) if root_stress else None
     return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)
+
+
+def tooth_pair_clearances(
+    pair: InternalMeshPair,
+    teeth: Sequence[int],
+    positions: int = 24,
+    points: int = 401,
+    v: float = 0.5,
+) -> tuple[Array, Array]:
+    """Unloaded drive-flank clearances of tooth pairs ``teeth`` over one mesh cycle
+    (issue 30): how far the ring must turn, from the conjugate position of pair 0,
+    before planet tooth ``k`` touches ring tooth ``k`` on the drive flanks.
+
+    At each of ``positions`` mesh positions (pair 0's contact stepped by ``p_b /
+    positions`` from the path's start ``A``), ``points`` points of the planet's drive
+    flank at face parameter ``v`` are traced to the ring's drive flank
+    (:func:`~reducerlab.contact.flanks.separations`: distance ``t`` along the planet's
+    normal and its lever ``lam`` for a ring rotation); the ring rotation that closes a
+    point is ``t / lam`` to first order (``lam`` of the sign of the loaded contact's,
+    pair 0's), repeated with the ring turned by it until the step is below 1e-6 of the
+    rotation; the pair's clearance is the smallest over its points, as arc length
+    ``r_b2 psi`` on the ring's base circle (m; the transmission-error unit of the
+    contact analysis). ``inf`` where no point of the pair faces the other's flank.
+    Rigid teeth, the pair's flank modifications included; the coast flanks (in contact
+    at zero backlash) are not looked at.
+
+    Returns
+    -------
+    rolls : ndarray, shape (positions,)
+        Pair 0's contact, distance from ``T1`` along the line of action (m).
+    clearance : ndarray, shape (positions, len(teeth))
+        ``r_b2 psi_k`` (m).
+    """
+    from .flanks import separations
+
+    if isinstance(positions, bool) or not isinstance(positions, int) or not 1 <= positions <= 720:
+        raise ReducerlabError(f"positions: must be an integer in [1, 720]; got {positions!r}")
+    if isinstance(points, bool) or not isinstance(points, int) or not 3 <= points <= 20001:
+        raise ReducerlabError(f"points: must be an integer in [3, 20001]; got {points!r}")
+    ks = [int(k) for k in teeth]
+    if not ks or any(abs(k) > pair.planet.teeth for k in ks):
+        raise ReducerlabError(
+            f"teeth: give tooth pairs within +-{pair.planet.teeth}; got {list(teeth)!r}"
+        )
+    s_a, s_e = pair.path_of_contact
+    rolls = s_a + pair.base_pitch * np.arange(positions) / positions
+    u = np.linspace(0.0, 1.0, points)
+    vv = np.full_like(u, float(v))
+    mid = separations(pair, pair.position_of(0.5 * (s_a + s_e)), 0, [0.5], [float(v)])
+    sign = float(np.sign(mid.lever[0]))
+
+    def closing(p: Any, phi: float, k: int) -> float:
+        s = separations(p, phi, k, u, vv)
+        lam = sign * s.lever
+        ok = np.isfinite(s.distance) & (lam > 0)
+        return float(np.min(s.distance[ok] / lam[ok])) if ok.any() else math.inf
+
+    out = np.full((positions, len(ks)), np.inf)
+    for i, r in enumerate(rolls):
+        phi = pair.position_of(float(r))
+        for j, k in enumerate(ks):
+            psi = closing(pair, phi, k)
+            for _ in range(8):  # 2-4 steps
+                if not math.isfinite(psi) or psi == 0.0:
+                    break
+                step = closing(_RingTurned(pair, sign * psi), phi, k)
+                if not math.isfinite(step):
+                    break
+                psi += step
+                if abs(step) <= 1e-6 * abs(psi) + 1e-15:
+                    break
+            out[i, j] = psi * pair.ring.base_radius
+    return rolls, out
+
+
+class _RingTurned:
+    """``pair`` with the ring turned by ``psi`` (rad) further about its axis (the
+    tooth angles of gear B shifted; everything else delegated)."""
+
+    def __init__(self, pair: InternalMeshPair, psi: float) -> None:
+        self._pair, self._psi = pair, psi
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._pair, name)
+
+    def tooth_angles(self, k: int) -> tuple[float, float]:
+        a, b = self._pair.tooth_angles(k)
+        return a, b + self._psi

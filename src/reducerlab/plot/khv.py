@@ -12,7 +12,7 @@ from ..geometry import InternalGearPair
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["closed_graph", "plot_closed_graph", "plot_mesh_stiffness"]
+__all__ = ["closed_graph", "plot_clearances", "plot_closed_graph", "plot_mesh_stiffness"]
 
 LIMITS = (
     "contact ratio",
@@ -109,4 +109,29 @@ def plot_mesh_stiffness(laws: dict[str, object], periods: float = 2.0) -> Figure
     ax.set_title("time-varying mesh stiffness (dashed: mean)", fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
+    return fig
+
+
+def plot_clearances(rolls: np.ndarray, teeth: list[int], clearance: np.ndarray) -> Figure:
+    """Unloaded drive-flank clearance of each tooth pair (um, log scale) over one mesh
+    cycle (``contact.internal_pair.tooth_pair_clearances``); a pair in contact is drawn
+    at 1e-3 um."""
+    import matplotlib
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 4.8), layout="constrained")
+    ax = fig.subplots()
+    x = (rolls - rolls[0]) * 1e3
+    ax.set_prop_cycle(color=[matplotlib.colormaps["tab20"](i % 20) for i in range(len(teeth))])
+    for j, k in enumerate(teeth):
+        y = clearance[:, j] * 1e6
+        if k == 0 or not np.any(np.isfinite(y)):
+            continue
+        ax.semilogy(x, np.where(np.isfinite(y), np.maximum(y, 1e-3), np.nan), "-o", ms=3,
+                    label=f"pair {k:+d}")  # fmt: skip
+    ax.set_xlabel("pair 0's contact along the line of action, from the path's start (mm)")
+    ax.set_ylabel("ring rotation to close the pair, r_b2 psi (um)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, ncol=2)
+    ax.set_title("unloaded drive-flank clearances of the tooth pairs over one mesh cycle")
     return fig
