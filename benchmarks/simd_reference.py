@@ -49,7 +49,7 @@ import numpy as np
 from reducerlab.dynamics.coordinates import static_state
 from reducerlab.dynamics.kernel import rk4_ensemble
 from reducerlab.dynamics.kernel_laws import tabulate
-from reducerlab.dynamics.prepare import prepare
+from reducerlab.dynamics.prepare import linear_lines, prepare
 
 sys.path.insert(0, os.path.dirname(__file__))
 from bifurcation import flops_per_trajectory, systems_for
@@ -206,8 +206,8 @@ def kernel(MKa, MCa, MGa, Ga, Ha, CMa, k_kind, k_par, e_kind, e_par, MB, f_kind,
 
     def run(prep, Y0: np.ndarray, periods: int, keep: int) -> np.ndarray:
         a = prep.arrays
-        if np.any(a.k3):
-            raise ValueError("the reference has no cubic line term")
+        if not linear_lines(a):
+            raise ValueError("the reference has no cubic or power-law line term")
         E = Y0.shape[0]
         MK = np.einsum("eij,ejk->eik", a.Minv, a.K).reshape(E, n * n)
         MC = np.einsum("eij,ejk->eik", a.Minv, a.C).reshape(E, n * n)

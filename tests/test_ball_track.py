@@ -337,3 +337,49 @@ def test_contact_stiffness_in_the_lumped_model():
                                 'output_torque="0 N*m"',
                                 'cycloid_pair.ball_clearance="-1 um"'])  # fmt: skip
     assert modal(build_model(pre)).frequencies[1] > 0
+
+
+def test_contact_force_law_follows_the_track_through_the_operating_point():
+    """The model's power-law line from the ball track (``contact_force_law``): with zero
+    clearance the track's force along ``delta_23`` is Hertz's ``s^1.5`` exactly (every
+    line's approach is proportional to ``s``), so the law is ``p = 1.5`` without
+    clearance, and at one position the law on that position's tangent reproduces the
+    track from half to twice the operating torque (to the solver's 1e-6); a ball
+    clearance becomes the line's clearance (Hertz beyond an
+    offset, through the operating point with the track's slope); a preload, the linear
+    law. The model's mesh line carries them."""
+    from reducerlab.drives import load_design
+    from reducerlab.drives.cycloid_ball import build_model, contact_force_law
+    from reducerlab.examples import example_dir
+    from reducerlab.model.system import power_force
+
+    example = example_dir() / "cycloid_ball.toml"
+    src = 'cycloid_pair.stiffness_source="contact"'
+    d = load_design(example, [src])
+    law, p, ref, h = contact_force_law(d)
+    assert (p, h) == (1.5, 0.0)
+    tr = d.ball_track()
+    op = ball_loads(tr, 50.0, 0.3, y="held")
+    # at one position: tangent over secant 1.5, and s ~ T^(2/3) from half to twice the load
+    assert op.translational_stiffness * op.s / (50.0 / tr.pitch_radius) == pytest.approx(1.5, 1e-6)
+    for torque in (25.0, 100.0):
+        st = ball_loads(tr, torque, 0.3, y="held")
+        assert st.s / op.s == pytest.approx((torque / 50.0) ** (2 / 3), rel=1e-6)
+        f = power_force(op.translational_stiffness, st.s, p, op.s)
+        assert f == pytest.approx(torque / tr.pitch_radius, rel=1e-6)
+    (mesh,) = [e for e in build_model(d).elements if e.name == "cycloid_pairs"]
+    assert (mesh.exponent, mesh.reference_deflection) == (1.5, ref)
+    # 5 um of ball clearance: Hertz beyond an offset through the operating point
+    dc = load_design(example, [src, 'cycloid_pair.ball_clearance="5 um"'])
+    law, p, ref, h = contact_force_law(dc)
+    assert p == 1.5 and h > 5e-6
+    n = 32
+    psi = -2 * math.pi * np.arange(n) / (dc.ball_track().balls * n)
+    s_op = np.mean([abs(ball_loads(dc.ball_track(), 50.0, float(x), y="held").s) for x in psi])
+    assert ref + h == pytest.approx(s_op, rel=1e-12)
+    assert power_force(law.mean, ref, p, ref) == pytest.approx(50.0 / tr.pitch_radius, rel=1e-9)
+    (mesh,) = [e for e in build_model(dc).elements if e.name == "cycloid_pairs"]
+    assert mesh.backlash.half_width == pytest.approx(h)
+    # a preload: the linear law with the tangent stiffness
+    dp = load_design(example, [src, 'cycloid_pair.ball_clearance="-3 um"'])
+    assert contact_force_law(dp)[1:] == (1.0, 0.0, 0.0)

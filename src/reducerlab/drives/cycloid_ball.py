@@ -51,6 +51,7 @@ from ..design_files import field_rules
 from ..errors import ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import (
+    Backlash,
     Centripetal,
     Constant,
     Coriolis,
@@ -127,6 +128,8 @@ def engagement_per_input(design: CycloidBallDesign) -> float:
 #: ball-set positions over one ball pitch and harmonics of the contact-derived law
 CONTACT_PHASES = 32
 CONTACT_HARMONICS = 6
+#: Load exponent of a ball-groove contact (Hertz's point contact, F ~ delta^1.5)
+HERTZ_EXPONENT = 1.5
 
 
 def centre_disc_torque(design: CycloidBallDesign) -> float:
@@ -139,13 +142,30 @@ def centre_disc_torque(design: CycloidBallDesign) -> float:
     return out
 
 
-def contact_stiffness_law(design: CycloidBallDesign) -> TimeLaw:
-    """``K_mx(t)`` (N/m) of the ball track at the operating torque: the tangent stiffness
-    of :func:`reducerlab.contact.ball_track.ball_loads` along ``delta_23`` (``y`` held:
-    the lumped model has no line-of-centres freedom of the track) at
-    :data:`CONTACT_PHASES` positions over one ball pitch, as a Fourier series of
-    :data:`CONTACT_HARMONICS` harmonics at the ball-engagement frequency (the ball set
-    moves by ``-(z_p / Z)`` of the input angle relative to the line of centres).
+def contact_force_law(design: CycloidBallDesign) -> tuple[TimeLaw, float, float, float]:
+    """The ball track's mesh force law at the operating torque: ``K_mx(t)`` (N/m), the
+    load exponent ``p``, the reference deflection ``delta_ref`` (m) and the half
+    clearance ``h`` (m) of the model's power-law line (``model.elements.Mesh``:
+    ``F = K_mx (delta_ref / p) (f / delta_ref)^p``, ``f = s - h`` beyond the clearance).
+
+    ``K_mx(t)`` is the tangent stiffness of :func:`reducerlab.contact.ball_track.
+    ball_loads` along ``delta_23`` (``y`` held: the lumped model has no line-of-centres
+    freedom of the track) at :data:`CONTACT_PHASES` positions over one ball pitch, as a
+    Fourier series of :data:`CONTACT_HARMONICS` harmonics at the ball-engagement
+    frequency (the ball set moves by ``-(z_p / Z)`` of the input angle relative to the
+    line of centres). The law passes through the operating point (the mean deflection
+    ``s`` and force ``F = T / r_2`` over the positions) with the track's slope there,
+    ``q = K_mx s / F`` (tangent over secant) choosing its shape:
+
+    * ``q >= 1.5``: Hertz's exponent ``p = 1.5`` beyond a clearance
+      ``h = s - 1.5 F / K_mx``. With zero ball clearance every line's approach is
+      proportional to ``s`` and the track's force is exactly ``F ~ s^1.5`` (``q = 1.5``,
+      ``h = 0``); a clearance delays the first touch and lets balls join as the load
+      rises (``q > 1.5``), which the offset stands for;
+    * ``1 <= q < 1.5``: ``p = q`` through the origin (a preload softens the law);
+    * ``q < 1``: the linear law with the tangent stiffness (a strong preload).
+
+    ``delta_ref = s - h`` (0 for the linear law).
 
     Raises
     ------
@@ -162,8 +182,8 @@ def contact_stiffness_law(design: CycloidBallDesign) -> TimeLaw:
     n = CONTACT_PHASES
     # time samples over one engagement period: psi_0 = -2 pi j / (Z n)
     psi = -2 * math.pi * np.arange(n) / (track.balls * n)
-    k = np.array([ball_loads(track, torque, float(p), y="held").translational_stiffness
-                  for p in psi])  # fmt: skip
+    states = [ball_loads(track, torque, float(p), y="held") for p in psi]
+    k = np.array([st.translational_stiffness for st in states])
     if not k.mean() > 0:
         raise ReducerlabError(
             "cycloid_pair.stiffness_source = 'contact': the ball track has no stiffness at "
@@ -176,9 +196,29 @@ def contact_stiffness_law(design: CycloidBallDesign) -> TimeLaw:
     phases = tuple(float(np.angle(c[r])) for r in range(1, h + 1))
     speed = abs(float(design.input_speed))
     omega = engagement_per_input(design) * speed
-    if speed == 0:
-        return Constant(float(k.mean()))
-    return Fourier(float(c[0].real), amps, omega, phases, ref_speed=speed)
+    law: TimeLaw = (
+        Constant(float(k.mean()))
+        if speed == 0
+        else Fourier(float(c[0].real), amps, omega, phases, ref_speed=speed)
+    )
+    s_op = float(np.mean([abs(st.s) for st in states]))
+    force = abs(torque) / track.pitch_radius
+    q = k.mean() * s_op / force if s_op > 0 and force > 0 else 0.0
+    if q >= HERTZ_EXPONENT:
+        h = s_op - HERTZ_EXPONENT * force / k.mean()
+        # below 1e-3 of the deflection: the zero-clearance track (q = 1.5 but for the
+        # means over the positions), no clearance
+        h = h if h > 1e-3 * s_op else 0.0
+        return law, HERTZ_EXPONENT, s_op - h, h
+    if q > 1.0:
+        return law, float(q), s_op, 0.0
+    return law, 1.0, 0.0, 0.0  # preloaded (or at rest): the tangent law
+
+
+def contact_stiffness_law(design: CycloidBallDesign) -> TimeLaw:
+    """``K_mx(t)`` (N/m) of the ball track at the operating torque (the tangent
+    stiffness law of :func:`contact_force_law`)."""
+    return contact_force_law(design)[0]
 
 
 def cross_ball_stiffness(single_pair: float, loaded_balls: int = 6) -> float:
@@ -446,6 +486,10 @@ def build_model(design: CycloidBallDesign) -> Model:
         Dof("end_cover_disc", "u", radius=r5),
     ]
     damping = cycloid_ball_stiffness(pair.ball_damping, design.balls, pair.deformation_coefficient)
+    # the ball track's law (tangent stiffness, Hertzian load exponent) or paper 003's
+    law, exponent, reference, clearance = (
+        contact_force_law(design) if pair.stiffness_source == "contact" else (None, 1.0, 0.0, 0.0)
+    )
     elements = [
         Inertia("input_shaft.x", s.mass),
         Inertia("input_shaft.u", s.moment_of_inertia),
@@ -474,8 +518,8 @@ def build_model(design: CycloidBallDesign) -> Model:
                 "centre_disc.u": 1.0,
                 "planetary_disc.u": -1.0,
             },
-            stiffness=contact_stiffness_law(design)
-            if pair.stiffness_source == "contact"
+            stiffness=law
+            if law is not None
             else cycloid_ball_law(
                 pair.ball_stiffness,
                 design.balls,
@@ -485,7 +529,10 @@ def build_model(design: CycloidBallDesign) -> Model:
                 engagement_per_input(design),
             ),
             damping=damping,
+            backlash=Backlash(clearance) if clearance > 0 else None,
             name="cycloid_pairs",
+            exponent=exponent,
+            reference_deflection=reference,
         ),
         # delta_53 = u5 - u3: cross-ball equal-speed mechanism (Eq. 4, 2, 9)
         Coupling(

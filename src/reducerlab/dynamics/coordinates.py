@@ -165,6 +165,7 @@ def dimensionless(
         line_damping=s.line_damping / (mass * omega_n),
         half_backlash=s.half_backlash / length,
         line_cubic=s.line_cubic * length**2 / w2,
+        line_power=s.line_power * np.array([1.0, 1.0 / length]),
         e_params=laws(s.e_kind, s.e_params, 1 / length),
         f_params=laws(s.f_kind, s.f_params, 1 / (w2 * length)),
     )

@@ -16,7 +16,7 @@ from .accuracy import ACCURACY, PILOT_PERIODS, accurate_steps
 from .coordinates import static_states
 from .guards import raise_diverged, state_bounds
 from .lyapunov import LYAPUNOV_D0
-from .prepare import prepare, subset, with_steps
+from .prepare import linear_lines, prepare, subset, with_steps
 from .runsize import run_estimate
 
 __all__ = ["Ensemble", "ensemble"]
@@ -107,7 +107,7 @@ def ensemble(
         period (members whose teeth would separate are integrated by RK4 from the
         start); the last ``history`` periods are always RK4's. ``"auto"`` (default)
         takes the map where it pays: every law repeats within the period, no cubic
-        line, at least ``4 (2n + 1)`` periods, and not every member's teeth separating
+        or power-law line, at least ``4 (2n + 1)`` periods, and not every member's teeth separating
         in the first period (one period of RK4 tells:
         :func:`~reducerlab.dynamics.maps.separate_at_once`).
 
@@ -163,7 +163,7 @@ def ensemble(
     cache: dict = {}
     if prep.periodic and (method == "maps" or (method == "auto" and maps_pay(n, periods))):
         sides = contact_sides(prep.arrays, static_states(systems))
-        if not np.any(prep.arrays.k3) and np.any(np.all(sides != 0, axis=1)):
+        if linear_lines(prep.arrays) and np.any(np.all(sides != 0, axis=1)):
             maps = sides
             # "auto": not where every member's teeth separate in the first period (the
             # maps would fail there after costing 2n + 1 periods each)

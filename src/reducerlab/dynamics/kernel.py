@@ -50,7 +50,7 @@ def block_width(members: int) -> int:
 
 @nb.njit(cache=True, fastmath=_FM, inline="always")
 def _block(
-    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B_, f_kind, f_par,
+    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B_, f_kind, f_par,
     y0, t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0,
     lyap, nb_,
 ):  # fmt: skip
@@ -73,7 +73,7 @@ def _block(
     Gb = np.empty((L, n, nb_))
     hbb = np.empty((L, nb_))
     cmb = np.empty((L, nb_))
-    k3b = np.empty((L, nb_))
+    klb = np.empty((L, 3, nb_))
     y = np.empty((n2, nb_))
     dtb = np.empty((N, nb_))
     limb = np.empty((n2, nb_))
@@ -99,7 +99,8 @@ def _block(
                 Gb[m, i, b] = G[e, m, i]
             hbb[m, b] = hb[e, m]
             cmb[m, b] = cm[e, m]
-            k3b[m, b] = k3[e, m]
+            for c in range(3):
+                klb[m, c, b] = kl[e, m, c]
         for i in range(n2):
             y[i, b] = y0[e, i]
             limb[i, b] = limit[e, i]
@@ -144,7 +145,7 @@ def _block(
     events = False
     for m in range(L):
         for b in range(nb_):
-            if hbb[m, b] > 0.0:
+            if hbb[m, b] > 0.0 or klb[m, 1, b] != 1.0:
                 events = True
     failed = np.zeros(nb_, np.bool_)
     t_base = np.empty(E)
@@ -172,12 +173,13 @@ def _block(
                 for b in range(nb_):
                     yprev[i, b] = y[i, b]
             rk4(tab, r0, y, dtb[q], k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb,
-                k3b, d, dv, fm)  # fmt: skip
-            if events and event_times(tab, r0, yprev, y, dtb[q], Gb, hbb, tau, ws[2], ws[3]):
+                klb, d, dv, fm)  # fmt: skip
+            if events and event_times(tab, r0, yprev, y, dtb[q], Gb, hbb, klb, tau, ws[2],
+                                      ws[3]):  # fmt: skip
                 # a member crossed a backlash boundary inside the step, where the force
                 # has a kink that RK4 steps over at first order: the crossing members
                 # step again, to the crossing and from it (kernel_step.restep)
-                restep(tab, r0, y, yprev, dtb[q], tau, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b,
+                restep(tab, r0, y, yprev, dtb[q], tau, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb,
                        ws, k1, k2, k3s, k4, tmp, d, dv, fm)  # fmt: skip
             for b in range(nb_):
                 tot[b] = 0.0
@@ -264,11 +266,11 @@ def _renormalise(y, sc, lo, width, failed, d0, lyap):
 # so the compiler knows the trip count of the member loops
 @nb.njit(cache=True, fastmath=_FM)
 def _block_narrow(
-    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B, f_kind, f_par, y0,
     t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
 ):  # fmt: skip
     _block(
-        lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+        lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B, f_kind, f_par, y0,
     t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
     8,
     )  # fmt: skip
@@ -276,11 +278,11 @@ def _block_narrow(
 
 @nb.njit(cache=True, fastmath=_FM)
 def _block_wide(
-    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+    lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B, f_kind, f_par, y0,
     t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
 ):  # fmt: skip
     _block(
-        lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par, y0,
+        lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B, f_kind, f_par, y0,
     t_start, period, offs, dts, periodic, counts, limit, poincare, hist, status, d0, lyap,
     BLOCK,
     )  # fmt: skip
@@ -288,15 +290,16 @@ def _block_wide(
 
 @nb.njit(parallel=True, cache=True)
 def rk4_ensemble(
-    Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind, f_par,
+    Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B, f_kind, f_par,
     y0, t_start, period, offs, dts, periodic, n_periods, n_keep, n_hist, limit, width,
     lyap_from, d0,
 ):  # fmt: skip
     """Integrate every member for ``n_periods`` forcing periods.
 
     Per-member arrays carry the member first: ``Minv, C, K`` (E, n, n), ``G`` (E, L, n),
-    law parameters (E, rows, width), ``cm, hb, k3`` (E, L) line damping, half backlash
-    and cubic stiffness, ``B`` (E, n, loads), ``y0`` (E, 2n). Member ``e`` starts at
+    law parameters (E, rows, width), ``cm, hb`` (E, L) line damping and half backlash,
+    ``kl`` (E, L, 3) cubic stiffness, load exponent and reference deflection, ``B``
+    (E, n, loads), ``y0`` (E, 2n). Member ``e`` starts at
     ``t_start[e]`` with period ``period[e]``; step ``q`` of every period starts at
     ``offs[e, q]`` (s, from the period's start) and lasts ``dts[e, q]``. ``periodic``
     says every law repeats within the period (the law table is then built once).
@@ -328,13 +331,13 @@ def rk4_ensemble(
         hi = min(E, lo + width)
         if width == BLOCK:
             _block_wide(
-                lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
+                lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B, f_kind,
                 f_par, y0, t_start, period, offs, dts, periodic, counts, limit, poincare, hist,
                 status, d0, lyap,
             )  # fmt: skip
         else:
             _block_narrow(
-                lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, k3, e_kind, e_par, B, f_kind,
+                lo, hi, Minv, C, K, G, k_kind, k_par, cm, hb, kl, e_kind, e_par, B, f_kind,
                 f_par, y0, t_start, period, offs, dts, periodic, counts, limit, poincare, hist,
                 status, d0, lyap,
             )  # fmt: skip

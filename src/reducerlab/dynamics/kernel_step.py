@@ -26,9 +26,23 @@ __all__ = ["event_times", "restep", "rk4", "workspace"]
 _FM = {"contract", "reassoc", "nsz", "arcp"}
 
 
+@nb.njit(cache=True, fastmath=_FM, inline="always")
+def _elastic(k: float, f: float, p: float, r: float) -> float:
+    """Elastic line force (N) under the deflection ``f`` (m) beyond the backlash: ``k f``
+    for the load exponent ``p = 1``, else the power law ``k (r / p) sgn(f) (|f| / r)^p``
+    whose slope is the law's ``k`` at the reference deflection ``r`` (m)
+    (``model.system.power_force`` is the reference)."""
+    if p == 1.0 or f == 0.0:
+        return k * f
+    a = k * r / p * (abs(f) / r) ** p
+    return a if f > 0.0 else -a
+
+
 @nb.njit(cache=True, fastmath=_FM)
-def rhs(tab, row, y, out, MK, MC, pi, pj, MG, G, hb, cm, k3, d, dv, fm):
-    """State derivative of every member of a block: ``out[2n, B]`` from ``y[2n, B]``;
+def rhs(tab, row, y, out, MK, MC, pi, pj, MG, G, hb, cm, kl, d, dv, fm):
+    """State derivative of every member of a block: ``out[2n, B]`` from ``y[2n, B]``
+    (``kl`` (L, 3, B): each line's cubic stiffness, load exponent and reference
+    deflection);
     ``(pi, pj)`` are the entries of ``M^-1 K`` and ``M^-1 C`` that are nonzero for some
     member (in modal coordinates after rigid-motion removal ``M^-1 K`` is diagonal)."""
     n = MK.shape[0]
@@ -55,34 +69,35 @@ def rhs(tab, row, y, out, MK, MC, pi, pj, MG, G, hb, cm, k3, d, dv, fm):
             x = d[b]
             h = hb[m, b]
             f = x - min(max(x, -h), h)
-            # the cubic term only where k3 != 0: no 0 * inf when f^3 overflows
-            c3 = k3[m, b] * (f * f * f) if k3[m, b] != 0.0 else 0.0
-            fm[b] = tab[row, m, b] * f + c3 + cm[m, b] * dv[b]
+            # the cubic term only where kl != 0: no 0 * inf when f^3 overflows
+            c3 = kl[m, 0, b] * (f * f * f) if kl[m, 0, b] != 0.0 else 0.0
+            el = _elastic(tab[row, m, b], f, kl[m, 1, b], kl[m, 2, b])
+            fm[b] = el + c3 + cm[m, b] * dv[b]
         for i in range(n):
             for b in range(B):
                 out[n + i, b] -= MG[i, m, b] * fm[b]
 
 
 @nb.njit(cache=True, fastmath=_FM)
-def rk4(tab, r0, y, dtv, k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm):
+def rk4(tab, r0, y, dtv, k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, d, dv, fm):
     """One RK4 step of every member of a block, in place: member ``b`` advances by
     ``dtv[b]`` (s; 0: unchanged) with the law rows ``r0`` (start), ``r0 + 1`` (middle)
     and ``r0 + 2`` (end) of ``tab``."""
     n2 = y.shape[0]
     nb_ = y.shape[1]
-    rhs(tab, r0, y, k1, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+    rhs(tab, r0, y, k1, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, d, dv, fm)
     for i in range(n2):
         for b in range(nb_):
             tmp[i, b] = y[i, b] + 0.5 * dtv[b] * k1[i, b]
-    rhs(tab, r0 + 1, tmp, k2, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+    rhs(tab, r0 + 1, tmp, k2, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, d, dv, fm)
     for i in range(n2):
         for b in range(nb_):
             tmp[i, b] = y[i, b] + 0.5 * dtv[b] * k2[i, b]
-    rhs(tab, r0 + 1, tmp, k3s, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+    rhs(tab, r0 + 1, tmp, k3s, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, d, dv, fm)
     for i in range(n2):
         for b in range(nb_):
             tmp[i, b] = y[i, b] + dtv[b] * k3s[i, b]
-    rhs(tab, r0 + 2, tmp, k4, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d, dv, fm)
+    rhs(tab, r0 + 2, tmp, k4, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, d, dv, fm)
     for i in range(n2):
         for b in range(nb_):
             y[i, b] += (dtv[b] / 6.0) * (k1[i, b] + 2.0 * k2[i, b] + 2.0 * k3s[i, b] + k4[i, b])
@@ -135,10 +150,13 @@ def _hermite_root(p0: float, p1: float, m0: float, m1: float) -> float:
 
 
 @nb.njit(cache=True, fastmath=_FM)
-def _changes(tab, r0, y0, y1, dtv, Gb, hbb, dd, flag) -> bool:
+def _changes(tab, r0, y0, y1, dtv, Gb, hbb, klb, dd, flag) -> bool:
     """Whether the contact state of some line of member ``b`` differs between the step's
     ends (``flag[b]`` 1, else 0; members with no time step: 0), in loops over the
-    members that the compiler vectorises (``dd`` (2, B): scratch)."""
+    members that the compiler vectorises (``dd`` (2, B): scratch). Lines with backlash
+    count, and lines with a power law (load exponent ``klb[m, 1] != 1``) without
+    backlash too: their force's higher derivatives are singular where the deflection
+    changes sign."""
     L = Gb.shape[0]
     n = Gb.shape[1]
     B = y0.shape[1]
@@ -158,7 +176,8 @@ def _changes(tab, r0, y0, y1, dtv, Gb, hbb, dd, flag) -> bool:
             x1 = dd[1, b]
             up = (x0 > h) != (x1 > h)
             down = (x0 < -h) != (x1 < -h)
-            flag[b] = max(flag[b], 1.0 if (up | down) & (h > 0.0) & (dtv[b] > 0.0) else 0.0)
+            located = (h > 0.0) | (klb[m, 1, b] != 1.0)
+            flag[b] = max(flag[b], 1.0 if (up | down) & located & (dtv[b] > 0.0) else 0.0)
     anyc = 0.0
     for b in range(B):
         anyc = max(anyc, flag[b])
@@ -166,20 +185,21 @@ def _changes(tab, r0, y0, y1, dtv, Gb, hbb, dd, flag) -> bool:
 
 
 @nb.njit(cache=True)
-def event_times(tab, r0, y0, y1, dtv, Gb, hbb, tau, dd, flag) -> bool:
+def event_times(tab, r0, y0, y1, dtv, Gb, hbb, klb, tau, dd, flag) -> bool:
     """First backlash-boundary crossing of each member within its step (``tau[b]``, s
-    from the step start; ``dtv[b]`` when none): the members whose contact state differs
-    between the step's ends are found first (:func:`_changes`; ``dd`` (2, B) and
-    ``flag`` (B,) are its scratch); for those the deflection ``G q - e`` of every line
-    with backlash is interpolated by the cubic Hermite polynomial of its values and
-    rates at both ends of the step (error O(h^4)) and the crossing found by
+    from the step start; ``dtv[b]`` when none; a power-law line without backlash
+    crosses where its deflection changes sign, ``klb`` (L, 3, B)): the members whose
+    contact state differs between the step's ends are found first (:func:`_changes`;
+    ``dd`` (2, B) and ``flag`` (B,) are its scratch); for those the deflection
+    ``G q - e`` of every such line is interpolated by the cubic Hermite polynomial of
+    its values and rates at both ends of the step (error O(h^4)) and the crossing found by
     :func:`_hermite_root`. Returns whether any member crosses."""
     L = Gb.shape[0]
     n = Gb.shape[1]
     nb_ = y0.shape[1]
     for b in range(nb_):
         tau[b] = dtv[b]
-    if not _changes(tab, r0, y0, y1, dtv, Gb, hbb, dd, flag):
+    if not _changes(tab, r0, y0, y1, dtv, Gb, hbb, klb, dd, flag):
         return False
     anyx = False
     for b in range(nb_):
@@ -189,7 +209,7 @@ def event_times(tab, r0, y0, y1, dtv, Gb, hbb, tau, dd, flag) -> bool:
         best = 1.0
         for m in range(L):
             h = hbb[m, b]
-            if h <= 0.0:
+            if h <= 0.0 and klb[m, 1, b] == 1.0:
                 continue
             d0 = -tab[r0, L + m, b]
             d1 = -tab[r0 + 2, L + m, b]
@@ -236,7 +256,7 @@ def workspace(n: int, L: int, W: int, B: int):
 
 
 @nb.njit(cache=True, fastmath=_FM, inline="always")
-def _rhs1(rows, s, y, out, b, MK, MC, pi, pj, MG, G, hb, cm, k3):
+def _rhs1(rows, s, y, out, b, MK, MC, pi, pj, MG, G, hb, cm, kl):
     """:func:`rhs` of block member ``b`` alone: ``out`` (2n) from ``y`` (2n) with the
     law row ``rows[s]``."""
     n = MK.shape[0]
@@ -256,29 +276,29 @@ def _rhs1(rows, s, y, out, b, MK, MC, pi, pj, MG, G, hb, cm, k3):
             dv += G[m, i, b] * y[n + i]
         h = hb[m, b]
         f = x - min(max(x, -h), h)
-        c3 = k3[m, b] * (f * f * f) if k3[m, b] != 0.0 else 0.0
-        fm = rows[s, m] * f + c3 + cm[m, b] * dv
+        c3 = kl[m, 0, b] * (f * f * f) if kl[m, 0, b] != 0.0 else 0.0
+        fm = _elastic(rows[s, m], f, kl[m, 1, b], kl[m, 2, b]) + c3 + cm[m, b] * dv
         for i in range(n):
             out[n + i] -= MG[i, m, b] * fm
 
 
 @nb.njit(cache=True, fastmath=_FM, inline="always")
-def _rk41(rows, s, st, dt, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b):
+def _rk41(rows, s, st, dt, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb):
     """One RK4 step of length ``dt`` (s) of block member ``b`` alone, its state in
     ``st[0]`` (stages in ``st[1:5]``, stage state in ``st[5]``), with the law rows
     ``s, s + 1, s + 2`` of ``rows``."""
     y, k1, k2, k3s, k4, tmp = st[0], st[1], st[2], st[3], st[4], st[5]
     n2 = y.shape[0]
-    _rhs1(rows, s, y, k1, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b)
+    _rhs1(rows, s, y, k1, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb)
     for i in range(n2):
         tmp[i] = y[i] + 0.5 * dt * k1[i]
-    _rhs1(rows, s + 1, tmp, k2, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b)
+    _rhs1(rows, s + 1, tmp, k2, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb)
     for i in range(n2):
         tmp[i] = y[i] + 0.5 * dt * k2[i]
-    _rhs1(rows, s + 1, tmp, k3s, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b)
+    _rhs1(rows, s + 1, tmp, k3s, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb)
     for i in range(n2):
         tmp[i] = y[i] + dt * k3s[i]
-    _rhs1(rows, s + 2, tmp, k4, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b)
+    _rhs1(rows, s + 2, tmp, k4, b, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb)
     for i in range(n2):
         y[i] += (dt / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3s[i] + k4[i])
 
@@ -297,7 +317,7 @@ def _rows_at(tab, r0, b, x, s, c) -> float:
 
 
 @nb.njit(cache=True, fastmath=_FM)
-def restep(tab, r0, y, yprev, dtv, tau, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, ws, k1, k2,
+def restep(tab, r0, y, yprev, dtv, tau, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, ws, k1, k2,
            k3s, k4, tmp, d, dv, fm) -> None:  # fmt: skip
     """Step again, from ``yprev`` (the step's start), every member of the block that
     crosses a backlash boundary inside its step (``tau[b] < dtv[b]``, from
@@ -328,9 +348,9 @@ def restep(tab, r0, y, yprev, dtv, tau, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, w
             if cross:
                 for i in range(n2):
                     y[i, b] = yprev[i, b]
-        rk4(sub, 0, y, dts[0], k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d,
+        rk4(sub, 0, y, dts[0], k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, d,
             dv, fm)  # fmt: skip
-        rk4(sub, 3, y, dts[1], k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, d,
+        rk4(sub, 3, y, dts[1], k1, k2, k3s, k4, tmp, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb, d,
             dv, fm)  # fmt: skip
         return
     for b in range(B):
@@ -343,7 +363,7 @@ def restep(tab, r0, y, yprev, dtv, tau, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b, w
                 rows[s, c] = _rows_at(tab, r0, b, x, s, c)
         for i in range(n2):
             st[0, i] = yprev[i, b]
-        _rk41(rows, 0, st, tau[b], b, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b)
-        _rk41(rows, 3, st, full - tau[b], b, MK, MC, pi, pj, MG, Gb, hbb, cmb, k3b)
+        _rk41(rows, 0, st, tau[b], b, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb)
+        _rk41(rows, 3, st, full - tau[b], b, MK, MC, pi, pj, MG, Gb, hbb, cmb, klb)
         for i in range(n2):
             y[i, b] = st[0, i]

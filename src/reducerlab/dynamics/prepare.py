@@ -23,7 +23,7 @@ from .systems import (
     repeats_within,
 )
 
-__all__ = ["KernelArrays", "Prepared", "grid", "prepare", "subset", "with_steps"]
+__all__ = ["KernelArrays", "Prepared", "grid", "linear_lines", "prepare", "subset", "with_steps"]
 
 
 class KernelArrays(NamedTuple):
@@ -38,7 +38,7 @@ class KernelArrays(NamedTuple):
     k_par: NDArray[np.float64]  # (E, L, width) stiffness law rows (model.layout)
     cm: NDArray[np.float64]  # (E, L) line damping
     hb: NDArray[np.float64]  # (E, L) half backlash
-    k3: NDArray[np.float64]  # (E, L) cubic line stiffness
+    kl: NDArray[np.float64]  # (E, L, 3) cubic line stiffness, load exponent, reference
     e_kind: NDArray[np.int64]  # (L,) error law kinds
     e_par: NDArray[np.float64]  # (E, L, width) error law rows
     B: NDArray[np.float64]  # (E, n, loads) load matrices
@@ -98,12 +98,19 @@ def prepare(
         Minv, pad([s.C for s in systems]),
         pad([s.K for s in systems]), pad([s.G for s in systems]), s0.k_kind,
         params("k_params"), pad([s.line_damping for s in systems]),
-        pad([s.half_backlash for s in systems]), pad([s.line_cubic for s in systems]),
+        pad([s.half_backlash for s in systems]),
+        pad([np.column_stack([s.line_cubic, s.line_power]) for s in systems]),
         s0.e_kind, params("e_params"), pad([s.load_matrix for s in systems]), s0.f_kind,
         params("f_params"),
     )  # fmt: skip
     periodic = all(repeats_within(s, t) for s, t in zip(systems, T, strict=True))
     return Prepared(arrays, T, offs, dts, periodic, N)
+
+
+def linear_lines(arrays: KernelArrays) -> bool:
+    """Whether every line of every member is piecewise linear: no cubic term and a load
+    exponent of 1 (the condition of the one-period maps, :mod:`.maps`)."""
+    return not np.any(arrays.kl[..., 0]) and bool(np.all(arrays.kl[..., 1] == 1.0))
 
 
 def grid(systems: Sequence[NonlinearSystem], T: NDArray, N: int) -> tuple[NDArray, NDArray, int]:

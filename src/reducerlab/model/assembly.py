@@ -271,6 +271,7 @@ class Model:
         n = self.n
         M, C, K = (np.zeros((n, n)) for _ in range(3))
         G, k_laws, e_laws, c_line, b_line, k3_line, line_names = [], [], [], [], [], [], []
+        power: list[tuple[float, float]] = []
         load_dofs, load_laws = [], []
         for e in self.elements:
             idx = [self.index[d] for d in e.dofs]
@@ -287,6 +288,7 @@ class Model:
                 c_line.append(line.damping)
                 b_line.append(line.backlash.half_width)
                 k3_line.append(line.cubic)
+                power.append((line.exponent, line.reference))
                 line_names.append(e.name if len(c.lines) == 1 else f"{e.name}[{j}]")
             for local, law in c.loads:
                 load_dofs.append(idx[local])
@@ -303,6 +305,7 @@ class Model:
             line_damping=np.array(c_line, dtype=float),
             half_backlash=np.array(b_line, dtype=float),
             line_cubic=np.array(k3_line, dtype=float),
+            line_power=np.array(power, dtype=float).reshape(len(power), 2),
             error_laws=e_laws,
             load_matrix=np.eye(n)[:, load_dofs].reshape(n, len(load_dofs)),
             load_laws=load_laws,

@@ -37,6 +37,7 @@ __all__ = [
     "Load",
     "Mesh",
     "Support",
+    "check_power_law",
     "require_finite",
     "require_nonnegative",
 ]
@@ -60,6 +61,12 @@ class Line:
         Transmission error ``e(t)`` (m).
     cubic : float
         Cubic stiffness ``k3`` (N/m^3): the force gains ``k3 f(delta)^3``.
+    exponent : float
+        Load exponent ``p`` of the elastic force (1: linear; 1.5: Hertzian point
+        contact); see :class:`Mesh`.
+    reference : float
+        Deflection ``delta_ref`` (m) at which ``k(t)`` is the tangent stiffness of a
+        line with ``p != 1`` (0 when ``p = 1``).
     """
 
     g: NDArray[np.float64]
@@ -68,6 +75,8 @@ class Line:
     backlash: Backlash
     error: TimeLaw
     cubic: float = 0.0
+    exponent: float = 1.0
+    reference: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -127,6 +136,31 @@ def require_nonnegative(owner: str, name: str, value: float) -> None:
     v = _number(value)
     if v is None or not (np.isfinite(v) and v >= 0):
         raise ModelError(f"{owner}: {name} must be a finite number >= 0, got {value!r}")
+
+
+#: Range of a mesh law's load exponent: 1 (linear) to 3 (beyond every contact law;
+#: below 1 the tangent stiffness would be infinite at first touch)
+EXPONENT_RANGE = (1.0, 3.0)
+
+
+def check_power_law(owner: str, exponent: float, reference: float) -> None:
+    """Raise a :class:`~reducerlab.errors.ModelError` naming ``owner`` unless the load
+    exponent lies in :data:`EXPONENT_RANGE` and, where it is not 1, the reference
+    deflection (m) is a finite number > 0."""
+    p = _number(exponent)
+    lo, hi = EXPONENT_RANGE
+    if p is None or not (lo <= p <= hi):
+        raise ModelError(
+            f"{owner}: exponent must be a number in [{lo:g}, {hi:g}], got {exponent!r}"
+        )
+    r = _number(reference)
+    if r is None or not np.isfinite(r) or r < 0:
+        raise ModelError(f"{owner}: reference_deflection must be a finite number >= 0 m, "
+                         f"got {reference!r}")  # fmt: skip
+    if p != 1.0 and r <= 0:
+        raise ModelError(f"{owner}: reference_deflection must be > 0 m where exponent != 1 "
+                         f"(the deflection at which the stiffness law is the tangent); got "
+                         f"{reference!r}")  # fmt: skip
 
 
 def _coefficients(owner: str, coef: Mapping[str, float]) -> dict[str, float]:
@@ -289,6 +323,11 @@ class Mesh(Element):
         Clearance; None for permanent contact (``f(delta) = delta``).
     error : TimeLaw or float
         Static transmission error ``e(t)`` (m); 0 by default.
+    exponent : float
+        Load exponent ``p`` of the elastic force, ``1 <= p <= 3``; 1 (linear) by default.
+    reference_deflection : float
+        ``delta_ref`` (m, > 0 where ``p != 1``): the deflection at which ``k(t)`` is the
+        tangent stiffness.
     """
 
     coefficients: Mapping[str, float]
@@ -297,6 +336,8 @@ class Mesh(Element):
     backlash: Backlash | None = None
     error: TimeLaw | float = 0.0
     name: str = ""
+    exponent: float = 1.0
+    reference_deflection: float = 0.0
 
     def __post_init__(self) -> None:
         if not self.name:
@@ -319,6 +360,7 @@ class Mesh(Element):
                 "must stay >= 0 (for a Fourier law: the amplitudes add up to more than the mean)"
             )
         require_nonnegative(self.name, "damping", self.damping)
+        check_power_law(self.name, self.exponent, self.reference_deflection)
 
     @property
     def dofs(self) -> tuple[str, ...]:
@@ -336,6 +378,11 @@ class Mesh(Element):
             damping=self.damping,
             backlash=self.backlash,  # type: ignore[arg-type]
             error=self.error.at_speed(speed),  # type: ignore[union-attr]
+            # real parts: a complex step of a sensitivity leaves the linear analyses alone
+            exponent=float(np.real(self.exponent)),
+            reference=float(np.real(self.reference_deflection))
+            if np.real(self.exponent) != 1
+            else 0.0,
         )
         return Contribution(lines=(line,))
 

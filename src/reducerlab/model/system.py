@@ -7,6 +7,7 @@ reference evaluation of the state derivative.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -19,7 +20,7 @@ from ..errors import ReducerlabError
 from .laws import TimeLaw, evaluate_flat, flat_mean
 from .layout import pack_laws
 
-__all__ = ["NonlinearSystem", "Origin"]
+__all__ = ["NonlinearSystem", "Origin", "power_force"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +64,19 @@ def describe_dofs(parts: Sequence[tuple[str, float]]) -> str:
     return ", ".join(f"{name} ({100 * share:.0f} %)" for name, share in parts)
 
 
+def power_force(k: float, f: float, exponent: float, reference: float) -> float:
+    """Elastic force (N) of a line of tangent stiffness ``k`` (N/m) at the reference
+    deflection ``reference`` (m) under the deflection ``f`` (m) beyond its backlash:
+    ``k f`` for ``exponent = 1``, else ``k (d / p) sgn(f) (|f| / d)^p`` (``p``: the
+    exponent, ``d``: the reference), whose slope is ``k`` at ``|f| = d`` (Hertz's
+    point contact: ``p = 1.5``). The reference of the compiled kernel
+    (``dynamics.kernel_step``)."""
+    if exponent == 1.0 or f == 0.0:
+        return k * f
+    a = abs(f) / reference
+    return math.copysign(k * reference / exponent * a**exponent, f)
+
+
 def _require_finite(owner: str, what: str, a: NDArray, rows: Sequence[str]) -> None:
     """Raise naming the row (DOF or line) of the first non-finite entry of ``a``."""
     a = np.asarray(a, dtype=float)
@@ -78,7 +92,10 @@ def _require_finite(owner: str, what: str, a: NDArray, rows: Sequence[str]) -> N
 @dataclass(frozen=True)
 class NonlinearSystem:
     """``M q'' + C q' + K q + G^T [k(t) f + k3 f^3 + c (G q' - e'(t))] = F(t)``, with
-    ``f = f(G q - e(t))`` the dead-zone (backlash) function of the line deflections.
+    ``f = f(G q - e(t))`` the dead-zone (backlash) function of the line deflections;
+    a line with a load exponent ``p != 1`` (``line_power``) has
+    ``k(t) (delta_ref / p) sgn(f) (|f| / delta_ref)^p`` in place of ``k(t) f``
+    (:class:`~reducerlab.model.elements.Mesh`).
 
     Attributes
     ----------
@@ -106,6 +123,9 @@ class NonlinearSystem:
     line_cubic : ndarray, shape (n_lines,)
         Cubic stiffness ``k3`` of each line (N/m^3): the line force gains
         ``k3 f(delta)^3`` (a Duffing-type spring); zeros by default.
+    line_power : ndarray, shape (n_lines, 2)
+        Load exponent ``p`` and reference deflection ``delta_ref`` (m) of each line's
+        elastic force; ``(1, 0)`` (linear) by default.
     """
 
     dof_names: list[str]
@@ -124,6 +144,7 @@ class NonlinearSystem:
     f_kind: NDArray[np.int64]
     f_params: NDArray[np.float64]
     line_cubic: NDArray[np.float64] = field(default=None)  # type: ignore[assignment]
+    line_power: NDArray[np.float64] = field(default=None)  # type: ignore[assignment]
     #: Physical DOFs behind relative coordinates (set by :meth:`reduced`); None when
     #: the coordinates are the physical DOFs themselves.
     origin: Origin | None = field(default=None, compare=False)
@@ -131,7 +152,7 @@ class NonlinearSystem:
     #: The float arrays that parameter values change (not the law kinds or names).
     ARRAYS: ClassVar[tuple[str, ...]] = (
         "M", "C", "K", "G", "k_params", "e_params", "f_params", "load_matrix",
-        "line_damping", "half_backlash", "line_cubic",
+        "line_damping", "half_backlash", "line_cubic", "line_power",
     )  # fmt: skip
 
     def __post_init__(self) -> None:
@@ -140,6 +161,11 @@ class NonlinearSystem:
         if cubic.shape != (n_lines,):
             raise ReducerlabError(f"line_cubic must have shape ({n_lines},), got {cubic.shape}")
         object.__setattr__(self, "line_cubic", cubic)
+        power = (np.tile([1.0, 0.0], (n_lines, 1)) if self.line_power is None
+                 else np.asarray(self.line_power, float))  # fmt: skip
+        if power.shape != (n_lines, 2):
+            raise ReducerlabError(f"line_power must have shape ({n_lines}, 2), got {power.shape}")
+        object.__setattr__(self, "line_power", power)
         dofs, lines = list(self.dof_names), list(self.line_names)
         loads = [f"load {j + 1}" for j in range(np.shape(self.f_params)[0])]
         for what, a, rows in (
@@ -150,6 +176,7 @@ class NonlinearSystem:
             ("backlash of a mesh", self.half_backlash, lines),
             ("transmission error law of a mesh", self.e_params, lines),
             ("cubic stiffness of a mesh", cubic, lines),
+            ("load exponent of a mesh", power, lines),
             ("load distribution", self.load_matrix, dofs), ("load law", self.f_params, loads),
         ):  # fmt: skip
             _require_finite("model", what, a, rows)
@@ -216,9 +243,11 @@ class NonlinearSystem:
         self, t: float, q: NDArray[np.float64], v: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The two parts of each mesh force (N): the elastic (tooth) force
-        ``k_m(t) f(delta_m) + k3_m f^3``, zero while the teeth are apart (``f``: the dead
-        zone of half width ``b_m``), and the viscous force ``c_m d(delta_m)/dt``, which
-        the model applies across the gap too (paper 004's line damping)."""
+        ``k_m(t) f(delta_m) + k3_m f^3`` (a power law in place of ``k_m f`` where the
+        line's exponent is not 1: :func:`power_force`), zero while the teeth are apart
+        (``f``: the dead zone of half width ``b_m``), and the viscous force
+        ``c_m d(delta_m)/dt``, which the model applies across the gap too (paper 004's
+        line damping)."""
         nl = self.G.shape[0]
         elastic = np.empty(nl)
         damping = np.empty(nl)
@@ -230,7 +259,7 @@ class NonlinearSystem:
             f = delta - min(max(delta, -h), h)
             k3 = self.line_cubic[m]
             cubic = k3 * f * f * f if k3 != 0.0 else 0.0  # no 0 * inf for a huge f
-            elastic[m] = k * f + cubic
+            elastic[m] = power_force(k, f, *self.line_power[m]) + cubic
             damping[m] = self.line_damping[m] * (self.G[m] @ v - de)
         return elastic, damping
 
