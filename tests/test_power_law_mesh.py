@@ -167,3 +167,19 @@ def test_power_law_lines_are_integrated_by_rk4_not_the_linear_maps():
 def test_bad_power_law_names_the_field(kw, match):
     with pytest.raises(ModelError, match=rf"mesh:a\.x: {match}"):
         Mesh({"a.x": 1.0}, 1e8, **kw)
+
+
+def test_static_start_of_power_law_lines_is_their_equilibrium():
+    # a loaded mass on a Hertzian line with backlash: the start (dynamics.coordinates.
+    # static_state) is the exact static deflection h + (F / K)^(2/3), not the linear
+    # tangent's F / k
+    from reducerlab.dynamics.coordinates import static_state, to_system
+
+    h, load = 3e-6, 40.0  # m, N
+    m = oscillator(h)
+    m = Model(m.dofs, [*m.elements, Load("a.x", load)])
+    s = to_system(m)
+    x = static_state(s)[0]
+    assert x == pytest.approx(h + (load / K_HERTZ) ** (2 / 3), rel=1e-9)
+    r = ensemble([s], periods=5, keep=5, period=1e-3, y0=static_state(s))
+    assert np.abs(r.poincare[0, :, 0] - x).max() < 1e-9 * x  # at rest: it stays

@@ -97,7 +97,8 @@ def elastic_names(T: NDArray[np.float64]) -> list[str]:
 
 def static_state(s: NonlinearSystem) -> NDArray[np.float64]:
     """State ``[q, 0]`` of static equilibrium under the loads at t = 0 with the mean mesh
-    stiffness (backlash offsets ignored): a start that shortens the transient."""
+    stiffness (backlash offsets ignored; power-law lines at their own law, beyond their
+    backlash: :func:`_power_equilibrium`): a start that shortens the transient."""
     return static_states([s])[0]
 
 
@@ -115,7 +116,63 @@ def static_states(systems: Sequence[NonlinearSystem]) -> NDArray[np.float64]:
         for e in range(len(systems)):
             with contextlib.suppress(np.linalg.LinAlgError):
                 q[e] = np.linalg.solve(K[e], F[e])
+    for e, s in enumerate(systems):
+        if np.any(s.line_power[:, 0] != 1.0) and np.all(np.isfinite(q[e])):
+            q[e] = _power_equilibrium(s, K[e], F[e], q[e])
     return np.concatenate([q, np.zeros_like(q)], axis=1)
+
+
+def _power_equilibrium(s: NonlinearSystem, K: NDArray, F: NDArray, q: NDArray) -> NDArray:
+    """Static equilibrium (m or rad) of a system with power-law lines
+    (``model.system.power_force``, each line's mean stiffness law, beyond its backlash
+    on the side the linear solution ``q`` loads) by damped Newton iteration from the
+    lines' secant stiffness at their reference deflection; ``q`` itself where the
+    iteration does not converge (it is only a start)."""
+    from ..model.laws import flat_mean
+    from ..model.system import power_force
+
+    power = s.line_power[:, 0] != 1.0
+    G = s.G[power]
+    k = np.array([flat_mean(int(kd), p) for kd, p in zip(s.k_kind[power], s.k_params[power],
+                                                         strict=True)])  # fmt: skip
+    p, d = s.line_power[power, 0], s.line_power[power, 1]
+    h = s.half_backlash[power]
+    K_rest = K - G.T @ (G * k[:, None])  # the linear part without the power lines
+    side = np.where(G @ q >= 0.0, 1.0, -1.0)
+
+    def residual(x: NDArray) -> tuple[NDArray, NDArray]:
+        f = G @ x - side * h
+        f = np.where(f * side > 0.0, f, 0.0)  # apart: no force
+        force = np.array([power_force(*a) for a in zip(k, f, p, d, strict=True)])
+        slope = np.where(f != 0.0, k * (np.abs(f) / d) ** (p - 1.0), 0.0)
+        return K_rest @ x + G.T @ force - F, np.maximum(slope, 1e-6 * k)
+
+    # first guess: the lines at their secant stiffness at the reference deflection
+    # (k / p) beyond their backlash, exact where the loads meet the reference
+    k_sec = k / p
+    try:
+        x = np.linalg.solve(K_rest + G.T @ (G * k_sec[:, None]), F + G.T @ (k_sec * side * h))
+    except np.linalg.LinAlgError:
+        return q
+    r, slope = residual(x)
+    scale = np.abs(F).max() or 1.0
+    for _ in range(50):
+        if np.abs(r).max() <= 1e-12 * scale:
+            return x
+        try:
+            dx = np.linalg.solve(K_rest + G.T @ (G * slope[:, None]), -r)
+        except np.linalg.LinAlgError:
+            return q
+        t = 1.0
+        while t > 1e-4:
+            r_new, slope_new = residual(x + t * dx)
+            if np.linalg.norm(r_new) < np.linalg.norm(r):
+                break
+            t *= 0.5
+        else:
+            return q
+        x, r, slope = x + t * dx, r_new, slope_new
+    return x if np.abs(r).max() <= 1e-8 * scale else q
 
 
 def _scale_law(kind: int, p: NDArray, value: float, omega_n: float) -> NDArray:
