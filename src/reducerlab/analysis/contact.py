@@ -365,6 +365,7 @@ def contact_analysis(
     """
     from ..contact.ltca import ContactGrid, auto_grid, grid_estimate, loaded_contact
     from ..contact.meshstiffness import fit_fourier
+    from .contact_law import TANGENT_LOAD, add_load_exponent, split_loads
     from .contact_rootstress import add_root_stress, check_root_compliance
     from .contact_setup import pair_setup
     from .contact_workers import contact_pool, contact_processes
@@ -430,13 +431,15 @@ def contact_analysis(
             h, h_v = float(cell), None if face_cell is None else float(face_cell)
         say(f"loaded contact at {positions} positions" + (f" ({n} processes)" if pool else ""))
         grid = ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n, face_cell=h_v)
+        kw["torques"] = (T_a, TANGENT_LOAD * T_a)  # and the load exponent (contact_law)
         if pool is None:
-            runs = loaded_contact(mp, T_a, phis, grid, **kw, progress=progress)
+            runs, low = split_loads(loaded_contact(mp, T_a, phis, grid, **kw, progress=progress))
             vm, depth = _stresses(runs, nu, h)
         else:  # each process the stresses of its positions too
             post = functools.partial(_stresses, nu=nu, cell=h)
-            runs, (vm, depth) = pool.positions((mp, T_a), phis, {"grid": grid, **kw}, progress,
-                                               post)  # fmt: skip
+            raw, (vm, depth) = pool.positions((mp, T_a), phis, {"grid": grid, **kw}, progress,
+                                              post)  # fmt: skip
+            runs, low = split_loads(raw)
     # lever of the lumped model's mesh on gear B (paper 000 Eq. 2-4; spur: r_b2)
     arm = setup.arm
     T_b = runs[0].torque
@@ -495,6 +498,7 @@ def contact_analysis(
         seconds=time.perf_counter() - t0,
         frame=FRAMES[setup.kind],
     )  # fmt: skip
+    ds = add_load_exponent(ds, runs, low, arm)
     if root_stress:
         ds = add_root_stress(ds, mp, runs, comp_a, comp_b)
     out = ContactResult(ds)
@@ -513,10 +517,13 @@ def _stresses(runs: list, nu: float, cell: float) -> tuple[NDArray, NDArray]:
     """Largest subsurface von Mises stress (Pa) and its depth (m) at each position,
     under the interior cells (outside the flank-edge band, where the field does not
     depend on the grid), over the contact patches of all tooth pairs, each patch on the
-    tangent plane of its peak cell (``contact.halfspace.subsurface_stress``)."""
+    tangent plane of its peak cell (``contact.halfspace.subsurface_stress``); of a
+    load sweep's positions (lists), the first load's."""
     from scipy.optimize import minimize_scalar
 
     from ..contact.halfspace import subsurface_stress, von_mises
+
+    runs = [r[0] if isinstance(r, list) else r for r in runs]
 
     depths = np.linspace(1.0, 30.0, 59) * cell
     vm, depth = [], []

@@ -423,6 +423,8 @@ def build_model(design: NutationDesign) -> Model:
                 backlash=Backlash.full(spec.backlash),
                 error=error,
                 name=f"mesh{j + 1}",
+                exponent=spec.exponent,
+                reference_deflection=spec.reference_deflection,
             )
         )
     if design.gyroscopic and tilt is not None:
