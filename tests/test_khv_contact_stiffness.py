@@ -31,7 +31,7 @@ from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
 from reducerlab.model import Constant, Fourier
 from reducerlab.model.laws import PiecewisePolynomial
-from reducerlab.pipeline import ContactSettings, run, run_plan
+from reducerlab.pipeline import ContactSettings, LayoutSettings, SweepSettings, run, run_plan
 
 KHV = example_dir() / "khv.toml"
 CONTACT = ["mesh.stiffness=contact"]
@@ -269,3 +269,29 @@ def test_report_with_the_saved_contact_models_it(ran):
     with pytest.raises(ReducerlabError, match=r"gears\.x1"):
         report(KHV, overrides=[*CONTACT, "gears.x1=0.7"], results=[out / "contact-pair1.nc"],
                only=["modal"])  # fmt: skip
+
+
+def test_the_optional_stages_run_on_the_khv_pair(ran):
+    # --te-sweep and --layout on the run's cached tooth models (docs/run.md): tiny grids
+    out, _ = ran
+    res = run(KHV, out, overrides=CONTACT, contact=SETTINGS, response=RESPONSE,
+              write_report=False, te_sweep=SweepSettings(loads=2, harmonics=1, positions=5),
+              layout=LayoutSettings(grid=2, refine=0, positions=4))  # fmt: skip
+    status = {s.name: s.status for s in res.stages}
+    assert status["compliance planet V, ring K"] == "cached"
+    assert status["te sweep pair 1"] == status["layout pair 1"] == "computed"
+    assert res.te_sweeps[1].data.sizes["torque"] == 2 and res.layouts[1].best is not None
+
+
+def test_the_cli_writes_the_khv_contact_into_mesh(tmp_path):
+    # `reducerlab contact examples/khv.toml --write-design` (rigid teeth: the plumbing)
+    f = tmp_path / "fitted.toml"
+    args = ["contact", str(KHV), "--rigid", "--positions", "6", "--order", "2",
+            "--write-design", str(f), "-o", str(tmp_path / "c")]  # fmt: skip
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    d = load_design(f)
+    assert isinstance(d.mesh.stiffness, float) and len(d.mesh.harmonics) == 2
+    assert "[mesh1]" not in f.read_text()
+    r = CliRunner().invoke(app, ["response", str(f), "--periods", "20", "-o", str(tmp_path / "r")])
+    assert r.exit_code in (0, 1), r.output
