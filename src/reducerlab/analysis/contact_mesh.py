@@ -11,18 +11,27 @@ from typing import Any
 from ..design import Design
 from ..errors import ReducerlabError
 
-__all__ = ["design_with_contact", "design_with_mesh"]
+__all__ = ["design_with_contact", "design_with_mesh", "mesh_table"]
+
+
+def mesh_table(result: Any) -> str:
+    """The design table that takes a contact result's mesh stiffness: ``meshN`` for
+    pair ``N`` of a nutation design, ``mesh`` for the KHV drive's internal pair (its one
+    ``[mesh]`` table, ``drives.khv.MeshSpec``)."""
+    a = result.data.attrs
+    return "mesh" if a.get("pair_kind") == "internal" else f"mesh{int(a['pair'])}"
 
 
 def design_with_contact(design: Design, results: Any) -> Design:
     """``design`` with each given pair's mesh stiffness from its loaded contact:
     ``[meshN]`` ``stiffness`` = k_m, ``harmonics`` = k_r and ``phases`` = phi_r of paper
-    000's Eq. 8 (N = the result's pair). Damping, backlash and error amplitude are kept.
+    000's Eq. 8 (N = the result's pair; the KHV drive's ``[mesh]``, :func:`mesh_table`).
+    Damping, backlash and error amplitude are kept.
 
     Parameters
     ----------
     design : Design
-        A design with ``[meshN]`` tables (the nutation drive).
+        A design with ``[meshN]`` tables (the nutation drive) or a KHV design.
     results : iterable of ContactResult
         At most one per pair.
 
@@ -33,6 +42,7 @@ def design_with_contact(design: Design, results: Any) -> Design:
     """
     changes: dict[str, Any] = {}
     pairs: list[int] = []
+    tables: list[str] = []
     for res in results:
         pair = int(res.data.attrs["pair"])
         if pair in pairs:
@@ -41,18 +51,21 @@ def design_with_contact(design: Design, results: Any) -> Design:
             )
         pairs.append(pair)
         amp, phase = res.harmonics()
-        changes[f"mesh{pair}.stiffness"] = res.mean_stiffness
-        changes[f"mesh{pair}.harmonics"] = amp
-        changes[f"mesh{pair}.phases"] = phase
+        table = mesh_table(res)
+        tables.append(table)
+        changes[f"{table}.stiffness"] = res.mean_stiffness
+        changes[f"{table}.harmonics"] = amp
+        changes[f"{table}.phases"] = phase
     if not changes:
         return design
-    shown = ", ".join(f"mesh{p}" for p in sorted(pairs))
+    shown = ", ".join(sorted(tables))
     return design.with_values(changes, source=f"{design.source} with {shown} from loaded contact")
 
 
 def design_with_mesh(path: Any, result: Any) -> str:
     """The design file at ``path`` as TOML text whose ``[meshN]`` table (``N`` = the
-    result's pair) takes the contact analysis' mesh stiffness: ``stiffness = k_m``,
+    result's pair; a KHV design's ``[mesh]``) takes the contact analysis' mesh
+    stiffness: ``stiffness = k_m``,
     ``harmonics = k_r`` and ``phases = phi_r`` of paper 000's Eq. 8 (time origin: tooth
     pair 0 at mid-mesh). Damping, backlash and error amplitude are kept. Comments of
     the original file are not carried over; a header names the source."""
@@ -62,15 +75,16 @@ def design_with_mesh(path: Any, result: Any) -> str:
 
     data = read_toml(path)
     pair = int(result.data.attrs["pair"])
+    name = mesh_table(result)
     amp, phase = result.harmonics()
-    table = dict(data.get(f"mesh{pair}", {}))
+    table = dict(data.get(name, {}))
     table["stiffness"] = f"{result.mean_stiffness:.6g} N/m"
     table["harmonics"] = [f"{a:.6g} N/m" for a in amp]
     table["phases"] = [f"{math.degrees(p):.6g} deg" for p in phase]
-    data[f"mesh{pair}"] = table
+    data[name] = table
     a = result.data.attrs
     head = (
-        f"# {path} with [mesh{pair}] from `reducerlab contact` (pair {pair}, "
+        f"# {path} with [{name}] from `reducerlab contact` (pair {pair}, "
         f"{a['profile']}, T_ext = {a['torque_external']:.6g} N m, "
         f"{result.data.sizes['position']} positions, Eq. 8 order {a['order']}, "
         f"fit residual {100 * a['fit_residual']:.2f} %)\n"

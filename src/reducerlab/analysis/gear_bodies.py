@@ -63,8 +63,9 @@ def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[
     the pair's flank modifications (and the design load when the crowned layout is on).
     Not the masses, supports, meshes or speeds: a changed damping or stiffness of the
     lumped model does not make the contact of the same teeth another result. The load,
-    grid and misalignment are the result's own attributes. None (the whole design) for a
-    result of another drive type or without a pair number.
+    grid and misalignment are the result's own attributes. A KHV design's internal pair:
+    ``[gears]`` and ``[material]`` (and the load with a crowned layout). None (the whole
+    design) for a result of another drive type or without a pair number.
 
     Parameters
     ----------
@@ -77,6 +78,14 @@ def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[
         pair = int(attrs.get("pair"))  # type: ignore[arg-type]
     except (TypeError, ValueError):
         return None
+    if design.get("type") == "khv" and pair == 1:
+        # the internal pair's teeth, modifications and material ([gears], [material]);
+        # a crowned layout is sized by the design load (the output torque, or the
+        # output power at the speed)
+        mods = []
+        if (design.get("gears") or {}).get("flank_modifications") == "crowned":
+            mods = ["load_torque", "output_power", "input_speed"]
+        return ["gears", "material", *mods]
     if design.get("type") != "nutation" or pair not in (1, 2):
         return None
     # the flank modifications: each gear's table, and the design load that sizes the

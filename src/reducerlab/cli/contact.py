@@ -87,8 +87,8 @@ def contact(
     write_design: Annotated[
         Path | None,
         typer.Option(
-            help="Also write a copy of the design whose [meshN] table holds the "
-            "fitted k_m, harmonics and phases (paper 000 Eq. 8)."
+            help="Also write a copy of the design whose [meshN] table (a khv design's "
+            "[mesh]) holds the fitted k_m, harmonics and phases (paper 000 Eq. 8)."
         ),
     ] = None,
     root_stress: Annotated[

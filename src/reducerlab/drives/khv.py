@@ -12,17 +12,21 @@ mesh ``k_m(t) f(X_V - X_H - e(t), b) + c_m (...)'``.
 
 The internal pair's geometry (profile shift, working pressure angle, contact ratio,
 interference) is :class:`reducerlab.geometry.InternalGearPair`; the mesh stiffness is
-ISO 6336-1 (Eq. 7-8) with the single/double-tooth parabolic law (Eq. 9).
+ISO 6336-1 (Eq. 7-8) with the single/double-tooth parabolic law (Eq. 9), or with
+``[mesh] stiffness = "contact"`` the internal pair's loaded tooth contact k(t) at the
+operating torque (``analysis.contact``, filled in by ``reducerlab run``), or a mean
+stiffness with its mesh harmonics written into the design (paper 000 Eq. 8, as
+``reducerlab contact --write-design`` writes them).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Annotated, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, model_validator
+from pydantic import Field, TypeAdapter, ValidationError, WrapValidator, model_validator
 
 from ..contact.iso6336 import pitch_point_stiffness, single_double_law
 from ..design import (
@@ -36,6 +40,7 @@ from ..design import (
     Real,
     Spec,
     SpeedRange,
+    Stiffness,
     Torque,
     angle_between,
     quantity,
@@ -46,6 +51,7 @@ from ..geometry import InternalGearPair
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
+from ..model.laws import TimeLaw
 from .modification_specs import Layout, ModificationSpec
 from .rating_material import GearMaterialSpec
 
@@ -131,8 +137,37 @@ class Shafts(Spec):
     damping_ratio: Ratio = 0.0
 
 
+_STIFFNESS = TypeAdapter(Stiffness)
+#: the words ``[mesh] stiffness`` takes besides a number
+SOURCES = ("iso", "contact")
+
+
+def _stiffness_source(value: Any, handler: Any) -> float | str:
+    """``"iso"``, ``"contact"`` or a stiffness (its own message when it is none)."""
+    if value in SOURCES:
+        return value
+    try:
+        return _STIFFNESS.validate_python(value)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        msg = "must be greater than 0" if err["type"] == "greater_than" else str(err["msg"])
+        msg = msg.removeprefix("Value error, ")
+        raise ValueError(
+            f'{msg} (or "iso": paper 004 Eq. 7-9; "contact": the loaded contact\'s k(t))'
+        ) from None
+
+
 class MeshSpec(Spec):
-    """Mesh damping ratio, backlash (half width, as paper 004 Eq. 11) and error Eq. 12.
+    """Mesh stiffness, damping ratio, backlash (half width, as paper 004 Eq. 11) and
+    error Eq. 12.
+
+    ``stiffness`` is where k(t) comes from: ``"iso"`` (default) ISO 6336-1's pitch-point
+    stiffness with paper 004's single/double-tooth law (Eq. 7-9); ``"contact"`` the
+    internal pair's loaded tooth contact at the operating torque (the mean ``k_m``, the
+    ``harmonics`` ``k_r`` and ``phases`` ``phi_r`` of paper 000 Eq. 8 at the mesh
+    frequency), which ``reducerlab run`` computes and puts here (the commands that take
+    the model as written refuse it and say so); or a mean stiffness (N/m) with its
+    ``harmonics`` and ``phases``, as ``reducerlab contact --write-design`` writes them.
 
     ``error_forcing`` is how the error excites the drive: ``"stiffness"`` inside the mesh
     deflection (paper 004 Eq. 2), or ``"omega2"`` / ``"j-omega2"`` as the inertial load
@@ -140,12 +175,37 @@ class MeshSpec(Spec):
     speed (:mod:`reducerlab.model.forcing`).
     """
 
+    stiffness: Annotated[float | str, WrapValidator(_stiffness_source)] = "iso"
+    harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
+    phases: list[angle_between(-360, 360, closed=True)] = Field(default_factory=list)  # type: ignore[valid-type]
     damping_ratio: Ratio = 0.0
     half_backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
     error_amplitude: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
     error_phase: angle_between(-360, 360, closed=True) = 0.0  # type: ignore[valid-type]
     error_forcing: Literal["stiffness", "omega2", "j-omega2"] = "stiffness"
     time_varying: bool = True
+
+    @model_validator(mode="after")
+    def _terms(self) -> MeshSpec:
+        if isinstance(self.stiffness, str):
+            if self.harmonics or self.phases:
+                raise field_rules((
+                    "harmonics" if self.harmonics else "phases",
+                    f"go with a mean stiffness (N/m), not with stiffness = "
+                    f'"{self.stiffness}" (which gives its own k(t))',
+                ))  # fmt: skip
+            return self
+        if self.phases and len(self.phases) != len(self.harmonics):
+            raise field_rules(
+                ("phases", f"has {len(self.phases)} entries, harmonics {len(self.harmonics)}")
+            )
+        if sum(self.harmonics) > self.stiffness:
+            raise field_rules((
+                "harmonics",
+                f"add up to {sum(self.harmonics):.6g} N/m, more than the mean stiffness "
+                f"{self.stiffness:.6g} N/m, so k(t) would become negative",
+            ))  # fmt: skip
+        return self
 
 
 class KHVDesign(Design):
@@ -223,11 +283,44 @@ class KHVDesign(Design):
         )
 
     def stiffness_law(self):
-        """Mesh stiffness over a mesh period (Eq. 9, intervals derived)."""
+        """ISO mesh stiffness over a mesh period (Eq. 9, intervals derived), whatever
+        ``mesh.stiffness`` says (the model's own law: :meth:`mesh_law`)."""
         period = 2 * math.pi / self.mesh_frequency
         return single_double_law(
             self.pitch_stiffness(), self.gears.pair().contact_ratio, period, self.input_speed
         )
+
+    @property
+    def contact_stiffness(self) -> bool:
+        """Whether the model's k(t) is to come from the loaded contact
+        (``mesh.stiffness = "contact"``, which ``reducerlab run`` fills in)."""
+        return self.mesh.stiffness == "contact"
+
+    def mesh_law(self) -> TimeLaw:
+        """The model's mesh stiffness k(t) (N/m): the ISO law (:meth:`stiffness_law`)
+        for ``stiffness = "iso"``, else paper 000 Eq. 8
+        ``k_m + sum_r k_r cos(r omega_m t + phi_r)`` at the mesh frequency.
+
+        Raises
+        ------
+        ReducerlabError
+            ``stiffness = "contact"``: the loaded contact is computed by ``reducerlab
+            run`` (or written as numbers by ``reducerlab contact --write-design``).
+        """
+        mesh = self.mesh
+        if mesh.stiffness == "iso":
+            return self.stiffness_law()
+        if mesh.stiffness == "contact":
+            raise ReducerlabError(
+                'mesh.stiffness = "contact": the mesh stiffness comes from the internal '
+                "pair's loaded tooth contact at the operating torque, which `reducerlab run` "
+                "computes (or write numbers, e.g. with `reducerlab contact --write-design`)"
+            )
+        if not mesh.harmonics:
+            return Constant(float(mesh.stiffness))
+        phases = tuple(mesh.phases) or (0.0,) * len(mesh.harmonics)
+        return Fourier(float(mesh.stiffness), tuple(mesh.harmonics), self.mesh_frequency,
+                       phases, ref_speed=self.input_speed)  # fmt: skip
 
 
 def _reduced_mass(a: float, b: float) -> float:
@@ -247,7 +340,7 @@ def build_model(design: KHVDesign) -> Model:
     ML = inertia.load / rbV**2
     kDH = shafts.input_stiffness / rbH**2
     kVL = shafts.output_stiffness / rbV**2
-    law = design.stiffness_law()
+    law = design.mesh_law()
     if not mesh.time_varying:
         law = Constant(law.mean)
     cDH = 2 * shafts.damping_ratio * math.sqrt(kDH * _reduced_mass(MD, MH))

@@ -85,20 +85,29 @@ def body_consistency(
     return out
 
 
+def _design_stiffness(design: Any, pair: int) -> tuple[float | None, str]:
+    """The mean mesh stiffness the design gives pair ``pair`` (N/m) and what it is: a
+    nutation design's ``[meshN] stiffness`` when a number; a KHV design's ISO law
+    (paper 004 Eq. 7-9, its mean) whatever ``[mesh] stiffness`` says."""
+    if getattr(design, "type", None) == "khv":
+        return design.stiffness_law().mean, "the ISO 6336 law (paper 004 Eq. 9)"
+    spec = getattr(design, f"mesh{pair}")
+    return (spec.stiffness if isinstance(spec.stiffness, float) else None), "the design"
+
+
 def stiffness_consistency(design: Any, contacts: Mapping[int, Any]) -> list[dict[str, Any]]:
     """The design's mean mesh stiffness against the loaded contact's ``k_m`` (a
     ``note`` per pair: the run uses the contact's)."""
     out = []
     for pair, res in sorted(contacts.items()):
-        spec = getattr(design, f"mesh{pair}")
         k_c = res.mean_stiffness
-        k_d = spec.stiffness if isinstance(spec.stiffness, float) else None
+        k_d, what = _design_stiffness(design, pair)
         T = float(res.data.attrs["torque_external"])
         if k_d:
             d = k_c / k_d - 1.0
             text = (
-                f"mesh {pair}: loaded contact at {T:.4g} N m gives k_m = {k_c:.4g} N/m, the "
-                f"design {k_d:.4g} N/m ({100 * d:+.1f} %); the run uses the contact's k(t)"
+                f"mesh {pair}: loaded contact at {T:.4g} N m gives k_m = {k_c:.4g} N/m, "
+                f"{what} {k_d:.4g} N/m ({100 * d:+.1f} %); the run uses the contact's k(t)"
             )
             value = abs(d)
         else:

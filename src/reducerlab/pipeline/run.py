@@ -34,6 +34,7 @@ from .stages import (
     SweepSettings,
     body_inputs,
     body_stage,
+    compliance_names,
     compliance_stage,
     contact_stage,
     layout_stage,
@@ -73,7 +74,8 @@ class RunResult:
         The design as given.
     model_design : Design
         The design the dynamics used: the given one with each contact's k(t) in its
-        mesh (``[meshN]`` mean, harmonics and phases of paper 000's Eq. 8).
+        mesh (``[meshN]`` mean, harmonics and phases of paper 000's Eq. 8; a KHV
+        drive's ``[mesh]``).
     flow : TorqueFlow or None
         The operating point's torques at every mesh.
     contacts, bodies : dict
@@ -137,11 +139,8 @@ def run_plan(
     plan: list[tuple[str, str]] = []
     pairs = _pairs(design)
     for p in pairs:
-        plan += [
-            ("compliance", f"compliance gear {2 * p}"),
-            ("compliance", f"compliance gear {2 * p - 1}"),
-            ("contact", f"contact pair {p}"),
-        ]
+        plan += [("compliance", name) for name in compliance_names(design, p)]
+        plan.append(("contact", f"contact pair {p}"))
         if te_sweep:
             plan.append(("te_sweep", f"te sweep pair {p}"))
         if layout:
@@ -149,25 +148,32 @@ def run_plan(
     if has_model(design):
         plan.append(("dynamics", "modes and Campbell diagram"))
         plan += [("response", f"response line {j + 1}") for j in range(_lines(design))]
-    if bodies and pairs:
-        plan += [("body", f"body modes gear {g}") for g in range(1, design.gear_count + 1)]
+    if bodies:
+        plan += [("body", f"body modes gear {g}") for g in _body_gears(design)]
     plan.append(("report", "report"))
     return plan
 
 
 def _pairs(design: Design) -> list[int]:
     """Gear pairs whose loaded contact the run computes: every pair of a design with
-    tooth surfaces."""
-    if not design.has_tooth_surfaces:
-        return []
-    return list(range(1, design.gear_count // 2 + 1))
+    tooth surfaces; a KHV drive's pair with ``[mesh] stiffness = "contact"`` (docs/run.md)."""
+    if design.has_tooth_surfaces:
+        return list(range(1, design.gear_count // 2 + 1))
+    if getattr(design, "contact_stiffness", False):
+        return [1]
+    return []
+
+
+def _body_gears(design: Design) -> list[int]:
+    """Gears whose FE body modes the run computes: those of a design with tooth surfaces."""
+    return list(range(1, design.gear_count + 1)) if design.has_tooth_surfaces else []
 
 
 def _lines(design: Design) -> int:
-    """Mesh lines of the design's model: one per gear pair of a design with tooth
-    surfaces (known before the contact fills a ``stiffness = "contact"``, which the
+    """Mesh lines of the design's model: one per gear pair whose contact the run
+    computes (known before the contact fills a ``stiffness = "contact"``, which the
     model cannot be built without), else counted on the model."""
-    if design.has_tooth_surfaces:
+    if _pairs(design):
         return len(_pairs(design))
     from ..drives import build_model
 
@@ -306,14 +312,15 @@ def run(
     with _client(scheduler) as client:
         submit = None if client is None else client.submit
         body_futures = {}
-        if bodies and pairs and client is not None:  # every body not stored, at once
+        gears = _body_gears(design) if bodies else []
+        if gears and client is not None:  # every body not stored, at once
             from ..analysis.body_modal import body_modal
             from ..analysis.gear_bodies import body_mesh_sizes
 
             body_futures = {
                 g: client.submit(body_modal, design, g, convergence=False,
                                  sizes=body_mesh_sizes(design, g, *body_sizes))
-                for g in range(1, design.gear_count + 1)
+                for g in gears
                 if not store.has("body", store.key("body", body_inputs(design, g, body_sizes)))
             }  # fmt: skip
         contacts: dict[int, Any] = {}
@@ -353,13 +360,10 @@ def run(
                 record(st)
                 responses.append(res)
         body_results: dict[int, Any] = {}
-        if bodies and pairs:
-            for g in range(1, design.gear_count + 1):
-                res, st = body_stage(
-                    store, design, g, track.report, body_futures.get(g), body_sizes
-                )
-                record(st)
-                body_results[g] = res
+        for g in gears:
+            res, st = body_stage(store, design, g, track.report, body_futures.get(g), body_sizes)
+            record(st)
+            body_results[g] = res
     reasons = stiffness_consistency(design, contacts) + body_consistency(
         design, body_results, model_design.thresholds.consistency
     )
@@ -400,9 +404,12 @@ def _client(scheduler: Any) -> Any:
 
 
 def _pair_torque(flow: Any, pair: int) -> float:
-    """The torque (N m) on pair ``pair``'s external gear at the operating point; the
-    loaded contact needs one."""
+    """The torque (N m) on pair ``pair``'s external gear at the operating point (the
+    ``meshN`` of a nutation drive; a drive's only mesh, the KHV planet's); the loaded
+    contact needs one."""
     mesh = flow.meshes.get(f"mesh{pair}")
+    if mesh is None and len(flow.meshes) == 1:
+        mesh = next(iter(flow.meshes.values()))
     torque = None if mesh is None else mesh.external_torque
     if not (torque is not None and torque > 0):
         raise ReducerlabError(

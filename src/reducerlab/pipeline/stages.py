@@ -9,9 +9,10 @@ interrupted run keeps every stage it finished).
 stage              key inputs
 =================  ================================================================
 ``compliance``     the pair's tooth generation (``contact_inputs``: teeth and mean
-                   radii, helix and pressure angles, ``[surface]``), ``[material]``,
-                   the gear (external or internal), the FE tooth element size and
-                   whether the fillet stress influence is built (``root_stress``)
+                   radii, helix and pressure angles, ``[surface]``; a KHV drive's
+                   ``[gears]``), ``[material]``, the gear (external or internal; a
+                   KHV pair's planet and ring together), the FE tooth element size
+                   and whether the fillet stress influence is built (``root_stress``)
 ``contact``        the same design fields, the torque on the external gear, the
                    misalignment, the grid (positions, Fourier order, cell) and
                    whether the tooth-root stress is computed (``root_stress``)
@@ -47,6 +48,7 @@ __all__ = [
     "SweepSettings",
     "body_inputs",
     "body_stage",
+    "compliance_names",
     "compliance_stage",
     "contact_stage",
     "design_inputs",
@@ -221,6 +223,68 @@ def _quiet(_d: str, _f: float) -> None:
     return None
 
 
+#: the design fields of a load, left out of the compliance's key (the unloaded,
+#: unmodified teeth's): a nutation design's and a KHV design's (with the speed that turns
+#: its output power into a torque, which a crowned KHV layout reads)
+LOAD_FIELDS = ("output_torque", "output_power", "load_torque", "input_speed")
+
+
+def _internal(design: Any) -> bool:
+    """Whether ``design``'s pair is the KHV drive's internal pair (planet in ring)."""
+    return getattr(design, "type", None) == "khv"
+
+
+def compliance_names(design: Any, pair: int) -> list[str]:
+    """The compliance stages of pair ``pair``: one per gear of a nutation pair (the
+    external gear first), one for both gears of a KHV internal pair (built together by
+    ``contact.internal_pair.InternalMeshPair.tooth_compliances``)."""
+    if _internal(design):
+        return ["compliance planet V, ring K"]
+    return [f"compliance gear {2 * pair}", f"compliance gear {2 * pair - 1}"]
+
+
+def _pair_compliances(design: Any, tooth_size: float | None, root_stress: bool) -> Any:
+    """Both tooth compliances of a KHV design's internal pair (``PairSetup.compliances``,
+    as ``contact_analysis`` builds them), for a Dask worker."""
+    from ..analysis.contact_setup import pair_setup
+
+    return pair_setup(design, 1).compliances(tooth_size, lambda _s: None, None, root_stress)
+
+
+def _internal_compliance_stage(
+    store: Store,
+    design: Any,
+    settings: ContactSettings,
+    report: Report,
+    submit: Callable[..., Any] | None,
+) -> tuple[tuple[Any, Any], list[Stage]]:
+    """The planet's and the ring's tooth compliance of a KHV design, one stage."""
+    from ..analysis.contact_setup import pair_setup
+
+    base = {k: v for k, v in design_inputs("contact", design, {"pair": 1}).items()
+            if "modifications" not in k and k not in LOAD_FIELDS}  # fmt: skip
+    rs = settings.root_stress
+    name = compliance_names(design, 1)[0]
+    record = {"design": base, "gear": "planet V, ring K", "root_stress": rs}
+    key = store.key("compliance", {**record, "tooth_size": settings.tooth_size})
+    hit = store.get("compliance", key, extra=True)
+    if hit is not None:
+        return hit[1], [Stage(name, key, "cached")]
+    setup = pair_setup(design, 1)
+    setup.compliance_estimate(settings.tooth_size, rs).check()
+    t0 = time.perf_counter()
+    report(name, 0.0)
+    if submit is not None:
+        comp = submit(_pair_compliances, design, settings.tooth_size, rs).result()
+    else:
+        comp = setup.compliances(
+            settings.tooth_size, lambda s: report(f"{name}: {s}", 0.5), None, rs
+        )
+    store.put("compliance", key, record, extra=comp)
+    report(name, 1.0)
+    return comp, [Stage(name, key, "computed", time.perf_counter() - t0)]
+
+
 def compliance_stage(
     store: Store,
     design: Any,
@@ -232,15 +296,19 @@ def compliance_stage(
     """The FE tooth compliance of both gears of pair ``pair`` (external, internal).
 
     ``submit(function, *args, **kwargs) -> future`` runs the two models elsewhere (a
-    Dask client's ``submit``); by default they run here, one after the other.
+    Dask client's ``submit``); by default they run here, one after the other. A KHV
+    design's internal pair: both in one stage.
     """
     from ..analysis.contact import contact_pair
+
+    if _internal(design):
+        return _internal_compliance_stage(store, design, settings, report, submit)
     from ..contact.compliance import compliance_estimate, fe_tooth_compliance
     from ..fe import Material
 
     # the compliance is the unmodified teeth's: not keyed by the flank modifications
     base = {k: v for k, v in design_inputs("contact", design, {"pair": pair}).items()
-            if "modifications" not in k and k not in ("output_torque", "output_power")}  # fmt: skip
+            if "modifications" not in k and k not in LOAD_FIELDS}  # fmt: skip
     gears = (2 * pair, 2 * pair - 1)
     rs = settings.root_stress
     keys = {
