@@ -84,3 +84,61 @@ def test_results_without_the_exponent_have_no_law():
         data = xr.Dataset(attrs={"k_mean": 1e8})
 
     assert force_law(Old()) is None
+
+
+def _result(pair: int, kind: str, k_m: float, amp: list[float], p: float | None, d: float):
+    import xarray as xr
+
+    from reducerlab.analysis.contact import ContactResult
+
+    attrs = {"pair": pair, "k_mean": k_m, "pair_kind": kind}
+    if p is not None:
+        attrs.update(exponent=p, reference_deflection_m=d)
+    ds = xr.Dataset(
+        {"amplitude": ("harmonic", amp), "phase": ("harmonic", [0.3] * len(amp))},
+        coords={"harmonic": np.arange(1, len(amp) + 1)},
+        attrs=attrs,
+    )
+    return ContactResult(ds)
+
+
+@pytest.mark.parametrize(
+    ("example", "sets", "table", "kind"),
+    [
+        ("khv.toml", ["mesh.stiffness=contact", "mesh.exponent=contact"], "mesh", "internal"),
+        (
+            "nutation_surface.toml",
+            ["mesh1.stiffness=contact", "mesh1.exponent=contact"],
+            "mesh1",
+            "bevel",
+        ),
+    ],
+)
+def test_exponent_contact_fills_the_power_law_and_the_tangent(example, sets, table, kind):
+    # [mesh] exponent = "contact": the model's line gets the contact's p and d and p times
+    # its stiffness law (the tangent at the operating point); the nonlinear run takes it
+    from reducerlab.analysis.contact import design_with_contact
+    from reducerlab.drives import build_model
+    from reducerlab.errors import DesignError, ReducerlabError
+
+    d = load_design(example_dir() / example, sets)
+    res = _result(1, kind, 5e8, [4e7, 2e7], 1.09, 1.9e-6)
+    filled = design_with_contact(d, [res])
+    spec = getattr(filled, table)
+    assert spec.exponent == pytest.approx(1.09) and spec.reference_deflection == 1.9e-6
+    assert spec.stiffness == pytest.approx(1.09 * 5e8)
+    assert spec.harmonics == pytest.approx([1.09 * 4e7, 1.09 * 2e7])
+    mesh = next(e for e in build_model(filled).elements if e.name == table)
+    assert (mesh.exponent, mesh.reference_deflection) == (pytest.approx(1.09), 1.9e-6)
+    # without exponent = "contact": the secant law, linear
+    plain = load_design(example_dir() / example, sets[:-1])
+    spec = getattr(design_with_contact(plain, [res]), table)
+    assert spec.exponent == 1.0 and spec.stiffness == pytest.approx(5e8)
+    with pytest.raises(ReducerlabError, match=rf'{table}\.exponent = "contact".*no load exponent'):
+        design_with_contact(d, [_result(1, kind, 5e8, [4e7], None, 0.0)])
+    with pytest.raises(DesignError, match=rf'{table}\.exponent.*stiffness = "contact"'):
+        load_design(
+            example_dir() / example, [f"{table}.stiffness=1e8", f"{table}.exponent=contact"]
+        )
+    with pytest.raises(DesignError, match=rf"{table}\.reference_deflection: must be > 0"):
+        load_design(example_dir() / example, [f"{table}.stiffness=1e8", f"{table}.exponent=1.5"])

@@ -26,7 +26,10 @@ def design_with_contact(design: Design, results: Any) -> Design:
     """``design`` with each given pair's mesh stiffness from its loaded contact:
     ``[meshN]`` ``stiffness`` = k_m, ``harmonics`` = k_r and ``phases`` = phi_r of paper
     000's Eq. 8 (N = the result's pair; the KHV drive's ``[mesh]``, :func:`mesh_table`).
-    Damping, backlash and error amplitude are kept.
+    Damping, backlash and error amplitude are kept. A table with ``exponent =
+    "contact"`` takes the contact's load exponent ``p`` and reference deflection
+    (:func:`reducerlab.analysis.contact_law.force_law`) and ``p`` times its stiffness
+    law, the tangent at the operating point.
 
     Parameters
     ----------
@@ -38,8 +41,11 @@ def design_with_contact(design: Design, results: Any) -> Design:
     Raises
     ------
     ReducerlabError
-        Two results of one pair.
+        Two results of one pair; ``exponent = "contact"`` with a result that has no
+        load exponent.
     """
+    from .contact_law import force_law
+
     changes: dict[str, Any] = {}
     pairs: list[int] = []
     tables: list[str] = []
@@ -53,8 +59,19 @@ def design_with_contact(design: Design, results: Any) -> Design:
         amp, phase = res.harmonics()
         table = mesh_table(res)
         tables.append(table)
-        changes[f"{table}.stiffness"] = res.mean_stiffness
-        changes[f"{table}.harmonics"] = amp
+        scale = 1.0
+        if getattr(getattr(design, table, None), "exponent", 1.0) == "contact":
+            law = force_law(res)
+            if law is None:
+                raise ReducerlabError(
+                    f'{table}.exponent = "contact": the contact result of pair {pair} has no '
+                    "load exponent (made before it was computed); run the contact again"
+                )
+            p, d, scale = law
+            changes[f"{table}.exponent"] = p
+            changes[f"{table}.reference_deflection"] = d
+        changes[f"{table}.stiffness"] = scale * res.mean_stiffness
+        changes[f"{table}.harmonics"] = [scale * a for a in amp]
         changes[f"{table}.phases"] = phase
     if not changes:
         return design

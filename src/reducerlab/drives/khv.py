@@ -52,6 +52,7 @@ from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
 from ..model.laws import TimeLaw
+from .force_law_specs import LoadExponent, check_force_law
 from .modification_specs import Layout, ModificationSpec
 from .rating_material import GearMaterialSpec
 
@@ -173,6 +174,10 @@ class MeshSpec(Spec):
     deflection (paper 004 Eq. 2), or ``"omega2"`` / ``"j-omega2"`` as the inertial load
     ``-/+ m_e e''(t)`` on the mesh line, whose amplitude grows with the square of the
     speed (:mod:`reducerlab.model.forcing`).
+
+    ``exponent`` and ``reference_deflection`` make the mesh force a power law of the
+    deflection (:mod:`reducerlab.drives.force_law_specs`); ``exponent = "contact"`` with
+    ``stiffness = "contact"`` takes them from the loaded contact.
     """
 
     stiffness: Annotated[float | str, WrapValidator(_stiffness_source)] = "iso"
@@ -184,9 +189,12 @@ class MeshSpec(Spec):
     error_phase: angle_between(-360, 360, closed=True) = 0.0  # type: ignore[valid-type]
     error_forcing: Literal["stiffness", "omega2", "j-omega2"] = "stiffness"
     time_varying: bool = True
+    exponent: LoadExponent = 1.0
+    reference_deflection: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _terms(self) -> MeshSpec:
+        check_force_law(self.exponent, self.reference_deflection, self.stiffness)
         if isinstance(self.stiffness, str):
             if self.harmonics or self.phases:
                 raise field_rules((
@@ -371,6 +379,8 @@ def build_model(design: KHVDesign) -> Model:
             backlash=Backlash.half(mesh.half_backlash),
             error=error,
             name="mesh",
+            exponent=mesh.exponent,
+            reference_deflection=mesh.reference_deflection,
         ),
     ]
     # X = theta r_b: the rigid motion turns every X alike, so T_D / r_bH = T_L / r_bV

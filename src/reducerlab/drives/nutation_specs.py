@@ -22,6 +22,7 @@ from ..design import (
     quantity,
 )
 from ..design_files import field_rules
+from .force_law_specs import LoadExponent, check_force_law
 from .modification_specs import Layout, ModificationSpec
 
 __all__ = [
@@ -143,18 +144,6 @@ def _stiffness_or_contact(value: Any, handler: Any) -> float | str:
         raise ValueError(f'{msg} (or "contact": the loaded contact\'s k(t))') from None
 
 
-def _exponent_or_contact(value: Any, handler: Any) -> float | str:
-    """``"contact"``, or a load exponent in ``[1, 3]``."""
-    if value == "contact":
-        return "contact"
-    if isinstance(value, bool) or not isinstance(value, int | float) or not 1 <= value <= 3:
-        raise ValueError(
-            'must be a number in [1, 3] (1: linear, 1.5: Hertz\'s point contact; or "contact": '
-            "the loaded contact's load exponent at the operating torque)"
-        )
-    return float(value)
-
-
 class MeshSpec(Spec):
     """One gear pair: mean mesh stiffness, optional Fourier terms (Eq. 8), damping,
     full backlash (Eq. 6) and transmission error amplitude.
@@ -178,19 +167,12 @@ class MeshSpec(Spec):
     damping: Damping = 0.0
     backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
     error_amplitude: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
-    exponent: Annotated[float | str, WrapValidator(_exponent_or_contact)] = 1.0
+    exponent: LoadExponent = 1.0
     reference_deflection: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _terms(self) -> MeshSpec:
-        if self.exponent == "contact" and self.stiffness != "contact":
-            raise field_rules(("exponent", 'comes from the contact with stiffness = "contact"'))
-        if self.exponent not in ("contact", 1.0) and not self.reference_deflection > 0:
-            raise field_rules((
-                "reference_deflection",
-                "must be > 0 where exponent != 1 (the deflection at which the stiffness "
-                "is the tangent)",
-            ))  # fmt: skip
+        check_force_law(self.exponent, self.reference_deflection, self.stiffness)
         if self.stiffness == "contact":
             if self.harmonics or self.phases:
                 raise field_rules(("harmonics", 'come from the contact with stiffness = "contact"'))
