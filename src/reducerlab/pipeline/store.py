@@ -35,8 +35,8 @@ __all__ = ["SCHEMA", "Store", "canonical"]
 #: Keys hold the package version, not the code: a change to a stage's or a report
 #: section's code within one version (development) needs this bumped, or a kept cache
 #: answers with the old result. 4: the contact's tooth-root stress (issue 29), the
-#: compliance's fillet influence in its key.
-SCHEMA = 4
+#: compliance's fillet influence in its key; 5: the contact's load exponent (issue 30).
+SCHEMA = 5
 
 
 def _plain(value: Any) -> Any:
