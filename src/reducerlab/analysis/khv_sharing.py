@@ -251,9 +251,7 @@ def load_sharing(
     reference, T = torque_list(design, 1, loads, top, torques, power, torque)
     setup = pair_setup(design)
     mp = setup.mesh_pair
-    s_a, s_e = mp.path_of_contact
-    start = mp.position_of(0.5 * (s_a + s_e) - 0.5 * mp.base_pitch)
-    phis = start + setup.pitch * np.arange(positions) / positions
+    phis = setup.start + setup.pitch * np.arange(positions) / positions
     rolls = np.array([mp.contact_roll(float(p)) for p in phis])
     scan = scan_pairs(mp)
     say(f"unloaded clearances of tooth pairs {scan[0]} ... {scan[-1]}")
@@ -274,7 +272,7 @@ def load_sharing(
 
         res = te_sweep(design, torques=T, positions=positions, cell=cell,
                        tooth_size=tooth_size, compliance=compliance, teeth=teeth,
-                       start=start, observe=observe, stage=stage, progress=progress,
+                       observe=observe, stage=stage, progress=progress,
                        harmonics=1)  # fmt: skip
         te_max = float(np.nanmax(res.data["te"].values[-1]))
         need = loaded_pairs(scan, clear, te_max)

@@ -297,7 +297,6 @@ def te_sweep(
     modifications: Any = None,
     compliance: tuple[Any, Any] | None = None,
     teeth: Sequence[int] | None = None,
-    start: float | None = None,
     observe: Callable[[int, int, Any], None] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
@@ -339,8 +338,6 @@ def te_sweep(
         Tooth pairs examined at each position (default ``-1, 0, 1``); beyond those, both
         compliances are extended by the gears' cyclic symmetry
         (``contact.compliance.extend_teeth``; the KHV load sharing, issue 30).
-    start : float, optional
-        Gear A's rotation at position 0 (rad); default the pair's (``PairSetup.start``).
     observe : callable, optional
         ``observe(i, j, run)`` with each loaded ``PositionContact`` (torque ``i``,
         position ``j``) as it comes (``analysis.khv_sharing`` reads each pair's load).
@@ -394,10 +391,7 @@ def te_sweep(
         comp_a, comp_b = extend_teeth(comp_a, grid_teeth), extend_teeth(comp_b, grid_teeth)
     t_fe = time.perf_counter() - t0
     kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": setup.E_star}
-    if start is not None and not (isinstance(start, int | float) and math.isfinite(start)):
-        raise ReducerlabError(f"start: must be a finite angle (rad); got {start!r}")
-    phi0 = setup.start if start is None else float(start)
-    phis = phi0 + setup.pitch * np.arange(positions) / positions
+    phis = setup.start + setup.pitch * np.arange(positions) / positions
     s0 = ContactGrid.s_max
     if cell is None:
         say("pilot contact at the design load (grid size)")
