@@ -170,7 +170,7 @@ def plot_load_sharing(result, shown: int = 3) -> Figure:
             a1.plot(x, y, styles[n % 4], color=f"C{j}", marker="o", ms=2,
                     label=f"pair {k:+d}, {T[i]:.3g} N m")  # fmt: skip
         a2.plot(x, ds["te"].values[i] * 1e6, styles[n % 4], color="k", label=f"{T[i]:.3g} N m")
-    a1.set_xlabel("mesh position (mesh cycles from pair 0 at the pitch point)")
+    a1.set_xlabel("mesh position (mesh cycles; pair 0 mid-path at 0.5)")
     a1.set_ylabel("share of the load")
     a1.set_title("load share of each tooth pair", fontsize=9)
     a1.legend(fontsize=6, ncol=2)
