@@ -159,6 +159,23 @@ def test_shares_pairs_and_rigid_oracle(sharing):
     assert n[-1].sum() > n[light].sum()
 
 
+def test_result_round_trip(sharing, tmp_path):
+    import json
+
+    from reducerlab.results import Result
+
+    back = Result.load(sharing.save(tmp_path / "s.nc"))
+    assert type(back).__name__ == "SharingResult" and back.pairs == [-1, 0, 1]
+    np.testing.assert_array_equal(back.data["share"].values, sharing.data["share"].values)
+    d = json.loads(json.dumps(back.to_dict()))
+    row = d["torques"][TORQUES.index(50.0)]
+    assert row["mean_stiffness_N_per_m"] == pytest.approx(float(back.data["mean_stiffness"][2]))
+    assert len(row["share"]["+0"]) == POSITIONS and d["least_clearance_um"]["+8"] > 10
+    text = back.table()
+    assert "tooth pairs examined [-1, 0, 1]" in text and "+8:" in text
+    assert len(back.figure().axes) == 4
+
+
 def test_stiffness_against_torque_and_iso(sharing):
     ds = sharing.data
     k = ds["stiffness"].values
@@ -241,6 +258,8 @@ def test_cli_sharing_refuses_bad_options(tmp_path):
         (["--positions", "2"], "--positions"),
         (["--cell", "-1 mm"], "--cell"),
         (["--torques", "0,2000", "--positions", "3"], "tooth pair +8"),  # tips passing
+        (["--torques", "0,50", "--loads", "4"], "--torques: not with --loads"),
+        (["--top", "5"], "--top"),
     ):
         r = run(app, ["khv", "sharing", path, *args, "-o", str(tmp_path / "s")])
         assert r.exit_code != 0, args

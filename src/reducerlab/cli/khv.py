@@ -185,11 +185,15 @@ def khv_sharing(
         ),
     ] = None,
     loads: Annotated[
-        int, typer.Option(help="Torques from 0 to --top times the load.", min=2, max=41)
-    ] = 6,
+        int | None,
+        typer.Option(help="Torques from 0 to --top times the load (default 6).", min=2, max=41),
+    ] = None,
     top: Annotated[
-        float, typer.Option(help="Largest torque over the design's load.", min=0.01, max=3.0)
-    ] = 1.5,
+        float | None,
+        typer.Option(
+            help="Largest torque over the design's load (default 1.5).", min=0.01, max=3.0
+        ),
+    ] = None,
     positions: Annotated[
         int, typer.Option(help="Mesh positions over one mesh cycle.", min=3, max=400)
     ] = 24,
@@ -216,7 +220,11 @@ def khv_sharing(
 
     with user_errors():
         files = output_set(output)
+        if torques is not None and (loads is not None or top is not None):
+            raise ReducerlabError("--torques: not with --loads or --top (give one or the other)")
         T = None if torques is None else _torque_list(torques)
+        loads = 6 if loads is None else loads
+        top = 1.5 if top is None else top
         h = quantity_option(cell, "--cell", "length")
         ts = quantity_option(tooth_size, "--tooth-size", "length")
         d = load_design(design, sets or ())
