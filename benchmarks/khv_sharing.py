@@ -1,8 +1,9 @@
 """Benchmark: the KHV pair's load sharing against torque (issue 30), examples/khv.toml.
 
-1. ``extension``: the ring's tooth compliance of teeth -2 ... 2 two ways: the finite-
-   element model of a seven-tooth sector (``internal_tooth_compliance(teeth=(-2, ...,
-   2))``) and the block-Toeplitz extension of the five-tooth model's teeth -1, 0, 1
+1. ``extension``: the ring's and the planet's tooth compliance of teeth -2 ... 2 two
+   ways: the finite-element model of a seven-tooth sector (``internal_tooth_compliance``
+   and ``spur_tooth_compliance`` with ``teeth=(-2, ..., 2)``) and the block-Toeplitz
+   extension of the five-tooth model's teeth -1, 0, 1
    (``contact.compliance.extend_teeth``). Each block's difference in the Frobenius norm,
    over that of the seven-tooth model's own block of tooth 0; and the tip row's mean
    diagonal compliance (m/N).
@@ -32,17 +33,29 @@ TORQUES = [0.0, 10.0, 25.0, 50.0, 75.0, 125.0, 175.0, 250.0]
 
 
 def extension(quick: bool) -> None:
+    from reducerlab.contact.spur_pair import spur_tooth_compliance
+
     design = load_design(example_dir() / "khv.toml")
-    ring = InternalMeshPair.from_khv(design).ring
-    m = ring.module
+    mp = InternalMeshPair.from_khv(design)
+    m = mp.ring.module
     kw = {"tooth_size": (0.35 if quick else 0.3) * m, "grid": (4, 6) if quick else (6, 9)}
-    t0 = time.perf_counter()
-    five = internal_tooth_compliance(ring, -1, **kw)
-    t5 = time.perf_counter() - t0
-    seven = internal_tooth_compliance(ring, -1, teeth=(-2, -1, 0, 1, 2), **kw)
-    t7 = time.perf_counter() - t0 - t5
-    print(f"ring z {ring.teeth}, {kw}: five-tooth sector {five.dofs} DOFs {t5:.1f} s, "
-          f"seven-tooth {seven.dofs} DOFs {t7:.1f} s")  # fmt: skip
+    five_seven = (
+        ("ring", lambda teeth: internal_tooth_compliance(mp.ring, -1, teeth=teeth, **kw)),
+        ("planet", lambda teeth: spur_tooth_compliance(mp.planet, 1, teeth=teeth, **kw)),
+    )
+    for name, build in five_seven:
+        t0 = time.perf_counter()
+        five = build((-1, 0, 1))
+        t5 = time.perf_counter() - t0
+        seven = build((-2, -1, 0, 1, 2))
+        t7 = time.perf_counter() - t0 - t5
+        print(f"\n{name}, {kw}: five-tooth sector {five.dofs} DOFs {t5:.1f} s, "
+              f"seven-tooth {seven.dofs} DOFs {t7:.1f} s")  # fmt: skip
+        _compare(five, seven)
+
+
+def _compare(five, seven) -> None:
+    """The blocks of the extension of ``five`` against those of ``seven``."""
     ext = extend_teeth(five, (-2, -1, 0, 1, 2))
     L = len(five.u_nodes) * len(five.v_nodes)
     nu = len(five.u_nodes)

@@ -53,6 +53,7 @@ from .spur_pair import (
     fillet_influence,
     held_sector_dofs,
     model_sizes,
+    modelled_teeth,
     spur_tooth_compliance,
 )
 
@@ -498,12 +499,7 @@ def internal_tooth_compliance(
         raise ReducerlabError(f"material: must be a Material; got {type(material).__name__}")
     if not isinstance(root_stress, bool):
         raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
-    modelled = tuple(int(k) for k in teeth)
-    n_side = max(modelled, default=0)
-    if modelled != tuple(range(-n_side, n_side + 1)) or not 1 <= n_side <= 3:
-        raise ReducerlabError(f"teeth: must be -n ... n with n in 1..3; got {teeth!r}")
-    if root_stress and modelled != TEETH:
-        raise ReducerlabError(f"root_stress: with teeth {TEETH} only; got {teeth!r}")
+    modelled = modelled_teeth(teeth, root_stress)
     sector = len(modelled) + 2
     n_u, n_v, ts, bs = model_sizes(grid, gear.module, tooth_size, body_size)
     mesh_sizes = MeshSizes(ts, bs)
