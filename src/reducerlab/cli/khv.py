@@ -13,7 +13,14 @@ import typer
 
 from ..errors import ReducerlabError
 from .options import SetOption, quantity_option
-from .output import output_set, progress_bar, savefig, user_errors, write_json
+from .output import (
+    add_result,
+    output_set,
+    position_callbacks,
+    progress_bar,
+    savefig,
+    user_errors,
+)
 
 khv_app = typer.Typer(
     help="KHV planetary drive tools (paper 004).", no_args_is_help=True, rich_markup_mode=None
@@ -241,18 +248,13 @@ def khv_sharing(
             task = progress.add_task("load sharing", total=None)
             res = load_sharing(
                 d, torques=T, loads=loads, top=top, positions=positions, cell=h,
-                tooth_size=ts, stage=lambda text: progress.update(task, description=text),
-                progress=lambda done, total: progress.update(
-                    task, completed=done, total=total,
-                    description=f"loaded contact, position {done}/{total} (all torques)",
+                tooth_size=ts, **position_callbacks(
+                    progress, task, "loaded contact, position {done}/{total} (all torques)"
                 ),
             )  # fmt: skip
             progress.update(task, description="writing results")
             with files:
-                res.save(files.path("sharing.nc"))
-                write_json(res, files.path("sharing.json"))
-                files.path("sharing.txt").write_text(res.table() + "\n")
-                savefig(res.figure(), files.path("sharing.png"), res.data.attrs)
+                add_result(res, files, "sharing")
     typer.echo(res.table())
 
 
