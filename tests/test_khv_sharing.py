@@ -204,7 +204,7 @@ def test_stiffness_against_torque_and_iso(sharing):
         assert per_face[TORQUES.index(t)] == pytest.approx(c_gamma, rel=0.20), t
     # the ISO estimate of the approach that picks the pairs errs long (c' is below ours)
     te = ds["te"].values[-1] - ds["grid_unloaded_te"].values
-    assert approach_estimate(MP, TORQUES[-1]) > np.max(te) * 0.95
+    assert approach_estimate(MP, TORQUES[-1]) > np.max(te)
 
 
 def test_periodicity_and_convergence(sharing, coarse):
