@@ -199,7 +199,7 @@ def test_stiffness_against_torque_and_iso(sharing):
     # ring root which the regression for external pairs cannot know; the single-pair c'
     # measured 15 % above it). At 5 N m (4.6 N/mm, far below method B's 100 N/mm) the
     # Hertzian approach, which grows less than linearly with load, lowers the secant
-    # stiffness; the design load 50 N m is 46 N/mm
+    # stiffness; the design load 50 N m is 46 N/mm (measured 23.16, -8 %, and 28.93, +15 %)
     for t in (5.0, 50.0):
         assert per_face[TORQUES.index(t)] == pytest.approx(c_gamma, rel=0.20), t
     # the ISO estimate of the approach that picks the pairs errs long (c' is below ours)
