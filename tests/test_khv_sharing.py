@@ -94,6 +94,9 @@ def test_loaded_pairs_rule_and_refusal():
     with pytest.raises(ReducerlabError, match=r"tooth pair \+8 is only 12 um apart"):
         loaded_pairs(teeth, c, 70e-6)
     assert loaded_pairs(teeth[:-1], c[:, :-1], 70e-6) == (-2, -1, 0, 1)
+    c[1, -1] = -5e-6  # rigid teeth overlapping: refused whatever the load
+    with pytest.raises(ReducerlabError, match=r"tooth pair \+8 overlaps .* by 5 um"):
+        loaded_pairs(teeth, c, 0.0)
     with pytest.raises(ReducerlabError, match="approach"):
         loaded_pairs(teeth, c, -1.0)
     with pytest.raises(ReducerlabError, match="clearance"):

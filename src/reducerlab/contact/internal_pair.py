@@ -641,9 +641,17 @@ def loaded_pairs(
     far = sorted(k for k in chosen if abs(k) > modelled)
     if far:
         k = far[0]
+        c_k = float(least[ks.index(k)])
+        if c_k <= 0:
+            raise ReducerlabError(
+                f"design: tooth pair {k:+d} overlaps the ring's drive flank by "
+                f"{-c_k * 1e6:.3g} um unloaded (rigid teeth: an interference of the tips "
+                f"passing), beyond the pairs -{modelled} ... {modelled} the load sharing "
+                "models; change the shift coefficients or the tooth numbers"
+            )
         raise ReducerlabError(
             f"torques: at the largest torque the teeth approach by {approach * 1e6:.3g} um; "
-            f"tooth pair {k:+d} is only {least[ks.index(k)] * 1e6:.3g} um apart (within the "
+            f"tooth pair {k:+d} is only {c_k * 1e6:.3g} um apart (within the "
             f"margin x{margin:g}) and would close, but the load sharing models pairs "
             f"-{modelled} ... {modelled} only (beyond: tip edge on tip edge, outside the "
             "flank contact model); lower the largest torque"
