@@ -56,6 +56,18 @@ WRITERS = {
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
     "balls": ["balls", CYCLOID, "--points", "3", "--phases", "1"],
     "khv clearances": ["khv", "clearances", KHV, "--teeth=-1:1", "--positions", "2"],
+    # coarse FE teeth (0.35 m) and 3 positions: about 15 s
+    "khv sharing": [
+        "khv",
+        "sharing",
+        KHV,
+        "--positions",
+        "3",
+        "--torques",
+        "0,50",
+        "--tooth-size",
+        "1.225 mm",
+    ],
     "contact": [
         "contact",
         SURFACE,
@@ -424,7 +436,7 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
                 assert text["design_hash"] == design.hash, png
     assert seen == {
         "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response",
-        "contact", "frequency-response", "ball-track",
+        "contact", "frequency-response", "ball-track", "khv-sharing",
     }  # fmt: skip
 
 

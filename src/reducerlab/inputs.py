@@ -58,6 +58,7 @@ RULES: dict[str, str] = {
     # a torque sweep and a modification layout read the pair's teeth as its contact does
     # (their loads, grids and candidates are their own attributes)
     "te-sweep": "reducerlab.analysis.gear_bodies:contact_inputs",
+    "khv-sharing": "reducerlab.analysis.gear_bodies:contact_inputs",
     "layout": "reducerlab.analysis.gear_bodies:contact_inputs",
 }
 

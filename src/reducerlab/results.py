@@ -49,6 +49,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "contact": "reducerlab.analysis.contact",
     "rating": "reducerlab.analysis.rating",
     "te-sweep": "reducerlab.analysis.te_sweep",
+    "khv-sharing": "reducerlab.analysis.khv_sharing",
     "layout": "reducerlab.analysis.layout",
     "ball-track": "reducerlab.analysis.ball_track",
 }

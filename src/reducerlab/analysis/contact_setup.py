@@ -68,7 +68,12 @@ class PairSetup:
         Mesh cycle: gear A's angular pitch ``2 pi / z_A`` (rad).
     start : float
         Gear A's rotation at position 0 (rad): tooth pair 0 at mid-mesh (nutation:
-        its mean pitch point on the pitch line; spur: at the pitch point).
+        its mean pitch point on the pitch line; spur: at the pitch point; internal:
+        half a base pitch before the middle of the path of contact, so that over the
+        cycle pair 0 runs through the middle and only pairs -1, 0, 1 mesh while
+        ``eps_alpha < 2``: the KHV pair's pitch point lies in its second double-contact
+        zone, 1.18 of 1.23 base pitches from the path's start, where pair -2 meshes
+        within a pitch, issue 30).
     arm : float
         Lever of the lumped model's mesh on gear B (m): ``k = T_B / (arm^2 psi)``.
     te_radius : float
@@ -300,13 +305,15 @@ def _internal_setup(
             "zero-backlash centre distance)"
         )
     mp = khv_mesh_pair(design, modifications)
+    s_a, s_e = mp.path_of_contact
+    start = mp.position_of(0.5 * (s_a + s_e) - 0.5 * mp.base_pitch)
     material = _material(design)
     E_star = combined_modulus(material.E, material.nu, material.E, material.nu)
     speed = design.operating_speed
     f_mesh = sum(design.kinematics().mesh_frequencies(speed).values()) if speed else 0.0
     return PairSetup(
         mp, "internal", design.gears.module, material, E_star, mp.planet.reference_radius,
-        mp.planet.pitch, mp.pitch_point_position(0), mp.ring.base_radius,
+        mp.planet.pitch, start, mp.ring.base_radius,
         mp.ring.base_radius, float(f_mesh), "involute",
         (mp.planet.teeth, mp.ring.teeth), ("planet V", "ring K"),
     )  # fmt: skip

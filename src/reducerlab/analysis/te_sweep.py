@@ -231,6 +231,33 @@ def sweep_torques(reference: float, loads: int, top: float) -> Array:
     return np.linspace(0.0, top * reference, loads)
 
 
+def torque_list(
+    design: Any, pair: int, loads: int, top: float, torques: Sequence[float] | None,
+    power: float | None, torque: float | None,
+) -> tuple[float, Array]:  # fmt: skip
+    """The design load (:func:`reference_load`, N m on gear A) and the torques of a
+    sweep (N m, sorted): ``torques`` as given, else ``loads`` from 0 to ``top`` times
+    the design load (:func:`sweep_torques`).
+
+    Raises
+    ------
+    ReducerlabError
+        Other than 1..``MAX_LOADS`` finite torques ``>= 0``, one of them ``> 0``.
+    """
+    reference = reference_load(design, pair, power, torque)
+    if torques is None:
+        return reference, sweep_torques(reference, loads, top)
+    try:
+        T = np.sort(np.atleast_1d(np.asarray(torques, float)))
+    except (TypeError, ValueError):
+        raise ReducerlabError(f"torques: must be numbers (N m); got {torques!r}") from None
+    if T.ndim != 1 or not 1 <= T.size <= MAX_LOADS or not np.all(np.isfinite(T)):
+        raise ReducerlabError(f"torques: must be 1..{MAX_LOADS} finite torques (N m)")
+    if T[0] < 0 or T[-1] <= 0:
+        raise ReducerlabError("torques: must be >= 0 (N m), one of them > 0")
+    return reference, T
+
+
 def sweep_estimate(positions: int, loads: int, cells: float = 0.0, chunk: int = 1) -> Estimate:
     """Work (position-torque solves, bounded by :data:`MAX_SOLVES`) and memory of the
     results of one chunk of positions (``cells`` candidate cells a position)."""
@@ -269,6 +296,8 @@ def te_sweep(
     misalignment: Any = None,
     modifications: Any = None,
     compliance: tuple[Any, Any] | None = None,
+    teeth: Sequence[int] | None = None,
+    observe: Callable[[int, int, Any], None] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
     partial: Callable[[TESweepResult], None] | None = None,
@@ -305,6 +334,13 @@ def te_sweep(
         the unmodified teeth's: ``compliance`` from a run with other modifications serves.
     compliance : (ToothCompliance, ToothCompliance), optional
         Both gears' tooth compliances from an earlier run of the same pair.
+    teeth : sequence of int, optional
+        Tooth pairs examined at each position (default ``-1, 0, 1``); beyond those, both
+        compliances are extended by the gears' cyclic symmetry
+        (``contact.compliance.extend_teeth``; the KHV load sharing, issue 30).
+    observe : callable, optional
+        ``observe(i, j, run)`` with each loaded ``PositionContact`` (torque ``i``,
+        position ``j``) as it comes (``analysis.khv_sharing`` reads each pair's load).
     stage, progress : callable, optional
         ``stage(text)`` per step; ``progress(done, total)`` per position.
     partial : callable, optional
@@ -322,15 +358,7 @@ def te_sweep(
 
     t0 = time.perf_counter()
     say = stage or (lambda _s: None)
-    reference = reference_load(design, pair, power, torque)
-    if torques is None:
-        T = sweep_torques(reference, loads, top)
-    else:
-        T = np.sort(np.atleast_1d(np.asarray(torques, float)))
-        if T.ndim != 1 or not 1 <= T.size <= MAX_LOADS or not np.all(np.isfinite(T)):
-            raise ReducerlabError(f"torques: must be 1..{MAX_LOADS} finite torques (N m)")
-        if T[0] < 0 or T[-1] <= 0:
-            raise ReducerlabError("torques: must be >= 0 (N m), one of them > 0")
+    reference, T = torque_list(design, pair, loads, top, torques, power, torque)
     if isinstance(harmonics, bool) or not isinstance(harmonics, int) or harmonics < 1:
         raise ReducerlabError(f"harmonics: must be an integer >= 1; got {harmonics!r}")
     if isinstance(positions, bool) or not isinstance(positions, int):
@@ -356,6 +384,11 @@ def te_sweep(
         comp_a, comp_b = setup.compliances(tooth_size, say, None)
     else:
         comp_a, comp_b = compliance
+    grid_teeth = ContactGrid.teeth if teeth is None else tuple(sorted(int(k) for k in teeth))
+    if teeth is not None and comp_a is not None:
+        from ..contact.compliance import extend_teeth
+
+        comp_a, comp_b = extend_teeth(comp_a, grid_teeth), extend_teeth(comp_b, grid_teeth)
     t_fe = time.perf_counter() - t0
     kw = {"compliance_a": comp_a, "compliance_b": comp_b, "E_star": setup.E_star}
     phis = setup.start + setup.pitch * np.arange(positions) / positions
@@ -373,7 +406,7 @@ def te_sweep(
     fields = {k: np.full(shape, np.nan) for k in ("approach", "peak", "interior", "edge", "pairs")}
     psi0 = np.full(positions, np.nan)
     grid0 = np.full(positions, np.nan)
-    grid = ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n)
+    grid = ContactGrid(h, s_max=s0, edge_band=EDGE_BAND * m_n, teeth=grid_teeth)
     done = 0
     say(f"loaded contact at {positions} positions x {loaded.size} torques")
     while done < positions:
@@ -394,13 +427,16 @@ def te_sweep(
                 fields["interior"][i, j] = r.interior_peak_pressure
                 fields["edge"][i, j] = r.edge_share
                 fields["pairs"][i, j] = len(np.unique(r.tooth[r.force > 0]))
+                if observe is not None:
+                    observe(int(i), j, r)
             sweep_estimate(positions, T.size, len(per_torque[0].force), n_chunk).check()
         for name in ("peak", "interior", "edge", "pairs"):  # no load, no contact
             fields[name][T == 0, done:stop] = 0.0
         # zero load: the limit of the loaded TE, the unloaded TE of the contact grid
         fields["approach"][T == 0, done:stop] = (grid0 - psi0)[done:stop]
         # the next chunk starts from this one's last grid (the completeness check widens it)
-        grid = ContactGrid(h, s_max=runs[-1][-1].s_max, edge_band=EDGE_BAND * m_n)
+        grid = ContactGrid(h, s_max=runs[-1][-1].s_max, edge_band=EDGE_BAND * m_n,
+                           teeth=grid_teeth)  # fmt: skip
         done = stop
         if partial is not None and done < positions:
             partial(_result(design, pair, setup, T, phis, (psi0, grid0), fields, harmonics,

@@ -11,7 +11,16 @@ import typer
 from ..errors import ReducerlabError
 from ..io import atomic_path, prepare_output_file
 from .options import ProfileChoice, SetOption, quantity_option, signed_quantity
-from .output import output_set, progress_bar, savefig, user_errors, write_file, write_json
+from .output import (
+    add_result,
+    output_set,
+    position_callbacks,
+    progress_bar,
+    savefig,
+    user_errors,
+    write_file,
+    write_json,
+)
 
 
 def contact(
@@ -232,18 +241,13 @@ def _te_sweep(d, pair: int, P, T, opts: dict, files) -> None:
         task = progress.add_task("te sweep", total=None)
         res = te_sweep(
             d, pair, power=P, torque=T, **opts, partial=write_partial,
-            stage=lambda text: progress.update(task, description=text),
-            progress=lambda done, total: progress.update(
-                task, completed=done, total=total,
-                description=f"loaded contact, position {done}/{total} (all torques)",
+            **position_callbacks(
+                progress, task, "loaded contact, position {done}/{total} (all torques)"
             ),
         )  # fmt: skip
         progress.update(task, description="writing results")
         with files:
-            res.save(files.path("te_sweep.nc"))
-            write_json(res, files.path("te_sweep.json"))
-            files.path("te_sweep.txt").write_text(res.table() + "\n")
-            savefig(res.figure(), files.path("te_sweep.png"), res.data.attrs)
+            add_result(res, files, "te_sweep")
     partial.unlink(missing_ok=True)
     typer.echo(res.table())
 
@@ -264,10 +268,7 @@ def _layout(d, pair: int, T, P, positions: int, h, ts, p_lim, files) -> None:
         )  # fmt: skip
         progress.update(task, description="writing results")
         with files:
-            res.save(files.path("layout.nc"))
-            write_json(res, files.path("layout.json"))
-            files.path("layout.txt").write_text(res.table() + "\n")
-            savefig(res.figure(), files.path("layout.png"), res.data.attrs)
+            add_result(res, files, "layout")
     typer.echo(res.table())
 
 

@@ -1,5 +1,6 @@
 """``reducerlab khv``: tools of the KHV planetary drive (paper 004): the closed graph of
-the shift coefficients and the mesh stiffness along the shift line."""
+the shift coefficients, the mesh stiffness along the shift line, the tooth pairs'
+clearances and the load sharing against torque (issue 30)."""
 
 from __future__ import annotations
 
@@ -11,8 +12,15 @@ from typing import Annotated
 import typer
 
 from ..errors import ReducerlabError
-from .options import SetOption
-from .output import output_set, savefig, user_errors
+from .options import SetOption, quantity_option
+from .output import (
+    add_result,
+    output_set,
+    position_callbacks,
+    progress_bar,
+    savefig,
+    user_errors,
+)
 
 khv_app = typer.Typer(
     help="KHV planetary drive tools (paper 004).", no_args_is_help=True, rich_markup_mode=None
@@ -152,6 +160,102 @@ def khv_clearances(
             typer.echo(f"{k:+4d}  {col.min() * 1e6:9.2f}  {col.max() * 1e6:9.2f}{part}")
         else:
             typer.echo(f"{k:+4d}  no drive-flank contact possible")
+
+
+def _torque_list(text: str) -> list[float]:
+    """``--torques``: comma-separated torques on the planet (N m, or quantities such as
+    ``'50 N*m'``), each >= 0, one of them > 0."""
+    out = []
+    for part in (t.strip() for t in text.split(",")):
+        if not part:
+            continue
+        try:
+            v = float(part)
+        except ValueError:
+            v = quantity_option(part, "--torques", "torque")
+        if v is None or not math.isfinite(v) or v < 0:
+            raise ReducerlabError(f"--torques: each must be a torque >= 0 (N m); got {part!r}")
+        out.append(float(v))
+    if not out or max(out) <= 0:
+        raise ReducerlabError(f"--torques: give torques >= 0 (N m), one of them > 0; got {text!r}")
+    return out
+
+
+@khv_app.command("sharing")
+def khv_sharing(
+    design: Annotated[Path, typer.Argument(help="KHV design file (TOML).")],
+    torques: Annotated[
+        str | None,
+        typer.Option(
+            help="Torques on the planet, comma separated (N m); default --loads "
+            "from 0 to --top times the design's load."
+        ),
+    ] = None,
+    loads: Annotated[
+        int | None,
+        typer.Option(help="Torques from 0 to --top times the load (default 6).", min=2, max=41),
+    ] = None,
+    top: Annotated[
+        float | None,
+        typer.Option(
+            help="Largest torque over the design's load (default 1.5).", min=0.01, max=3.0
+        ),
+    ] = None,
+    positions: Annotated[
+        int, typer.Option(help="Mesh positions over one mesh cycle.", min=3, max=400)
+    ] = 24,
+    cell: Annotated[
+        str | None, typer.Option(help="Contact cell, e.g. '0.2 mm' (default: from a pilot).")
+    ] = None,
+    tooth_size: Annotated[
+        str | None, typer.Option(help="Finite-element tooth element size, e.g. '1 mm'.")
+    ] = None,
+    output: Annotated[
+        Path,
+        typer.Option("--output", "-o", help="Output folder (sharing.nc/.json/.txt/.png)."),
+    ] = Path("."),
+    sets: SetOption = None,
+) -> None:
+    """Load sharing of the planet-ring pair against torque (loaded tooth contact
+    analysis, issue 30): tooth pairs in contact, each pair's load share over one mesh
+    cycle, mesh stiffness k(t) and its mean against torque, loaded TE."""
+    from ..analysis.contact_setup import pair_setup
+    from ..analysis.khv_sharing import load_sharing
+    from ..analysis.te_sweep import sweep_estimate
+    from ..budget import format_bytes
+    from ..drives import load_design
+
+    with user_errors():
+        files = output_set(output)
+        if torques is not None and (loads is not None or top is not None):
+            raise ReducerlabError("--torques: not with --loads or --top (give one or the other)")
+        T = None if torques is None else _torque_list(torques)
+        loads = 6 if loads is None else loads
+        top = 1.5 if top is None else top
+        h = quantity_option(cell, "--cell", "length")
+        ts = quantity_option(tooth_size, "--tooth-size", "length")
+        d = load_design(design, sets or ())
+        if d.type != "khv":
+            raise ReducerlabError(f"{design}: type = {d.type!r}: not a KHV design")
+        n_t = loads if T is None else len(T)
+        # told before the work; refused by load_sharing beyond the bounds (after the
+        # clearances, which may refuse the torques first)
+        fe = pair_setup(d).compliance_estimate(ts)
+        work = sweep_estimate(positions, n_t)
+        typer.echo(f"estimate: {fe.what}: {fe.work:.3g} {fe.unit}, about "
+                   f"{format_bytes(fe.memory)}; then {work.work:.3g} {work.unit}")  # fmt: skip
+        with progress_bar() as progress:
+            task = progress.add_task("load sharing", total=None)
+            res = load_sharing(
+                d, torques=T, loads=loads, top=top, positions=positions, cell=h,
+                tooth_size=ts, **position_callbacks(
+                    progress, task, "loaded contact, position {done}/{total} (all torques)"
+                ),
+            )  # fmt: skip
+            progress.update(task, description="writing results")
+            with files:
+                add_result(res, files, "sharing")
+    typer.echo(res.table())
 
 
 def register(app: typer.Typer) -> None:

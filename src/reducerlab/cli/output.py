@@ -174,6 +174,27 @@ def add_with_figure(result: Any, files: OutputSet, stem: str) -> None:
     savefig(result.plot(), files.path(f"{stem}.png"), result.data.attrs)
 
 
+def add_result(result: Any, files: OutputSet, stem: str) -> None:
+    """Add ``STEM.nc``, ``STEM.json`` (:func:`write_json`), ``STEM.txt`` (the table) and
+    ``STEM.png`` (the figure) of a result to an open output set."""
+    result.save(files.path(f"{stem}.nc"))
+    write_json(result, files.path(f"{stem}.json"))
+    files.path(f"{stem}.txt").write_text(result.table() + "\n")
+    savefig(result.figure(), files.path(f"{stem}.png"), result.data.attrs)
+
+
+def position_callbacks(progress: Any, task: Any, label: str) -> dict[str, Callable[..., None]]:
+    """``stage`` and ``progress`` keyword callbacks of a contact analysis that show on
+    the bar ``task``: each stage's text, then ``label`` formatted with ``done`` and
+    ``total`` per position."""
+    return {
+        "stage": lambda text: progress.update(task, description=text),
+        "progress": lambda done, total: progress.update(
+            task, completed=done, total=total, description=label.format(done=done, total=total)
+        ),
+    }
+
+
 def save_with_figure(result: Any, files: OutputSet, stem: str) -> None:
     """Write ``STEM.nc`` and ``STEM.png`` as one output set."""
     with files:

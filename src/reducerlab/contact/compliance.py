@@ -52,6 +52,7 @@ __all__ = [
     "ToothCompliance",
     "bump_interaction",
     "compliance_estimate",
+    "extend_teeth",
     "facet_quadrature",
     "fe_tooth_compliance",
     "fillet_mesh_size",
@@ -145,6 +146,79 @@ class ToothCompliance:
         cols = np.stack([t * L + (iu + a) * nv + (iv + b) for a in (0, 1) for b in (0, 1)], axis=1)
         w = np.stack([wu[:, a] * wv[:, b] for a in (0, 1) for b in (0, 1)], axis=1)
         return cols.astype(np.int64), w
+
+
+#: tooth pairs two pitches apart are coupled through the finite-element model's outer
+#: teeth ``(-1, +1)``; beyond, :func:`extend_teeth` takes no coupling
+COUPLED_PITCHES = 2
+
+
+def extend_teeth(comp: ToothCompliance, teeth: Sequence[int]) -> ToothCompliance:
+    """The compliance of any set of tooth pairs from one of teeth ``-1, 0, 1``, by the
+    gear's cyclic symmetry (issue 30).
+
+    In a whole gear the influence block between teeth ``i`` and ``j`` depends on
+    ``d = j - i`` alone (tooth ``i`` turned onto tooth 0 carries tooth ``j`` onto tooth
+    ``d``): the compliance of any tooth set is block-Toeplitz,
+    ``K_ij = B(j - i)``, ``B(-d) = B(d)^T`` (Maxwell). From the three-tooth model:
+    ``B(0)`` is tooth 0's own block (the middle of the finite-element sector, farthest
+    from its cut faces); ``B(1) = (K_{0,1} + K_{-1,0}) / 2`` (the two neighbour blocks
+    that cyclic symmetry makes equal, the sector's ends make differ slightly);
+    ``B(2) = K_{-1,1}``; ``B(d) = 0`` for ``|d| > COUPLED_PITCHES`` (a tooth's load
+    bends the rim under it and its neighbours; the finite-element rim is held at its
+    bore or outer surface, so the coupling decays over a few pitches and a load two
+    pitches away is already small, ``benchmarks/khv_sharing.py`` measures it against a
+    seven-tooth model). Blocks between teeth the model has (``-1, 0, 1``) stay its own,
+    so a set within them returns ``comp`` unchanged.
+
+    Parameters
+    ----------
+    comp : ToothCompliance
+        With teeth ``(-1, 0, 1)``.
+    teeth : sequence of int
+        The tooth pairs wanted (distinct).
+
+    Returns
+    -------
+    ToothCompliance
+        Teeth ``tuple(sorted(teeth))``; the fillet stress influence is dropped when the
+        set goes beyond ``comp.teeth`` (it has the modelled teeth only).
+
+    Raises
+    ------
+    ReducerlabError
+        ``comp`` without teeth ``-1, 0, 1``, or an empty or repeated tooth set.
+    """
+    if tuple(comp.teeth) != TEETH:
+        raise ReducerlabError(f"compliance: needs teeth {TEETH} to extend; has {comp.teeth}")
+    try:
+        want = [int(k) for k in teeth]
+    except (TypeError, ValueError):
+        raise ReducerlabError(f"teeth: must be integers; got {teeth!r}") from None
+    if not want or len(set(want)) != len(want) or any(isinstance(k, bool) for k in teeth):
+        raise ReducerlabError(f"teeth: must be distinct integers, at least one; got {teeth!r}")
+    want = sorted(want)
+    if set(want) <= set(TEETH):
+        return comp
+    L = len(comp.u_nodes) * len(comp.v_nodes)
+
+    def block(i: int, j: int) -> Array:
+        a, b = TEETH.index(i), TEETH.index(j)
+        return comp.matrix[a * L : (a + 1) * L, b * L : (b + 1) * L]
+
+    toeplitz = {0: block(0, 0), 1: 0.5 * (block(0, 1) + block(-1, 0)), 2: block(-1, 1)}
+    out = np.zeros((len(want) * L, len(want) * L))
+    for a, i in enumerate(want):
+        for b, j in enumerate(want):
+            d = j - i
+            if i in TEETH and j in TEETH:
+                B = block(i, j)
+            elif abs(d) > COUPLED_PITCHES:
+                continue
+            else:
+                B = toeplitz[d] if d >= 0 else toeplitz[-d].T
+            out[a * L : (a + 1) * L, b * L : (b + 1) * L] = B
+    return ToothCompliance(comp.u_nodes, comp.v_nodes, tuple(want), out, comp.dofs, comp.radius)
 
 
 def _linear(nodes: Array, x: Array) -> tuple[NDArray[np.int64], Array]:

@@ -53,15 +53,18 @@ from .spur_pair import (
     fillet_influence,
     held_sector_dofs,
     model_sizes,
+    modelled_teeth,
     spur_tooth_compliance,
 )
 
 __all__ = [
+    "MODELLED_PAIRS",
     "RING_DEDENDUM_CLEARANCE",
     "RING_ROOT_FILLET",
     "InternalFlank",
     "InternalMeshPair",
     "internal_tooth_compliance",
+    "loaded_pairs",
     "tooth_pair_clearances",
 ]
 
@@ -76,6 +79,12 @@ RING_DEDENDUM_CLEARANCE = 0.25
 #: Root fillet radius coefficient of the ring, ``rho_f* = 0.25`` (ISO 53 profile C):
 #: profile A's 0.38 does not fit into the narrow space root of the paper 004 ring.
 RING_ROOT_FILLET = 0.25
+#: tooth pairs ``-2 ... 2`` round pair 0 are modelled in the load sharing (issue 30):
+#: their compliance is the block-Toeplitz extension of teeth -1, 0, 1
+#: (``contact.compliance.extend_teeth``), checked against a seven-tooth sector
+#: (``benchmarks/khv_sharing.py``); a pair farther round (the tips passing, pair +8 of
+#: examples/khv.toml) touches tip edge on tip edge, outside the flank contact model
+MODELLED_PAIRS = 2
 
 
 @dataclass(frozen=True)
@@ -422,6 +431,7 @@ def internal_tooth_compliance(
     direction: int = 1,
     stage: Stage | None = None,
     root_stress: bool = False,
+    teeth: Sequence[int] = TEETH,
 ) -> ToothCompliance:
     """Finite-element bending compliance of teeth ``-1, 0, 1`` of an internal gear.
 
@@ -459,6 +469,10 @@ def internal_tooth_compliance(
         land), side +1 the loaded flank's fillet (its tension side); the same
         factorisation, one backward substitution more, the dense columns counted twice
         in the estimate.
+    teeth : sequence of int
+        The modelled teeth, ``-n ... n`` (default ``-1, 0, 1``), on a sector of ``2 n +
+        3`` teeth: ``-2 ... 2`` on seven checks ``contact.compliance.extend_teeth``
+        (``benchmarks/khv_sharing.py``); without ``root_stress``.
 
     Returns
     -------
@@ -485,28 +499,30 @@ def internal_tooth_compliance(
         raise ReducerlabError(f"material: must be a Material; got {type(material).__name__}")
     if not isinstance(root_stress, bool):
         raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
+    modelled = modelled_teeth(teeth, root_stress)
+    sector = len(modelled) + 2
     n_u, n_v, ts, bs = model_sizes(grid, gear.module, tooth_size, body_size)
     mesh_sizes = MeshSizes(ts, bs)
-    columns = len(TEETH) * n_u * n_v * (2 if root_stress else 1)
+    columns = len(modelled) * n_u * n_v * (2 if root_stress else 1)
     internal_sector_estimate(
-        gear, SECTOR_TEETH, rim, mesh_sizes, dense_columns=columns,
+        gear, sector, rim, mesh_sizes, dense_columns=columns,
         what=f"contact: the tooth compliance of the internal gear (z = {gear.teeth})",
     ).check()  # fmt: skip
     say = stage or (lambda _s: None)
     a = 2.0 * ts  # bump radius: two tooth elements
     iflank = InternalFlank(gear, flank)
     u_nodes, v_nodes = load_nodes(iflank, a, n_u, n_v)
-    say(f"meshing a {SECTOR_TEETH}-tooth internal sector")
-    mesh = mesh_internal_sector(gear, SECTOR_TEETH, rim=rim, sizes=mesh_sizes)
+    say(f"meshing a {sector}-tooth internal sector")
+    mesh = mesh_internal_sector(gear, sector, rim=rim, sizes=mesh_sizes)
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
     P0, N0 = iflank.evaluate(uu.ravel(), vv.ravel())
-    angles = [direction * gear.pitch * k for k in TEETH]
+    angles = [direction * gear.pitch * k for k in modelled]
     fillet = fillet_facets(mesh, flank, direction) if root_stress else None
     out = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
                           angles, a, material, stage=say,
                           name=f"internal gear (z = {gear.teeth})", fillet=fillet)  # fmt: skip
     inf = fillet_influence(gear, out[2], direction) if root_stress else None
-    return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)
+    return ToothCompliance(u_nodes, v_nodes, modelled, out[0], out[1], a, inf)
 
 
 def tooth_pair_clearances(
@@ -515,6 +531,7 @@ def tooth_pair_clearances(
     positions: int = 24,
     points: int = 401,
     v: float = 0.5,
+    rolls: Sequence[float] | None = None,
 ) -> tuple[Array, Array]:
     """Unloaded drive-flank clearances of tooth pairs ``teeth`` over one mesh cycle
     (issue 30): how far the ring must turn, from the conjugate position of pair 0,
@@ -531,7 +548,8 @@ def tooth_pair_clearances(
     ``r_b2 psi`` on the ring's base circle (m; the transmission-error unit of the
     contact analysis). ``inf`` where no point of the pair faces the other's flank.
     Rigid teeth, the pair's flank modifications included; the coast flanks (in contact
-    at zero backlash) are not looked at.
+    at zero backlash) are not looked at. ``rolls`` (m from ``T1``, pair 0's contact)
+    gives the positions instead of ``positions``.
 
     Returns
     -------
@@ -552,7 +570,12 @@ def tooth_pair_clearances(
             f"teeth: give tooth pairs within +-{pair.planet.teeth}; got {list(teeth)!r}"
         )
     s_a, s_e = pair.path_of_contact
-    rolls = s_a + pair.base_pitch * np.arange(positions) / positions
+    if rolls is None:
+        rolls = s_a + pair.base_pitch * np.arange(positions) / positions
+    else:
+        rolls = np.atleast_1d(np.asarray(rolls, float))
+        if rolls.ndim != 1 or not rolls.size or not np.all(np.isfinite(rolls)):
+            raise ReducerlabError("rolls: must be a 1-D array of finite distances (m)")
     u = np.linspace(0.0, 1.0, points)
     vv = np.full_like(u, float(v))
     mid = separations(pair, pair.position_of(0.5 * (s_a + s_e)), 0, [0.5], [float(v)])
@@ -564,7 +587,7 @@ def tooth_pair_clearances(
         ok = np.isfinite(s.distance) & (lam > 0)
         return float(np.min(s.distance[ok] / lam[ok])) if ok.any() else math.inf
 
-    out = np.full((positions, len(ks)), np.inf)
+    out = np.full((len(rolls), len(ks)), np.inf)
     for i, r in enumerate(rolls):
         phi = pair.position_of(float(r))
         for j, k in enumerate(ks):
@@ -580,6 +603,60 @@ def tooth_pair_clearances(
                     break
             out[i, j] = psi * pair.ring.base_radius
     return rolls, out
+
+
+def loaded_pairs(
+    teeth: Sequence[int],
+    clearance: Array,
+    approach: float,
+    margin: float = 1.25,
+    modelled: int = MODELLED_PAIRS,
+) -> tuple[int, ...]:
+    """The tooth pairs a load sharing analysis must examine (issue 30): pair 0 and every
+    pair whose least unloaded clearance over the mesh cycle (:func:`tooth_pair_clearances`,
+    ``r_b2 psi``, m) lies below ``margin`` times the loaded approach ``approach`` (the
+    largest loaded transmission error ``r_b2 (psi_0 + psi)`` of the largest torque, m).
+
+    Rigid teeth carry load on pair ``k`` only once the ring has turned through its
+    clearance; the elastic teeth add their bending under the neighbours' loads, a
+    fraction of the approach (``margin`` covers it, as ``contact.ltca.MARGIN`` does for
+    the contact grid).
+
+    Raises
+    ------
+    ReducerlabError
+        A pair that would close beyond ``+-modelled`` (named with its clearance and the
+        approach), which the analysis cannot model: never dropped silently.
+    """
+    c = np.asarray(clearance, float)
+    ks = [int(k) for k in teeth]
+    if c.ndim != 2 or c.shape[1] != len(ks):
+        raise ReducerlabError(f"clearance: needs one column per tooth pair; got {c.shape}")
+    if not (math.isfinite(approach) and approach >= 0):
+        raise ReducerlabError(f"approach: must be a length >= 0 (m); got {approach!r}")
+    if not (math.isfinite(margin) and margin >= 1):
+        raise ReducerlabError(f"margin: must be a factor >= 1; got {margin!r}")
+    least = np.min(np.where(np.isfinite(c), c, np.inf), axis=0)
+    chosen = {0} | {k for k, m in zip(ks, least, strict=True) if m < margin * approach}
+    far = sorted(k for k in chosen if abs(k) > modelled)
+    if far:
+        k = far[0]
+        c_k = float(least[ks.index(k)])
+        if c_k <= 0:
+            raise ReducerlabError(
+                f"design: tooth pair {k:+d} overlaps the ring's drive flank by "
+                f"{-c_k * 1e6:.3g} um unloaded (rigid teeth: an interference of the tips "
+                f"passing), beyond the pairs -{modelled} ... {modelled} the load sharing "
+                "models; change the shift coefficients or the tooth numbers"
+            )
+        raise ReducerlabError(
+            f"torques: at the largest torque the teeth approach by {approach * 1e6:.3g} um; "
+            f"tooth pair {k:+d} is only {c_k * 1e6:.3g} um apart (within the "
+            f"margin x{margin:g}) and would close, but the load sharing models pairs "
+            f"-{modelled} ... {modelled} only (beyond: tip edge on tip edge, outside the "
+            "flank contact model); lower the largest torque"
+        )
+    return tuple(sorted(chosen))
 
 
 class _RingTurned:

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -44,6 +44,7 @@ __all__ = [
     "fillet_influence",
     "held_sector_dofs",
     "model_sizes",
+    "modelled_teeth",
     "spur_tooth_compliance",
 ]
 
@@ -306,6 +307,28 @@ def _held_dofs(basis, mesh) -> NDArray[np.int64]:
     return held_sector_dofs(basis, mesh, mesh.inner_radius, "bore")
 
 
+def modelled_teeth(teeth: Sequence[int], root_stress: bool) -> tuple[int, ...]:
+    """The teeth of a cylindrical gear's tooth model, ``-n ... n`` with ``n`` in 1..3
+    (on a sector of ``2 n + 3`` teeth); other than ``-1, 0, 1`` without ``root_stress``
+    (``contact.compliance.extend_teeth`` is checked on ``-2 ... 2``, issue 30).
+
+    Raises
+    ------
+    ReducerlabError
+        Naming ``teeth`` or ``root_stress`` and the rule.
+    """
+    try:
+        modelled = tuple(int(k) for k in teeth)
+    except (TypeError, ValueError):
+        raise ReducerlabError(f"teeth: must be integers -n ... n; got {teeth!r}") from None
+    n_side = max(modelled, default=0)
+    if modelled != tuple(range(-n_side, n_side + 1)) or not 1 <= n_side <= 3:
+        raise ReducerlabError(f"teeth: must be -n ... n with n in 1..3; got {teeth!r}")
+    if root_stress and modelled != TEETH:
+        raise ReducerlabError(f"root_stress: with teeth {TEETH} only; got {teeth!r}")
+    return modelled
+
+
 def model_sizes(
     grid: tuple[int, int], module: float, tooth_size: float | None, body_size: float | None
 ) -> tuple[int, int, float, float]:
@@ -352,6 +375,7 @@ def spur_tooth_compliance(
     direction: int = 1,
     stage: Stage | None = None,
     root_stress: bool = False,
+    teeth: Sequence[int] = TEETH,
 ) -> ToothCompliance:
     """Finite-element bending compliance of teeth ``-1, 0, 1`` of a spur gear.
 
@@ -389,6 +413,10 @@ def spur_tooth_compliance(
         Also the stress influence of every load bump at the root-fillet nodes of the
         three teeth (``contact.rootstress``; the same factorisation, one backward
         substitution more; about ``24 dofs x loads`` bytes more at the peak).
+    teeth : sequence of int
+        The modelled teeth, ``-n ... n`` (default ``-1, 0, 1``), on a sector of ``2 n +
+        3`` teeth (:func:`modelled_teeth`); ``-2 ... 2`` on seven checks
+        ``contact.compliance.extend_teeth`` (``benchmarks/khv_sharing.py``).
 
     Returns
     -------
@@ -414,23 +442,25 @@ def spur_tooth_compliance(
         raise ReducerlabError(f"material: must be a Material; got {type(material).__name__}")
     if not isinstance(root_stress, bool):
         raise ReducerlabError(f"root_stress: must be True or False; got {root_stress!r}")
-    if gear.teeth <= SECTOR_TEETH:
+    modelled = modelled_teeth(teeth, root_stress)
+    sector = len(modelled) + 2
+    if gear.teeth <= sector:
         raise ReducerlabError(
-            f"gear: the compliance model needs more than {SECTOR_TEETH} teeth; got {gear.teeth}"
+            f"gear: the compliance model needs more than {sector} teeth; got {gear.teeth}"
         )
     n_u, n_v, ts, bs = model_sizes(grid, gear.module, tooth_size, body_size)
     say = stage or (lambda _s: None)
     a = 2.0 * ts  # bump radius: two tooth elements
     sflank = SpurFlank(gear, flank)
     u_nodes, v_nodes = load_nodes(sflank, a, n_u, n_v)
-    say(f"meshing a {SECTOR_TEETH}-tooth sector")
-    mesh = mesh_spur_sector(gear, SECTOR_TEETH, rim=rim, sizes=MeshSizes(ts, bs))
+    say(f"meshing a {sector}-tooth sector")
+    mesh = mesh_spur_sector(gear, sector, rim=rim, sizes=MeshSizes(ts, bs))
     uu, vv = np.meshgrid(u_nodes, v_nodes, indexing="ij")
     P0, N0 = sflank.evaluate(uu.ravel(), vv.ravel())
-    angles = [direction * gear.pitch * k for k in TEETH]
+    angles = [direction * gear.pitch * k for k in modelled]
     fillet = fillet_facets(mesh, flank, direction) if root_stress else None
     out = flank_influence(mesh.skfem(), lambda basis: _held_dofs(basis, mesh), P0, N0,
                           angles, a, material, stage=say, name=f"spur gear (z = {gear.teeth})",
                           fillet=fillet)  # fmt: skip
     inf = fillet_influence(gear, out[2], direction) if root_stress else None
-    return ToothCompliance(u_nodes, v_nodes, TEETH, out[0], out[1], a, inf)
+    return ToothCompliance(u_nodes, v_nodes, modelled, out[0], out[1], a, inf)

@@ -12,7 +12,13 @@ from ..geometry import InternalGearPair
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["closed_graph", "plot_clearances", "plot_closed_graph", "plot_mesh_stiffness"]
+__all__ = [
+    "closed_graph",
+    "plot_clearances",
+    "plot_closed_graph",
+    "plot_load_sharing",
+    "plot_mesh_stiffness",
+]
 
 LIMITS = (
     "contact ratio",
@@ -134,4 +140,65 @@ def plot_clearances(rolls: np.ndarray, teeth: list[int], clearance: np.ndarray) 
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7, ncol=2)
     ax.set_title("unloaded drive-flank clearances of the tooth pairs over one mesh cycle")
+    return fig
+
+
+def plot_load_sharing(result, shown: int = 3) -> Figure:
+    """The KHV pair's load sharing (``analysis.khv_sharing.SharingResult``): each tooth
+    pair's share against the mesh position at ``shown`` torques (the largest and
+    evenly below it), the loaded TE at those torques, the tooth pairs in contact
+    (least, mean, most over the cycle) and the mesh stiffness per face width (mean of
+    the secant ``k(t)``, its range, and the mean tangent stiffness) against torque."""
+    from matplotlib.figure import Figure
+
+    ds = result.data
+    T = result.torques
+    b = float(ds.attrs["face_width_m"])
+    pitch = float(ds["angle"].values[1] - ds["angle"].values[0]) * ds.sizes["position"]
+    x = (ds["angle"].values - ds["angle"].values[0]) / pitch
+    loaded = np.flatnonzero(T > 0)
+    pick = loaded[np.unique(np.linspace(0, loaded.size - 1, min(shown, loaded.size)).round()
+                            .astype(int))]  # fmt: skip
+    fig = Figure(figsize=(11, 7.5), layout="constrained")
+    (a1, a2), (a3, a4) = fig.subplots(2, 2)
+    styles = ["-", "--", ":", "-."]
+    for n, i in enumerate(pick):
+        for j, k in enumerate(result.pairs):
+            y = ds["share"].values[i, :, j]
+            if not np.any(y > 0):
+                continue
+            a1.plot(x, y, styles[n % 4], color=f"C{j}", marker="o", ms=2,
+                    label=f"pair {k:+d}, {T[i]:.3g} N m")  # fmt: skip
+        a2.plot(x, ds["te"].values[i] * 1e6, styles[n % 4], color="k", label=f"{T[i]:.3g} N m")
+    a1.set_xlabel("mesh position (mesh cycles; pair 0 mid-path at 0.5)")
+    a1.set_ylabel("share of the load")
+    a1.set_title("load share of each tooth pair", fontsize=9)
+    a1.legend(fontsize=6, ncol=2)
+    a2.set_xlabel("mesh position (mesh cycles)")
+    a2.set_ylabel("loaded TE r_b2 psi (um)")
+    a2.set_title("loaded transmission error", fontsize=9)
+    a2.legend(fontsize=7)
+    n = ds["pairs"].values[loaded]
+    a3.plot(T[loaded], n.min(axis=1), "v-", label="least")
+    a3.plot(T[loaded], n.mean(axis=1), "o-", label="mean over the cycle")
+    a3.plot(T[loaded], n.max(axis=1), "^-", label="most")
+    a3.set_xlabel("torque on the planet (N m)")
+    a3.set_ylabel("tooth pairs in contact")
+    a3.legend(fontsize=7)
+    a3.set_title("tooth pairs in contact against torque", fontsize=9)
+    scale = 1e-9 / b  # N/m -> N/(mm um) per face width
+    k = ds["stiffness"].values[loaded] * scale
+    a4.fill_between(T[loaded], np.nanmin(k, axis=1), np.nanmax(k, axis=1), color="C0",
+                    alpha=0.2, label="k(t) range")  # fmt: skip
+    a4.plot(T[loaded], ds["mean_stiffness"].values[loaded] * scale, "o-", color="C0",
+            label="mean secant k")  # fmt: skip
+    a4.plot(T[loaded], ds["mean_tangent_stiffness"].values[loaded] * scale, "s--",
+            color="C1", label="mean tangent dT/dpsi")  # fmt: skip
+    a4.set_xlabel("torque on the planet (N m)")
+    a4.set_ylabel("mesh stiffness per face width (N/(mm um))")
+    a4.legend(fontsize=7)
+    a4.set_title("mesh stiffness k = T_ring / (r_b2^2 psi) against torque", fontsize=9)
+    for a in (a1, a2, a3, a4):
+        a.grid(alpha=0.3)
+    fig.suptitle(f"KHV pair load sharing, pairs {ds.attrs['pairs_examined']}", fontsize=10)
     return fig
