@@ -5,7 +5,9 @@ contact at the operating torque (``contact_analysis``: the planet's 50 N m of
 ``examples/khv.toml``) gives k(t) over a mesh cycle; the design takes its mean and
 mesh harmonics (``[mesh] stiffness``, as ``reducerlab run`` does for ``stiffness =
 "contact"``) and the same 4-DOF model (paper 004 Eq. 1-2) is run on it and on the
-ISO 6336 law (Eq. 7-9). Printed: the mean stiffness and its first three harmonics,
+ISO 6336 law (Eq. 7-9), and on the contact's power law (``[mesh] exponent =
+"contact"``: the load exponent from the contact at 0.9 of the torque, the tangent
+``p k(t)``; issue 30). Printed: the mean stiffness and its first three harmonics,
 the natural frequencies of both models (at the example's x1), and a coarse regime map
 (input speed x x1, one row per x1: the contact's k(t) changes with x1, so each row
 is its own model), ascending sweep, for both. The findings are in docs/contact.md
@@ -49,32 +51,38 @@ def main(
     periods: int = 600,
     contact: dict | None = None,
 ) -> dict[str, list]:
-    """Print the comparison; return ``{"iso": [...], "contact": [...]}``, per x1 the
-    model design and its regime-map row. ``contact``: ``contact_analysis``'s keyword
-    arguments (default :data:`CONTACT`)."""
+    """Print the comparison; return ``{"iso": [...], "contact": [...], "power": [...]}``
+    (the ISO law, the contact's linear k(t), the contact's power law with its load
+    exponent), per x1 the model design and its regime-map row. ``contact``:
+    ``contact_analysis``'s keyword arguments (default :data:`CONTACT`)."""
     base = load_design(example_dir() / "khv.toml")
     x = parse_values("input_speed", f"lin:100 rpm:2000 rpm:{speeds}")
     print(f"{'x1':>6} {'model':<8} {'k_m (N/m)':>11} {'k_1':>10} {'k_2':>10} {'k_3':>10}")
-    rows: dict[str, list] = {"iso": [], "contact": []}
-    designs: dict[str, list] = {"iso": [], "contact": []}
+    rows: dict[str, list] = {"iso": [], "contact": [], "power": []}
+    designs: dict[str, list] = {"iso": [], "contact": [], "power": []}
     for x1 in shifts:
         iso = base.with_shift(x1)
         t0 = time.perf_counter()
         torque = iso.operating_point().output_torque
         res = contact_analysis(iso, torque=torque, **(CONTACT if contact is None else contact))
         cont = design_with_contact(iso.with_values({"mesh.stiffness": "contact"}), [res])
+        # the contact's power law: its load exponent, the tangent p k(t) (issue 30)
+        power = design_with_contact(
+            iso.with_values({"mesh.stiffness": "contact", "mesh.exponent": "contact"}), [res]
+        )
         km, amps = iso_harmonics(iso)
         print(f"{x1:6.3f} {'iso':<8} {km:11.4g} " + " ".join(f"{a:10.4g}" for a in amps))
         pairs = res.data["pairs"].values
         print(f"{x1:6.3f} {'contact':<8} {res.mean_stiffness:11.4g} "
               + " ".join(f"{a:10.4g}" for a in res.harmonics()[0][:3])
               + f"   (contact {time.perf_counter() - t0:.0f} s, "
-              f"pairs {pairs.min()}-{pairs.max()})")  # fmt: skip
+              f"pairs {pairs.min()}-{pairs.max()}, load exponent "
+              f"{power.mesh.exponent:.3f})")  # fmt: skip
         if abs(x1 - base.gears.x1) < 1e-9:
-            for name, d in (("iso", iso), ("contact", cont)):
+            for name, d in (("iso", iso), ("contact", cont), ("power", power)):
                 f = [v for v in modal(build_model(d)).frequencies if v > 1e-6]
                 print(f"       natural frequencies, {name}: " + ", ".join(f"{v:.1f}" for v in f))
-        for name, d in (("iso", iso), ("contact", cont)):
+        for name, d in (("iso", iso), ("contact", cont), ("power", power)):
             y = Axis("gears.x1", (x1,))
             keep = min(64, periods // 2)
             rows[name].append(regime_map(d, x, y, periods=periods, keep=keep, continuation="up"))

@@ -248,6 +248,10 @@ def test_the_comparison_script_models_the_runs_contact(ran, capsys):
     assert design.mesh.harmonics == pytest.approx(res.model_design.mesh.harmonics, rel=1e-9)
     assert out["iso"][0][0].mesh.stiffness == "iso"
     assert row.labels().shape == (1, 1, 2)
+    ((power, _),) = out["power"]  # the contact's power law: exponent, tangent p k_m
+    p = power.mesh.exponent
+    assert 1.0 < p < 1.3
+    assert power.mesh.stiffness == pytest.approx(p * design.mesh.stiffness, rel=1e-12)
     text = capsys.readouterr().out
     assert "natural frequencies, contact" in text and "regime map, contact k(t)" in text
 
