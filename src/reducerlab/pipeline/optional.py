@@ -5,7 +5,8 @@ internal pair's load sharing against torque (issue 30).
 The ``sharing`` stage runs :func:`~reducerlab.analysis.khv_sharing.load_sharing` on the
 compliance stage's tooth models of the planet and the ring (no second finite-element
 build); its key is the contact's design fields (a KHV drive's ``[gears]`` and
-``[material]``) without the load, the planet's operating torque, the torques (loads,
+``[material]``; the load only where a crowned layout is sized by it, as the
+``te_sweep`` stage's), the planet's operating torque, the torques (loads,
 top), the positions, the cell and the tooth size. A ``khv`` design asks for it whatever
 its ``[mesh] stiffness``: with ``"iso"`` the run computes the compliance stage for it
 and no contact (the sharing is a contact analysis of its own; the model keeps the ISO
