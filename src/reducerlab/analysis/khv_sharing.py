@@ -203,6 +203,7 @@ def load_sharing(
     compliance: tuple[Any, Any] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
+    partial: Callable[[SharingResult], None] | None = None,
 ) -> SharingResult:
     """Tooth pairs in contact, load shares, mesh stiffness and loaded TE of a KHV
     design's planet-ring pair over one mesh cycle against torque (module docstring).
@@ -221,9 +222,14 @@ def load_sharing(
         Finite-element tooth elements (m).
     compliance : (ToothCompliance, ToothCompliance), optional
         The planet's and the ring's tooth compliances (teeth -1, 0, 1) from an earlier
-        run of the same pair.
+        run of the same pair (``PairSetup.compliances``; ``reducerlab run``'s
+        compliance stage), unmodified teeth: no finite-element model is built.
     stage, progress : callable, optional
         ``stage(text)`` per step; ``progress(done, total)`` per position.
+    partial : callable, optional
+        ``partial(result)`` with the positions done so far (the others NaN), after each
+        chunk of positions (``te_sweep``'s ``partial``: about an eighth of them; a
+        second run on more tooth pairs starts again from none).
 
     Returns
     -------
@@ -232,7 +238,8 @@ def load_sharing(
     Raises
     ------
     ReducerlabError
-        Not a ``khv`` design, bad torques or positions (named), or a tooth pair beyond
+        Not a ``khv`` design, bad torques or positions (named), a ``compliance`` that is
+        not a pair of tooth compliances, or a tooth pair beyond
         ``-2 ... 2`` that the largest torque would close
         (``contact.internal_pair.loaded_pairs``).
     """
@@ -249,6 +256,8 @@ def load_sharing(
         raise ReducerlabError(f"positions: must be an integer >= 3; got {positions!r}")
     say = stage or (lambda _s: None)
     reference, T = torque_list(design, 1, loads, top, torques, power, torque)
+    if compliance is not None:
+        _check_compliance(compliance)
     setup = pair_setup(design)
     mp = setup.mesh_pair
     phis = setup.start + setup.pitch * np.arange(positions) / positions
@@ -270,10 +279,15 @@ def load_sharing(
         ) -> None:
             out[i, j] = np.array([run.force[run.tooth == k].sum() for k in ks])
 
+        def so_far(
+            res: Any, ks: tuple[int, ...] = teeth, out: dict = forces, sink: Any = partial
+        ) -> None:  # the positions done so far: their forces are all in ``out``
+            sink(_result(res, mp, ks, dict(out), scan, clear, reference))
+
         res = te_sweep(design, torques=T, positions=positions, cell=cell,
                        tooth_size=tooth_size, compliance=compliance, teeth=teeth,
                        observe=observe, stage=stage, progress=progress,
-                       harmonics=1)  # fmt: skip
+                       harmonics=1, partial=None if partial is None else so_far)  # fmt: skip
         te_max = float(np.nanmax(res.data["te"].values[-1]))
         need = loaded_pairs(scan, clear, te_max)
         if set(need) <= set(teeth):
@@ -282,6 +296,28 @@ def load_sharing(
         teeth = tuple(sorted(set(teeth) | set(need)))
         cell = float(res.data.attrs["cell_m"])
     return _result(res, mp, teeth, forces, scan, clear, reference)
+
+
+def _check_compliance(compliance: Any) -> None:
+    """Refuse a ``compliance`` other than two tooth compliances (planet, ring) of the
+    modelled teeth -1, 0, 1."""
+    from ..contact.compliance import ToothCompliance
+
+    ok = (
+        isinstance(compliance, tuple | list)
+        and len(compliance) == 2
+        and all(isinstance(c, ToothCompliance) for c in compliance)
+    )
+    if not ok:
+        raise ReducerlabError(
+            "compliance: must be the planet's and the ring's ToothCompliance (a pair, "
+            f"as PairSetup.compliances gives them); got {type(compliance).__name__}"
+        )
+    for name, c in zip(("planet", "ring"), compliance, strict=True):
+        if not {-1, 0, 1} <= set(c.teeth):
+            raise ReducerlabError(
+                f"compliance: the {name}'s must model teeth -1, 0, 1; it models {list(c.teeth)}"
+            )
 
 
 def _result(res, mp, teeth, forces, scan, clear, reference) -> SharingResult:

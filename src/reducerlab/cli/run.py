@@ -95,6 +95,18 @@ def run_cmd(
             "positions: several contacts' time).",
         ),
     ] = False,
+    sharing: Annotated[
+        int | None,
+        typer.Option(
+            "--sharing",
+            min=2,
+            max=41,
+            help="Also a KHV drive's load sharing at N torques from 0 to 1.5x the "
+            "planet's operating torque: tooth pairs in contact, their shares, k against "
+            "torque (sharing-pair1.nc/.txt; on the run's tooth models, built for it "
+            "under the ISO stiffness). Other drives refuse it.",
+        ),
+    ] = None,
     pressure_limit: Annotated[
         str, typer.Option(help="--layout: largest contact pressure, e.g. '1500 MPa'.")
     ] = "1500 MPa",
@@ -103,10 +115,10 @@ def run_cmd(
 ) -> None:
     """The whole chain of a design at its operating point: torque flow, loaded contact per
     pair (with the FE tooth-root stress), optionally each pair's loaded-TE torque sweep
-    and flank modification layout, k(t) in the model, modes and Campbell diagram,
-    nonlinear response under load, gear-body modes, verdict and report. Each stage is
-    cached by what it depends on: a second run reads it. Exit 1 when the verdict finds a
-    risk."""
+    and flank modification layout (a KHV drive's load sharing), k(t) in the model, modes
+    and Campbell diagram, nonlinear response under load, gear-body modes, verdict and
+    report. Each stage is cached by what it depends on: a second run reads it. Exit 1
+    when the verdict finds a risk."""
     from ..io import prepare_output_dir
     from ..pipeline import ContactSettings, LayoutSettings, run
     from ..pipeline.store import Store
@@ -148,6 +160,7 @@ def run_cmd(
                 },
                 te_sweep=te_sweep,
                 layout=lay,
+                sharing=sharing,
                 scheduler=client,
                 progress=show,
             )

@@ -5,6 +5,7 @@ point through every link the drive supports, caching each stage by what it depen
 This floor sits between the command line and the report: it calls the analyses and
 the report, and only the command line imports it."""
 
+from .optional import SharingSettings
 from .run import RunResult, run, run_plan
 from .stages import ContactSettings, LayoutSettings, Stage, SweepSettings
 from .store import Store
@@ -13,6 +14,7 @@ __all__ = [
     "ContactSettings",
     "LayoutSettings",
     "RunResult",
+    "SharingSettings",
     "Stage",
     "Store",
     "SweepSettings",

@@ -4,8 +4,8 @@ drive supports, to one verdict and one report (issue 27).
 The chain: the torque flow (the operating point's load to every mesh, by virtual work
 through the drive's kinematics) -> the loaded tooth contact of each gear pair at its
 own torque, with the FE tooth-root stress (designs with tooth surfaces) -> optionally
-the pair's loaded-TE torque sweep and flank modification layout -> the contact's k(t)
-in the lumped model ->
+the pair's loaded-TE torque sweep and flank modification layout (a KHV drive's load
+sharing against torque) -> the contact's k(t) in the lumped model ->
 modes, complex modes and Campbell diagram -> the nonlinear response at the operating
 point under load, every mesh line -> the gear bodies' FE modes -> the verdict (resonance,
 nonlinear response, bodies, consistency of the models) -> one report with every
@@ -27,6 +27,14 @@ from ..design import Design
 from ..errors import ReducerlabError
 from ..threads import with_compute_threads
 from .consistency import body_consistency, stiffness_consistency
+from .optional import (
+    SHARING_STAGE,
+    SharingSettings,
+    check_optional,
+    optional_settings,
+    partial_writer,
+    sharing_stage,
+)
 from .stages import (
     ContactSettings,
     LayoutSettings,
@@ -57,6 +65,8 @@ WEIGHTS = {
     # the sweep about a contact's time, the default layout about three)
     "te_sweep": 12.0,
     "layout": 38.0,
+    # the KHV load sharing: the unloaded clearances of every tooth pair, then a sweep
+    "sharing": 15.0,
     "body": 32.0,
     "response": 60.0,
     "dynamics": 15.0,
@@ -96,6 +106,9 @@ class RunResult:
     te_sweeps, layouts : dict
         Pair -> TESweepResult; pair -> LayoutResult (the optional stages; empty when
         not asked for).
+    sharing : SharingResult or None
+        A KHV drive's load sharing against torque (the optional stage; None when not
+        asked for).
     """
 
     design: Design
@@ -112,6 +125,7 @@ class RunResult:
     seconds: float = 0.0
     te_sweeps: dict[int, Any] = field(default_factory=dict)
     layouts: dict[int, Any] = field(default_factory=dict)
+    sharing: Any = None
 
     @property
     def ok(self) -> bool:
@@ -130,10 +144,16 @@ class RunResult:
 
 
 def run_plan(
-    design: Design, bodies: bool = True, te_sweep: bool = False, layout: bool = False
+    design: Design,
+    bodies: bool = True,
+    te_sweep: bool = False,
+    layout: bool = False,
+    sharing: bool = False,
 ) -> list[tuple[str, str]]:
     """``(stage kind, name)`` of every stage a run of ``design`` goes through, in order
-    (``te_sweep``, ``layout``: with those optional stages of each pair)."""
+    (``te_sweep``, ``layout``: with those optional stages of each pair; ``sharing``:
+    with a KHV drive's load sharing, after its pair's compliance, computed for it when
+    the design asks for no contact)."""
     from ..drives import has_model
 
     plan: list[tuple[str, str]] = []
@@ -145,6 +165,10 @@ def run_plan(
             plan.append(("te_sweep", f"te sweep pair {p}"))
         if layout:
             plan.append(("layout", f"layout pair {p}"))
+    if sharing and design.type == "khv":
+        if 1 not in pairs:
+            plan += [("compliance", name) for name in compliance_names(design, 1)]
+        plan.append(("sharing", SHARING_STAGE))
     if has_model(design):
         plan.append(("dynamics", "modes and Campbell diagram"))
         plan += [("response", f"response line {j + 1}") for j in range(_lines(design))]
@@ -221,6 +245,7 @@ def run(
     response: dict[str, Any] | None = None,
     te_sweep: int | SweepSettings | None = None,
     layout: bool | LayoutSettings = False,
+    sharing: int | SharingSettings | None = None,
     scheduler: Any = None,
     progress: Progress | None = None,
     write_report: bool = True,
@@ -262,6 +287,13 @@ def run(
         operating torque (true: the default search); false (default): none. Written as
         ``layout-pairN.nc`` and ``.txt``; the candidates so far as
         ``layout-pairN.partial.txt`` while it runs.
+    sharing : int or SharingSettings, optional
+        A KHV design's load sharing against torque (``analysis.khv_sharing``, its
+        internal pair) at that many torques from 0 to 1.5 times the planet's operating
+        torque (an int, 2..41), or with its settings; None (default): none. On the
+        compliance stage's tooth models (computed for it under ``stiffness = "iso"``).
+        Written as ``sharing-pair1.nc`` and ``.txt``; the positions so far as
+        ``sharing-pair1.partial.txt`` while it runs. Another drive type is refused.
     scheduler : str or dask.distributed.Client, optional
         Run the independent finite-element work (tooth compliance, gear bodies) on a
         Dask cluster; here, one after the other, without.
@@ -281,7 +313,7 @@ def run(
     from ..drives import has_model, load_design
 
     t0 = time.perf_counter()
-    sweep, lay = _optional_stages(te_sweep, layout)
+    sweep, lay, share = optional_settings(te_sweep, layout, sharing)
     if contact is not None and not isinstance(contact, ContactSettings):
         raise ReducerlabError(f"contact: must be a ContactSettings; got {contact!r}")
     design = target if isinstance(target, Design) else load_design(target, overrides)
@@ -297,8 +329,9 @@ def run(
         store = Store(tempfile.mkdtemp(prefix="reducerlab-run-"))
     flow = torque_flow(design)
     pairs = _pairs(design)
-    _check_optional(design, pairs, settings, sweep, lay)
-    plan = run_plan(design, bodies, sweep is not None, lay is not None)
+    check_optional(design, pairs, settings, sweep, lay, share)
+    share_torque = None if share is None else _pair_torque(flow, 1)  # no load: refused now
+    plan = run_plan(design, bodies, sweep is not None, lay is not None, share is not None)
     track = _Tracker(plan, progress)
     stages: list[Stage] = []
 
@@ -326,16 +359,18 @@ def run(
         contacts: dict[int, Any] = {}
         sweeps: dict[int, Any] = {}
         layouts: dict[int, Any] = {}
+        comps: dict[int, Any] = {}
         for p in pairs:
             torque = _pair_torque(flow, p)
             comp, sts = compliance_stage(store, design, p, settings, track.report, submit)
+            comps[p] = comp
             for st in sts:
                 record(st)
             res, st = contact_stage(store, design, p, torque, settings, comp, track.report)
             record(st)
             contacts[p] = res
             if sweep is not None:
-                partial = _partial_writer(out_dir, f"te_sweep-pair{p}.partial.txt")
+                partial = partial_writer(out_dir, f"te_sweep-pair{p}.partial.txt")
                 res, st = te_sweep_stage(store, design, p, torque, settings, sweep, comp,
                                          track.report, partial)  # fmt: skip
                 record(st)
@@ -343,13 +378,26 @@ def run(
                 if out_dir is not None:
                     (out_dir / f"te_sweep-pair{p}.partial.txt").unlink(missing_ok=True)
             if lay is not None:
-                partial = _partial_writer(out_dir, f"layout-pair{p}.partial.txt")
+                partial = partial_writer(out_dir, f"layout-pair{p}.partial.txt")
                 res, st = layout_stage(store, design, p, torque, settings, lay, comp,
                                        track.report, partial)  # fmt: skip
                 record(st)
                 layouts[p] = res
                 if out_dir is not None:
                     (out_dir / f"layout-pair{p}.partial.txt").unlink(missing_ok=True)
+        shared = None
+        if share is not None:  # a KHV drive: its pair's tooth models, computed if not yet
+            if 1 not in comps:
+                comps[1], sts = compliance_stage(store, design, 1, settings, track.report,
+                                                 submit)  # fmt: skip
+                for st in sts:
+                    record(st)
+            partial = partial_writer(out_dir, "sharing-pair1.partial.txt")
+            shared, st = sharing_stage(store, design, share_torque, settings, share, comps[1],
+                                       track.report, partial)  # fmt: skip
+            record(st)
+            if out_dir is not None:
+                (out_dir / "sharing-pair1.partial.txt").unlink(missing_ok=True)
         model_design = design_with_contact(design, contacts.values())
         responses: list[Any] = []
         if has_model(model_design):
@@ -381,7 +429,7 @@ def run(
         store.put("verdict", verdict_key, evidence, extra=verdict)
     result = RunResult(
         design, model_design, flow, contacts, body_results, responses, verdict, stages,
-        te_sweeps=sweeps, layouts=layouts,
+        te_sweeps=sweeps, layouts=layouts, sharing=shared,
     )  # fmt: skip
     if out_dir is not None:
         body_keys = [st.key for st in stages if st.name.startswith("body modes")]
@@ -448,63 +496,6 @@ def _verdict(
     return verdict(design, responses=responses, components=components, extra_reasons=reasons)
 
 
-def _optional_stages(
-    te_sweep: Any, layout: Any
-) -> tuple[SweepSettings | None, LayoutSettings | None]:
-    """The optional stages' settings from ``run``'s arguments, checked."""
-    if te_sweep is None or isinstance(te_sweep, SweepSettings):
-        sweep = te_sweep
-    elif isinstance(te_sweep, int) and not isinstance(te_sweep, bool):
-        sweep = SweepSettings(loads=te_sweep)  # checks 2..41
-    else:
-        raise ReducerlabError(
-            f"te_sweep: must be a number of torques (2..41) or a SweepSettings; got {te_sweep!r}"
-        )
-    if isinstance(layout, LayoutSettings):
-        lay = layout
-    elif isinstance(layout, bool):
-        lay = LayoutSettings() if layout else None
-    else:
-        raise ReducerlabError(f"layout: must be true, false or a LayoutSettings; got {layout!r}")
-    return sweep, lay
-
-
-def _check_optional(
-    design: Design,
-    pairs: list[int],
-    settings: ContactSettings,
-    sweep: SweepSettings | None,
-    lay: LayoutSettings | None,
-) -> None:
-    """Refuse the optional stages before any work: a design without gear pairs in
-    contact, or a sweep or layout beyond its work bound (their estimates)."""
-    for name, asked in (("te_sweep", sweep), ("layout", lay)):
-        if asked is not None and not pairs:
-            raise ReducerlabError(
-                f"{name}: needs a design with tooth surfaces (a gear pair's loaded "
-                f"contact); this {design.type} design has none"
-            )
-    if sweep is not None:
-        sweep.estimate(settings).check()
-    if lay is not None:
-        lay.estimate().check()
-
-
-def _partial_writer(out_dir: Path | None, name: str) -> Callable[[Any], None] | None:
-    """``partial(result)`` writing a result's table so far to ``out_dir/name`` (a
-    temporary name moved into place); None without an output folder."""
-    if out_dir is None:
-        return None
-
-    def write(res: Any) -> None:
-        out_dir.mkdir(parents=True, exist_ok=True)
-        tmp = out_dir / f".{name}.tmp"
-        tmp.write_text(res.table() + "\n")
-        tmp.replace(out_dir / name)
-
-    return write
-
-
 class _SectionMemo:
     """The report's sections in the stage cache (:class:`~reducerlab.reporting.SectionMemo`).
 
@@ -562,7 +553,12 @@ def _write(
         for j, r in enumerate(result.responses):
             names.append(f"response-line{j + 1}.nc")
             r.save(files.path(names[-1]))
-        for stem, results in (("te_sweep", result.te_sweeps), ("layout", result.layouts)):
+        optional = (
+            ("te_sweep", result.te_sweeps),
+            ("layout", result.layouts),
+            ("sharing", {} if result.sharing is None else {1: result.sharing}),
+        )
+        for stem, results in optional:
             for p, r in results.items():
                 names.append(f"{stem}-pair{p}.nc")
                 r.save(files.path(names[-1]))
@@ -578,7 +574,8 @@ def _write(
 
             report("report", 0.0)
             given = [*result.contacts.values(), *result.bodies.values(), *result.responses,
-                     *result.te_sweeps.values(), *result.layouts.values()]  # fmt: skip
+                     *result.te_sweeps.values(), *result.layouts.values(),
+                     *([] if result.sharing is None else [result.sharing])]  # fmt: skip
             rep = build_report(
                 result.model_design,
                 results=given,

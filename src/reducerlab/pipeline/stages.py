@@ -21,6 +21,8 @@ stage              key inputs
 ``layout``         the compliance's design fields (a layout replaces the flank
                    modifications), the torque, the search (grid, refine, positions,
                    pressure and edge limits), the cell and tooth size
+``sharing``        a KHV pair's load sharing (:mod:`.optional`): as ``te_sweep``
+                   with loads, top, positions, cell and tooth size
 ``body``           the gear's body (``body_inputs``: as above plus its blank) and the
                    mesh sizes and mode count
 ``response``       the whole design the model is built from (with the contact's mesh
@@ -48,11 +50,14 @@ __all__ = [
     "SweepSettings",
     "body_inputs",
     "body_stage",
+    "check_integer",
+    "check_positive",
     "compliance_names",
     "compliance_stage",
     "contact_stage",
     "design_inputs",
     "layout_stage",
+    "operating_inputs",
     "response_stage",
     "te_sweep_stage",
 ]
@@ -115,12 +120,14 @@ class ContactSettings:
             raise ReducerlabError(f"root_stress: must be true or false; got {self.root_stress!r}")
 
 
-def _integer(name: str, value: Any, lo: int, hi: int) -> None:
+def check_integer(name: str, value: Any, lo: int, hi: int) -> None:
+    """Refuse ``value`` unless an integer in ``lo..hi``, naming the setting ``name``."""
     if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
         raise ReducerlabError(f"{name}: must be an integer in {lo}..{hi}; got {value!r}")
 
 
-def _positive(name: str, value: Any, hi: float = math.inf) -> None:
+def check_positive(name: str, value: Any, hi: float = math.inf) -> None:
+    """Refuse ``value`` unless a finite number in ``(0, hi]``, naming ``name``."""
     if isinstance(value, bool) or not (
         isinstance(value, int | float) and math.isfinite(value) and 0 < value <= hi
     ):
@@ -150,17 +157,17 @@ class SweepSettings:
     positions: int | None = None
 
     def __post_init__(self) -> None:
-        _integer("te_sweep.loads", self.loads, 2, 41)
-        _positive("te_sweep.top", self.top, 3.0)
-        _integer("te_sweep.harmonics", self.harmonics, 1, 20)
+        check_integer("te_sweep.loads", self.loads, 2, 41)
+        check_positive("te_sweep.top", self.top, 3.0)
+        check_integer("te_sweep.harmonics", self.harmonics, 1, 20)
         if self.positions is not None:
-            _integer("te_sweep.positions", self.positions, 2 * self.harmonics + 1, 1000)
+            check_integer("te_sweep.positions", self.positions, 2 * self.harmonics + 1, 1000)
 
     def positions_of(self, contact: ContactSettings) -> int:
         """The sweep's positions (its own, else the contact's), checked against its
         harmonics."""
         n = contact.positions if self.positions is None else self.positions
-        _integer("te_sweep.positions", n, 2 * self.harmonics + 1, 1000)
+        check_integer("te_sweep.positions", n, 2 * self.harmonics + 1, 1000)
         return n
 
     def estimate(self, contact: ContactSettings) -> Any:
@@ -196,11 +203,11 @@ class LayoutSettings:
     edge_limit: float = 0.01
 
     def __post_init__(self) -> None:
-        _integer("layout.grid", self.grid, 2, 7)
-        _integer("layout.refine", self.refine, 0, 3)
-        _integer("layout.positions", self.positions, 2, 1000)
-        _positive("layout.pressure_limit", self.pressure_limit)
-        _positive("layout.edge_limit", self.edge_limit, 1.0)
+        check_integer("layout.grid", self.grid, 2, 7)
+        check_integer("layout.refine", self.refine, 0, 3)
+        check_integer("layout.positions", self.positions, 2, 1000)
+        check_positive("layout.pressure_limit", self.pressure_limit)
+        check_positive("layout.edge_limit", self.edge_limit, 1.0)
 
     @property
     def candidates(self) -> int:
@@ -477,7 +484,7 @@ def response_stage(
     return res, Stage(name, key, "computed", time.perf_counter() - t0)
 
 
-def _operating_inputs(design: Any, pair: int, modifications: bool) -> dict[str, Any]:
+def operating_inputs(design: Any, pair: int, modifications: bool) -> dict[str, Any]:
     """The pair's design fields (as the contact's), without the flank modifications
     when ``modifications`` is false, and without the load (given as the torque)."""
     base = design_inputs("contact", design, {"pair": pair})
@@ -504,7 +511,7 @@ def te_sweep_stage(
 
     positions = sweep.positions_of(settings)
     inputs = {
-        "design": _operating_inputs(design, pair, True),
+        "design": operating_inputs(design, pair, True),
         "pair": pair,
         "torque": float(torque),
         "loads": sweep.loads,
@@ -552,7 +559,7 @@ def layout_stage(
     from ..analysis.layout import modification_layout
 
     inputs = {
-        "design": _operating_inputs(design, pair, False),
+        "design": operating_inputs(design, pair, False),
         "pair": pair,
         "torque": float(torque),
         "grid": layout.grid,

@@ -134,7 +134,8 @@ def report(
     results : sequence of Result or path
         Results computed beforehand (``Result`` objects or their netCDF files): gear-body
         modes (``body-modal``, also checked in the resonance verdict), loaded contact
-        (``contact``), bifurcation diagrams, regime maps. Each is checked against the design
+        (``contact``), bifurcation diagrams, regime maps, torque sweeps, layouts, a KHV
+        pair's load sharing (``khv-sharing``). Each is checked against the design
         (:func:`reducerlab.inputs.check_inputs`): a result computed for other values of
         the inputs it depends on is refused, naming the fields that differ.
     only : sequence of str, optional
@@ -244,6 +245,7 @@ GIVEN_KINDS = (
     "rating",
     "te-sweep",
     "layout",
+    "khv-sharing",
 )
 
 

@@ -1,9 +1,13 @@
 """Report sections on the gear geometry: tooth surfaces, the closed graph of an internal
-pair, and loaded tooth contact results given to the report."""
+pair, and loaded tooth contact results given to the report (with a KHV pair's load
+sharing against torque, ``khv-sharing``: ``report --with`` or ``run --sharing``)."""
 
 from __future__ import annotations
 
 import math
+from typing import Any
+
+import numpy as np
 
 from ..blocks import Section, figure, note, table
 from ..context import Context
@@ -76,10 +80,54 @@ def closed_graph_section(ctx: Context) -> Section | None:
     return s
 
 
+def _sharing_rows(res: Any) -> list[tuple[Any, ...]]:
+    """One row a torque of a :class:`~reducerlab.analysis.khv_sharing.SharingResult`:
+    torque (N m), tooth pairs in contact over the cycle (least-most), mean secant and
+    tangent stiffness (N/m), TE peak-to-peak (um); NaN where a torque has none (zero)."""
+    ds = res.data
+    rows = []
+    for i, t in enumerate(res.torques):
+        n = ds["pairs"].values[i]
+        seen = n[np.isfinite(n)]
+        lo, hi = (int(seen.min()), int(seen.max())) if t > 0 and seen.size else (0, 0)
+        pairs = "-" if hi == 0 else str(lo) if lo == hi else f"{lo}-{hi}"
+        rows.append((float(t), pairs, float(ds["mean_stiffness"].values[i]),
+                     float(ds["mean_tangent_stiffness"].values[i]),
+                     1e6 * float(ds["peak_to_peak"].values[i])))  # fmt: skip
+    return rows
+
+
+def _sharing_blocks(s: Section, given: list[Any]) -> None:
+    """The load sharing results' tables and figures, into ``s``."""
+    for r in given:
+        rows = _sharing_rows(r)
+        s.values.setdefault("sharing", []).append(rows)
+        a = r.data.attrs
+        s.blocks.append(
+            table(
+                ["torque on the planet (N m)", "tooth pairs in contact", "mean k (N/m)",
+                 "mean tangent k (N/m)", "TE peak-to-peak (um)"],
+                rows, digits=5, name="khv-sharing",
+                caption=f"KHV internal pair: load sharing against torque over one mesh "
+                f"cycle ({r.data.sizes['position']} positions), tooth pairs examined "
+                f"{a.get('pairs_examined', '')}, design load {float(a['design_torque']):.4g} N m",
+            )
+        )  # fmt: skip
+        s.blocks.append(
+            figure(
+                r.figure(),
+                "load share of each tooth pair over the mesh cycle; tooth pairs in "
+                "contact and mean mesh stiffness against torque",
+            )
+        )
+
+
 def contact_section(ctx: Context) -> Section | None:
-    """Loaded tooth contact results given to the report."""
+    """Loaded tooth contact results given to the report, and a KHV pair's load sharing
+    against torque."""
     given = ctx.given("contact")
-    if not given:
+    sharing = ctx.given("khv-sharing")
+    if not given and not sharing:
         return None
     from ...plot.contact import plot_contact
 
@@ -111,6 +159,7 @@ def contact_section(ctx: Context) -> Section | None:
                 "contact pattern, mesh stiffness and transmission error over the mesh cycle",
             )
         )
+    _sharing_blocks(s, sharing)
     return s
 
 
