@@ -17,7 +17,7 @@ from pydantic import WrapValidator
 
 from ..design_files import field_rules
 
-__all__ = ["LoadExponent", "check_force_law"]
+__all__ = ["LoadExponent", "check_force_law", "check_stiffness_terms"]
 
 
 def _exponent_or_contact(value: Any, handler: Any) -> float | str:
@@ -46,4 +46,18 @@ def check_force_law(exponent: float | str, reference: float, stiffness: Any) -> 
             "reference_deflection",
             "must be > 0 where exponent != 1 (the deflection at which the stiffness is "
             "the tangent)",
+        ))  # fmt: skip
+
+
+def check_stiffness_terms(stiffness: float, harmonics: list, phases: list) -> None:
+    """Raise the design error of a mesh table whose Fourier terms (paper 000 Eq. 8) do
+    not fit its mean stiffness (N/m): a phase count other than the harmonics', or
+    amplitudes adding up to more than the mean (k(t) would become negative)."""
+    if phases and len(phases) != len(harmonics):
+        raise field_rules(("phases", f"has {len(phases)} entries, harmonics {len(harmonics)}"))
+    if sum(harmonics) > stiffness:
+        raise field_rules((
+            "harmonics",
+            f"add up to {sum(harmonics):.6g} N/m, more than the mean stiffness "
+            f"{stiffness:.6g} N/m, so k(t) would become negative",
         ))  # fmt: skip

@@ -52,7 +52,7 @@ from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
 from ..model.laws import TimeLaw
-from .force_law_specs import LoadExponent, check_force_law
+from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms
 from .modification_specs import Layout, ModificationSpec
 from .rating_material import GearMaterialSpec
 
@@ -203,16 +203,7 @@ class MeshSpec(Spec):
                     f'"{self.stiffness}" (which gives its own k(t))',
                 ))  # fmt: skip
             return self
-        if self.phases and len(self.phases) != len(self.harmonics):
-            raise field_rules(
-                ("phases", f"has {len(self.phases)} entries, harmonics {len(self.harmonics)}")
-            )
-        if sum(self.harmonics) > self.stiffness:
-            raise field_rules((
-                "harmonics",
-                f"add up to {sum(self.harmonics):.6g} N/m, more than the mean stiffness "
-                f"{self.stiffness:.6g} N/m, so k(t) would become negative",
-            ))  # fmt: skip
+        check_stiffness_terms(self.stiffness, self.harmonics, self.phases)
         return self
 
 

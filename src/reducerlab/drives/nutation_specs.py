@@ -22,7 +22,7 @@ from ..design import (
     quantity,
 )
 from ..design_files import field_rules
-from .force_law_specs import LoadExponent, check_force_law
+from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms
 from .modification_specs import Layout, ModificationSpec
 
 __all__ = [
@@ -177,16 +177,7 @@ class MeshSpec(Spec):
             if self.harmonics or self.phases:
                 raise field_rules(("harmonics", 'come from the contact with stiffness = "contact"'))
             return self
-        if self.phases and len(self.phases) != len(self.harmonics):
-            raise field_rules(
-                ("phases", f"has {len(self.phases)} entries, harmonics {len(self.harmonics)}")
-            )
-        if sum(self.harmonics) > self.stiffness:
-            raise field_rules((
-                "harmonics",
-                f"add up to {sum(self.harmonics):.6g} N/m, more than the mean stiffness "
-                f"{self.stiffness:.6g} N/m, so k(t) would become negative",
-            ))  # fmt: skip
+        check_stiffness_terms(self.stiffness, self.harmonics, self.phases)
         return self
 
 
