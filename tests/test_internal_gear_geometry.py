@@ -82,6 +82,22 @@ def test_paper_004_limit_points_sit_on_the_tip_overlap_boundary():
         assert worse.overlap_interference() < 0
 
 
+def test_enclosing_tip_circles_are_tip_interference():
+    # z 30/31 at the example's shifts (x1 0.626 on paper 004's M-N line, x2 0.798): the
+    # planet's tip circle (57.49 mm about its centre, 2.15 mm from the ring's) encloses
+    # the ring's (54.24 mm): the tips overlap radially all round; the rigid drive-flank
+    # scan (contact.internal_pair.tooth_pair_clearances, run before this check refused
+    # the design) found planet tooth 10 inside ring tooth 10 by 66 um and tooth 11 by
+    # 399 um. The G_s formula has no intersection angle there; it used to read that as
+    # "the tips never meet" and passed the design.
+    g = InternalGearPair(30, 31, M, 0.626, 0.7984701670644392, addendum=0.8)
+    ra1, ra2, aw = g.tip_radius(1), g.tip_radius(2), g.centre_distance
+    assert ra1 - aw > ra2
+    assert g.overlap_interference() == pytest.approx(-(ra1 - aw - ra2) / ra2, rel=1e-12)
+    with pytest.raises(ReducerlabError, match="tip overlap interference"):
+        g.check()
+
+
 def test_infeasible_designs_are_refused_with_the_condition_named():
     g = InternalGearPair(30, 33, M, 0.0, 0.0, addendum=0.8)  # zero shift, 3 teeth apart
     with pytest.raises(ReducerlabError, match="tip overlap interference"):

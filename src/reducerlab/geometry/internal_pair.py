@@ -195,13 +195,21 @@ class InternalGearPair:
         ``G_s = z1 (inv a_a1 + d1) - z2 (inv a_a2 + d2) + (z2 - z1) inv a'`` with
         ``cos d1 = (r_a2^2 - r_a1^2 - a'^2) / (2 r_a1 a')`` and
         ``cos d2 = (r_a2^2 + a'^2 - r_a1^2) / (2 r_a2 a')``: the angles at which the tip
-        circles intersect.
+        circles intersect. Where they do not: ``inf`` if the planet's tip circle lies
+        inside the ring's (the tips never meet), and ``-(r_a1 - a' - r_a2) / r_a2`` if it
+        encloses it (the tips overlap radially all round: interference).
         """
         ra1, ra2, aw = self.tip_radius(1), self.tip_radius(2), self.centre_distance
         c1 = (ra2**2 - ra1**2 - aw**2) / (2 * ra1 * aw)
         c2 = (ra2**2 + aw**2 - ra1**2) / (2 * ra2 * aw)
         if abs(c1) > 1 or abs(c2) > 1:
-            return math.inf  # tip circles do not intersect: the tips never meet
+            if ra1 - aw > ra2:
+                # the planet's tip circle encloses the ring's: the tips overlap radially
+                # all round (a tooth difference of one or two with large addenda and
+                # shifts), so teeth of different pitch counts collide away from the
+                # mesh; the margin is that radial overlap over r_a2 (< 0)
+                return -(ra1 - aw - ra2) / ra2
+            return math.inf  # the planet's tip circle inside the ring's: they never meet
         d1, d2 = math.acos(c1), math.acos(c2)
         return (
             self.z1 * (inv(self.tip_pressure_angle(1)) + d1)
