@@ -77,6 +77,32 @@ def test_single_linear_mesh_with_backlash_closed_form():
                                atol=1e-9 * Tr / r2)  # fmt: skip
 
 
+def test_two_lines_in_parallel_with_staggered_backlash():
+    """Two lines on the same lever with half backlashes h1 < h2: the first alone carries
+    until its deflection reaches h2 - h1 (F* = k1 (h2 - h1)), then both:
+    delta = (F + k1 h1 + k2 h2) / (k1 + k2). The active set changes inside a branch and
+    the zero-torque limit has only the first line touching."""
+    k1, k2, h1, h2, r = 1e8, 3e8, 5e-6, 2e-5, 0.05
+    dofs = [Dof("pinion", "rz"), Dof("gear", "rz")]
+    els = [Inertia("pinion.rz", 1e-4), Inertia("gear.rz", 1e-2)] + [
+        Mesh({"pinion.rz": 0.02, "gear.rz": r}, stiffness=k, backlash=Backlash.half(h),
+             name=f"line{j}")
+        for j, (k, h) in enumerate(((k1, h1), (k2, h2)))
+    ]  # fmt: skip
+    knee = k1 * (h2 - h1) * r  # N m: where the second line closes
+    res = _run(Model(dofs, els), 4 * knee, steps=12)  # steps of knee / 3
+    T, th, br = (res.data[v].values for v in ("torque", "twist", "branch"))
+    F = np.abs(T) / r
+    delta = np.where(F <= k1 * (h2 - h1), h1 + F / k1, (F + k1 * h1 + k2 * h2) / (k1 + k2))
+    side = np.where(br < 2, 1.0, -1.0)
+    np.testing.assert_allclose(th, side * delta / r, rtol=1e-8)
+    assert res.numbers.backlash == pytest.approx(2 * h1 / r, rel=1e-9)
+    assert res.numbers.stiffness_at_rated == pytest.approx((k1 + k2) * r**2, rel=1e-8)
+    # the catalogue fit sees the knee: K1 = k1 r^2 below it (T1 = 0.2 T_r < knee)
+    assert res.numbers.K1 == pytest.approx(k1 * r**2, rel=1e-8)
+    assert res.numbers.K3 == pytest.approx((k1 + k2) * r**2, rel=1e-8)
+
+
 def test_torsional_chain_in_series():
     """Three shafts in series, the first end held: twist = T (1/k1 + 1/k2 + 1/k3)."""
     ks = (3e4, 5e4, 2e4)

@@ -472,35 +472,57 @@ def torsion_test(
 
 
 def _run_loop(bench: _Bench, up: Array, rated: float) -> tuple[Array, Array, list[Array]]:
-    """Solve the four branches; returns torques, branch indices and states."""
+    """Solve the four branches; returns torques, branch indices and states. A branch
+    that starts at zero torque is solved from its first nonzero torque (started from
+    the state with every line closed on the side that torque loads); every
+    zero-torque state is the limit of its branch's nonzero states (:func:`_zero_limit`)."""
     scale = float(np.abs(bench.b).max() * rated)
     torque: list[float] = []
     branch: list[int] = []
     states: list[Array] = []
     for j, (sign, order) in enumerate(((1, up), (1, up[::-1]), (-1, up), (-1, up[::-1]))):
-        T_prev, q_prev = None, None
-        for frac_T in order:
-            T = sign * float(frac_T)
-            if T == 0.0:
-                q = _contact_limit(bench, _sides(bench, sign, q_prev))
-            else:
-                if q_prev is None or T_prev is None:
-                    q_prev, T_prev = _contact_limit(bench, _sides(bench, sign, None)), 0.0
-                q = _solve(bench, T, T_prev, q_prev, scale)
+        Ts = [sign * float(v) for v in order]
+        nonzero = [T for T in Ts if T != 0.0]
+        if j in (1, 3):  # continuing the loop: from the previous branch's last state
+            T_prev, q_prev = torque[-1], states[-1]
+        else:
+            T_prev = nonzero[0]
+            q_prev = _solve(bench, T_prev, 0.0, _closed_guess(bench, T_prev), scale)
+        solved: dict[float, Array] = {}
+        for T in nonzero:
+            q_prev = _solve(bench, T, T_prev, q_prev, scale)
+            T_prev, solved[T] = T, q_prev
+        near = min(nonzero, key=abs)
+        for T in Ts:
+            q = solved[T] if T != 0.0 else _zero_limit(bench, near, solved[near], scale)
             torque.append(T)
             branch.append(j)
             states.append(q)
-            T_prev, q_prev = T, q
     return np.array(torque), np.array(branch), states
 
 
-def _sides(bench: _Bench, sign: int, q: Array | None) -> Array:
-    """Contact side of each line on a branch of torque sign ``sign``: from the state
-    ``q`` next to zero (lines apart there: 0), or, before any state, from the linear
-    solution with every line closed (the side a small torque of that sign loads)."""
-    if q is None:
-        J = bench.K + bench.G.T @ (bench.G * bench.k[:, None])
-        x = np.linalg.lstsq(J, sign * bench.b, rcond=None)[0]
-        g = bench.G @ x
-        return np.sign(np.round(g / (np.abs(g).max(initial=0.0) or 1.0), 12))
-    return np.sign(bench.forces(q)[2])
+def _closed_guess(bench: _Bench, T: float) -> Array:
+    """A start for the torque ``T``: every line closed on the side that the linear
+    solution with all lines engaged loads, at its secant stiffness ``k / p`` at the
+    reference deflection (``k`` for a linear line)."""
+    J = bench.K + bench.G.T @ (bench.G * bench.k[:, None])
+    x = np.linalg.lstsq(J, bench.b * T, rcond=None)[0]
+    g = bench.G @ x
+    side = np.sign(np.round(g / (np.abs(g).max(initial=0.0) or 1.0), 12))
+    k_sec = bench.k / bench.p
+    J_sec = bench.K + bench.G.T @ (bench.G * k_sec[:, None])
+    rhs = bench.b * T + bench.G.T @ (k_sec * (bench.e + side * bench.h))
+    return np.linalg.lstsq(J_sec, rhs, rcond=None)[0]
+
+
+def _zero_limit(bench: _Bench, T: float, q: Array, scale: float) -> Array:
+    """The state a branch tends to as its torque goes to zero from ``T`` (solved state
+    ``q``). The lines loaded in that limit are found by continuing the solution to
+    ``T 10^-3`` and ``T 10^-6`` (a line that closes only above a finite torque opens on
+    the way; the lines are piecewise smooth, so the set loaded at ``1e-6 T``, still
+    resolved 1e4 times above the solver's tolerance, is the limit's unless a line
+    closes below it), then the limit itself is solved exactly
+    (:func:`_contact_limit`): those lines just touching, least strain elsewhere."""
+    for k in (3, 6):
+        q = _solve(bench, T * 10.0**-k, T * 10.0 ** (3 - k), q, scale)
+    return _contact_limit(bench, np.sign(bench.forces(q)[2]))
