@@ -93,14 +93,14 @@ def test_two_lines_in_parallel_with_staggered_backlash():
     res = _run(Model(dofs, els), 4 * knee, steps=12)  # steps of knee / 3
     T, th, br = (res.data[v].values for v in ("torque", "twist", "branch"))
     F = np.abs(T) / r
-    delta = np.where(F <= k1 * (h2 - h1), h1 + F / k1, (F + k1 * h1 + k2 * h2) / (k1 + k2))
+    delta = np.where(k1 * (h2 - h1) >= F, h1 + F / k1, (F + k1 * h1 + k2 * h2) / (k1 + k2))
     side = np.where(br < 2, 1.0, -1.0)
     np.testing.assert_allclose(th, side * delta / r, rtol=1e-8)
     assert res.numbers.backlash == pytest.approx(2 * h1 / r, rel=1e-9)
     assert res.numbers.stiffness_at_rated == pytest.approx((k1 + k2) * r**2, rel=1e-8)
     # the catalogue fit sees the knee: K1 = k1 r^2 below it (T1 = 0.2 T_r < knee)
-    assert res.numbers.K1 == pytest.approx(k1 * r**2, rel=1e-8)
-    assert res.numbers.K3 == pytest.approx((k1 + k2) * r**2, rel=1e-8)
+    assert pytest.approx(k1 * r**2, rel=1e-8) == res.numbers.K1
+    assert pytest.approx((k1 + k2) * r**2, rel=1e-8) == res.numbers.K3
 
 
 def test_torsional_chain_in_series():
