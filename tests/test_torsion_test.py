@@ -235,6 +235,29 @@ def test_example_drives_loop_and_stiffness_at_rated(name):
         assert res.numbers.backlash == pytest.approx(2 * h / r, rel=1e-9)
 
 
+def test_nutation_backlash_through_both_meshes():
+    """Double-sided nutation drive with backlash on both meshes: at zero torque every
+    force vanishes, so the supported translations stay at zero and both lines just
+    touch through the rotations alone: ``G1[g13] th13 = s1 h1`` and
+    ``G2[g13] th13 + G2[g4] th4 = s2 h2`` (gear 2 held; ``s1, s2`` the sides the torque
+    loads, opposite here). The backlash is twice that
+    ``th4`` (the two sides are symmetric); the loop above it keeps the linear
+    stiffness (the lines are linear beyond their gaps)."""
+    d = load_design(example_dir() / "nutation_double_sided.toml",
+                    ("mesh1.backlash=20 um", "mesh2.backlash=30 um"))  # fmt: skip
+    s = build_model(d).nonlinear()
+    col = {n: i for i, n in enumerate(s.dof_names)}
+    h1, h2 = s.half_backlash
+    G = s.G
+    res = torsion_test(d, steps=4)
+    top = int(np.argmax(res.data["torque"].values))
+    s1, s2 = np.sign(res.data["line_force"].values[top])  # the sides +T_r loads
+    th13 = s1 * h1 / G[0, col["g13.rz"]]
+    th4 = (s2 * h2 - G[1, col["g13.rz"]] * th13) / G[1, col["g4.rz"]]
+    assert res.numbers.backlash == pytest.approx(2 * abs(th4), rel=1e-9)
+    assert pytest.approx(_condensed(d), rel=1e-7) == res.numbers.K3
+
+
 def test_result_file_table_figure_and_cli(tmp_path):
     """The result reads back as its kind; the table speaks catalogue units; ``reducerlab
     datasheet`` writes its four files; bad options name themselves."""

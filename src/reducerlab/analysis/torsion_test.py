@@ -302,9 +302,11 @@ def _contact_limit(bench: _Bench, side: Array) -> Array:
     n, m = bench.K.shape[0], int(A.sum())
     kkt = np.zeros((n + m, n + m))
     kkt[:n, :n] = bench.K
-    kkt[:n, n:] = GA.T
-    kkt[n:, :n] = GA
-    rhs = np.concatenate([np.zeros(n), bench.e[A] + side[A] * bench.h[A]])
+    # constraint rows scaled to the stiffness (same q; a better conditioned system)
+    c = (np.abs(bench.K).max(initial=0.0) or 1.0) / (np.abs(GA).max(initial=0.0) or 1.0)
+    kkt[:n, n:] = c * GA.T
+    kkt[n:, :n] = c * GA
+    rhs = np.concatenate([np.zeros(n), c * (bench.e[A] + side[A] * bench.h[A])])
     return np.linalg.lstsq(kkt, rhs, rcond=None)[0][:n]
 
 
