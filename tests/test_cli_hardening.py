@@ -55,6 +55,7 @@ WRITERS = {
     "khv closed-graph": ["khv", "closed-graph", KHV],
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
     "balls": ["balls", CYCLOID, "--points", "3", "--phases", "1"],
+    "datasheet": ["datasheet", GEAR, "--steps", "3"],
     "khv clearances": ["khv", "clearances", KHV, "--teeth=-1:1", "--positions", "2"],
     # coarse FE teeth (0.35 m) and 3 positions: about 15 s
     "khv sharing": [
@@ -373,6 +374,7 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.complex_modal
     import reducerlab.analysis.contact
     import reducerlab.analysis.frequency_response
+    import reducerlab.analysis.khv_sharing
     import reducerlab.analysis.kinematics
     import reducerlab.analysis.layout
     import reducerlab.analysis.modal
@@ -380,7 +382,8 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.regime_map
     import reducerlab.analysis.response
     import reducerlab.analysis.sweep
-    import reducerlab.analysis.te_sweep  # noqa: F401
+    import reducerlab.analysis.te_sweep
+    import reducerlab.analysis.torsion_test  # noqa: F401
 
     found, todo = {}, [Result]
     while todo:
@@ -436,7 +439,7 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
                 assert text["design_hash"] == design.hash, png
     assert seen == {
         "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response",
-        "contact", "frequency-response", "ball-track", "khv-sharing",
+        "contact", "frequency-response", "ball-track", "khv-sharing", "torsion-test",
     }  # fmt: skip
 
 
