@@ -52,6 +52,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "khv-sharing": "reducerlab.analysis.khv_sharing",
     "layout": "reducerlab.analysis.layout",
     "ball-track": "reducerlab.analysis.ball_track",
+    "efficiency": "reducerlab.analysis.efficiency",
 }
 
 
