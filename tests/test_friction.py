@@ -3,8 +3,11 @@
 Oracle: the mean tooth-mesh power loss of a spur pair at a constant coefficient of
 friction, ``P_VZ = P_A mu H_V`` with Ohlendorf's tooth loss factor (B. Ohlendorf,
 dissertation TU München 1958; G. Niemann, H. Winter, *Maschinenelemente* Vol. II,
-Springer 1989, Sec. 21.5; ISO/TR 14179-2:2001, the mesh loss with ``H_V``; used in this
-form by e.g. Fernandes, Marques, Seabra, *Tribology International* 2015)
+Springer 1989, Sec. 21.5; ISO/TR 14179-2:2001, the load-dependent mesh loss; B.-R. Höhn,
+K. Michaelis, M. Hinterstoißer, "Optimization of gearbox efficiency", *Goriva i maziva*
+48(4), 2009, 441-480, which uses it for low-loss gear design; the effect of a
+non-uniform load sharing on it: M. Pleguezuelos et al., *Math. Probl. Eng.* 2013,
+142849). The form is confirmed below by integrating its assumptions independently
 
     H_V = pi (u + 1) / (z1 u cos(beta_b)) (1 - eps_alpha + eps_1^2 + eps_2^2),
 
