@@ -300,3 +300,13 @@ def test_efficiency_command(tmp_path):
     bad = runner.invoke(app, ["efficiency", design, "--rigid", "--mu", "0.5", "-o",
                               str(tmp_path / "bad")])  # fmt: skip
     assert bad.exit_code == 2 and "friction coefficient" in bad.output
+
+
+def test_work_is_refused_before_any_finite_element_build():
+    from reducerlab.errors import BudgetError
+
+    design = load_design(EXAMPLES / "gear_pair.toml")
+    with pytest.raises(BudgetError, match="position-torque solves"):
+        efficiency(design, loads=41, positions=200)  # 8200 solves > 4000, before FE work
+    with pytest.raises(BudgetError, match=r"DOFs|memory"):
+        efficiency(design, loads=2, positions=4, tooth_size=0.05e-3)
