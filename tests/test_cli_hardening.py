@@ -56,6 +56,7 @@ WRITERS = {
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
     "balls": ["balls", CYCLOID, "--points", "3", "--phases", "1"],
     "datasheet": ["datasheet", GEAR, "--steps", "3"],
+    "efficiency": ["efficiency", GEAR, "--rigid", "--positions", "3", "--loads", "1"],
     "khv clearances": ["khv", "clearances", KHV, "--teeth=-1:1", "--positions", "2"],
     # coarse FE teeth (0.35 m) and 3 positions: about 15 s
     "khv sharing": [
@@ -440,6 +441,7 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
     assert seen == {
         "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response",
         "contact", "frequency-response", "ball-track", "khv-sharing", "torsion-test",
+        "efficiency",
     }  # fmt: skip
 
 

@@ -53,6 +53,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "layout": "reducerlab.analysis.layout",
     "ball-track": "reducerlab.analysis.ball_track",
     "torsion-test": "reducerlab.analysis.torsion_test",
+    "efficiency": "reducerlab.analysis.efficiency",
 }
 
 

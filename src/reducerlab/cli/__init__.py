@@ -1,7 +1,8 @@
 """Command line: ``reducerlab run`` (the whole chain), ``modal``, ``sensitivity``,
 ``kinematics``, ``sweep``, ``campbell``, ``check``, ``bifurcation``,
 ``frequency-response``, ``regime-map``, ``response``, ``surface``, ``khv``,
-``body-modal``, ``contact``, ``rating``, ``balls``, ``datasheet``, ``report``, ``demo``.
+``body-modal``, ``contact``, ``efficiency``, ``rating``, ``balls``, ``datasheet``, ``report``,
+``demo``.
 Every command that reads a design file takes ``--set PATH=VALUE`` to override a field.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
@@ -22,8 +23,8 @@ steps per period in [4, 100000], at most 4 ``--workers`` per core.
 The package: :mod:`.options` parses the options the commands share, :mod:`.output`
 writes and prints; one module per command group (:mod:`.modal`, :mod:`.kinematics`,
 :mod:`.sweep`, :mod:`.check`, :mod:`.nonlinear`, :mod:`.geometry`, :mod:`.body`,
-:mod:`.contact`, :mod:`.report`, :mod:`.khv`, :mod:`.balls`, :mod:`.datasheet`) adds its commands to
-:data:`app`.
+:mod:`.contact`, :mod:`.efficiency`, :mod:`.report`, :mod:`.khv`, :mod:`.balls`,
+:mod:`.datasheet`) adds its commands to :data:`app`.
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ from . import (
     check,
     contact,
     datasheet,
+    efficiency,
     geometry,
     khv,
     kinematics,
@@ -85,7 +87,7 @@ def _main(
 
 # the commands, in this order in the help
 for _group in (run, modal, kinematics, sweep, check, nonlinear, geometry, body, contact,
-               rating_command, report, khv, balls, datasheet):  # fmt: skip
+               efficiency, rating_command, report, khv, balls, datasheet):  # fmt: skip
     _group.register(app)
 del _group
 

@@ -23,10 +23,14 @@ Treatment = Literal["case-hardened", "through-hardened", "induction-hardened", "
 class GearMaterialSpec(Spec):
     """Material of both gears (``[material]``): ``youngs_modulus``, ``poisson_ratio``,
     the allowable stress numbers ``sigma_Hlim`` (contact) and ``sigma_Flim`` (bending) of
-    ISO 6336-5 and the ``treatment`` that selects the life factor lines."""
+    ISO 6336-5, the ``treatment`` that selects the life factor lines and the Coulomb
+    ``friction_coefficient`` of the tooth contacts in ``[0, 0.3]``."""
 
     youngs_modulus: quantity("pressure", gt=0) = 206e9  # type: ignore[valid-type]
     poisson_ratio: float = Field(0.3, ge=0.0, lt=0.5)
     sigma_Hlim: quantity("pressure", gt=0) = 1500e6  # type: ignore[valid-type]
     sigma_Flim: quantity("pressure", gt=0) = 500e6  # type: ignore[valid-type]
     treatment: Treatment = "case-hardened"
+    #: Coulomb coefficient of the tooth contacts (``analysis.efficiency``): lubricated
+    #: steel gears in mixed friction run at 0.04 to 0.08 (Niemann/Winter Vol. II, 1989)
+    friction_coefficient: float = Field(0.05, ge=0.0, le=0.3)
