@@ -168,3 +168,19 @@ def test_cli_report_takes_the_datasheet_file(tmp_path):
                            str(tmp_path / "s" / "datasheet.nc"), "-o", str(page)])  # fmt: skip
     assert got.exit_code == 0, got.output
     assert _shown(page.read_text(encoding="utf-8"))[0] == 120.0  # the file's rated torque
+
+
+def test_a_given_contact_puts_its_stiffness_into_the_datasheet(tmp_path):
+    """The report's design is the one with the contact's k(t) in its mesh (as the run's
+    model design): the datasheet is that design's torsion test, not the ISO one's."""
+    from reducerlab.analysis.contact import contact_analysis, design_with_contact
+
+    path = example_dir() / "nutation_surface.toml"
+    d = load_design(path)
+    res = contact_analysis(d, 1, torque=19.1, positions=5, order=2, rigid=True)
+    sec = report(path, results=[res.save(tmp_path / "c.nc")], only=["datasheet"]).section(
+        "datasheet"
+    )
+    want = torsion_test(design_with_contact(d, [res])).numbers.attrs()
+    assert sec.values["numbers"] == want
+    assert want["K1"] != torsion_test(d).numbers.K1
