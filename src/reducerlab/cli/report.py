@@ -37,8 +37,8 @@ def report_cmd(
         typer.Option(
             "--with",
             help="A result computed before (body_modal.nc, contact.nc, bifurcation.nc, "
-            "regime_map.nc, te_sweep.nc, layout.nc, a KHV drive's sharing.nc) to include "
-            "(repeatable).",
+            "regime_map.nc, te_sweep.nc, layout.nc, a KHV drive's sharing.nc, "
+            "datasheet.nc, efficiency.nc) to include (repeatable).",
         ),
     ] = None,
     sets: SetOption = None,

@@ -504,10 +504,11 @@ class _SectionMemo:
     result was computed from) and the section's id; the gear-body section reads nothing
     but the body results given to the report (their tables and mode-shape renders), so
     its key is the body stages' keys alone, and a run that changes only the dynamics
-    (damping) reuses its renders."""
+    (damping) reuses its renders. The datasheet reads the model design alone (its
+    torsion test), so its key is the context (the model design's hash) alone."""
 
-    #: Sections keyed on the body stages alone.
-    BODY_ONLY = ("bodies",)
+    #: Sections keyed on the body stages alone; on the report's context alone.
+    BODY_ONLY, DESIGN_ONLY = ("bodies",), ("datasheet",)
 
     def __init__(self, store: Store, verdict_key: str, body_keys: list[str]) -> None:
         self.store, self.verdict_key, self.body_keys = store, verdict_key, body_keys
@@ -515,6 +516,8 @@ class _SectionMemo:
     def _key(self, sid: str, context: str) -> tuple[str, dict[str, Any]]:
         if sid in self.BODY_ONLY:
             inputs: dict[str, Any] = {"section": sid, "bodies": self.body_keys}
+        elif sid in self.DESIGN_ONLY:
+            inputs = {"section": sid, "context": context}
         else:
             inputs = {"section": sid, "context": context, "evidence": self.verdict_key}
         return self.store.key("section", inputs), inputs

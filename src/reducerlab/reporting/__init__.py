@@ -135,7 +135,9 @@ def report(
         Results computed beforehand (``Result`` objects or their netCDF files): gear-body
         modes (``body-modal``, also checked in the resonance verdict), loaded contact
         (``contact``), bifurcation diagrams, regime maps, torque sweeps, layouts, a KHV
-        pair's load sharing (``khv-sharing``). Each is checked against the design
+        pair's load sharing (``khv-sharing``), a torsion test (``torsion-test``, shown
+        in the datasheet instead of the one the report computes), a drive's efficiency
+        (``efficiency``, added to the datasheet). Each is checked against the design
         (:func:`reducerlab.inputs.check_inputs`): a result computed for other values of
         the inputs it depends on is refused, naming the fields that differ.
     only : sequence of str, optional
@@ -246,6 +248,8 @@ GIVEN_KINDS = (
     "te-sweep",
     "layout",
     "khv-sharing",
+    "torsion-test",
+    "efficiency",
 )
 
 

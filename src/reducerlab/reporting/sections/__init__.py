@@ -8,7 +8,8 @@ API's; figures come from :mod:`reducerlab.plot`.
 One module per group: :mod:`.inputs` (design inputs, kinematics), :mod:`.modes`
 (natural frequencies, sensitivity, Campbell diagram and verdict, gear bodies),
 :mod:`.motion` (nonlinear response, bifurcation, regime map), :mod:`.geometry` (tooth
-surfaces, closed graph, loaded contact), :mod:`.capacity` (load capacity).
+surfaces, closed graph, loaded contact), :mod:`.capacity` (load capacity), :mod:`.datasheet`
+(the catalogue datasheet from the torsion test).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from collections.abc import Callable
 from ..blocks import Section
 from ..context import Context
 from .capacity import capacity_section
+from .datasheet import datasheet_section
 from .geometry import (
     ball_track_section,
     closed_graph_section,
@@ -46,4 +48,5 @@ SECTIONS: list[tuple[str, str, Callable[[Context], Section | None]]] = [
     ("ball-track", "Ball track", ball_track_section),
     ("contact", "Loaded tooth contact", contact_section),
     ("capacity", "Load capacity", capacity_section),
+    ("datasheet", "Datasheet", datasheet_section),
 ]
