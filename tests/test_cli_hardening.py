@@ -375,6 +375,7 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.campbell
     import reducerlab.analysis.complex_modal
     import reducerlab.analysis.contact
+    import reducerlab.analysis.efficiency
     import reducerlab.analysis.frequency_response
     import reducerlab.analysis.khv_sharing
     import reducerlab.analysis.kinematics
@@ -385,7 +386,8 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.response
     import reducerlab.analysis.sweep
     import reducerlab.analysis.te_sweep
-    import reducerlab.analysis.torsion_test  # noqa: F401
+    import reducerlab.analysis.torsion_test
+    import reducerlab.analysis.transmission_accuracy  # noqa: F401
 
     found, todo = {}, [Result]
     while todo:

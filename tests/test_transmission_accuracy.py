@@ -81,6 +81,50 @@ def test_eccentric_pair_matches_the_exact_common_tangent(ep, pp, eg, pg):
     assert np.ptp(exact) > 1.9 * max(ep, eg) / rbg  # amplitude e (not e cos alpha)
 
 
+def _exact_internal_lead(theta_a, rba, rbb, aw, ea, pa, eb, pb):
+    """Exact lead (rad, in B's clockwise sense) of a pinion B inside a ring A, both
+    turning clockwise (the KHV mesh in the carrier frame), eccentric base circles.
+
+    The rigid contact lies on the direct common tangent whose tangent points sit at
+    ``lambda - gamma`` on both circles (``cos(gamma) = (rba - rbb) / d``), beyond the
+    pinion's tangent point; the unwound lengths differ by the tangent's length
+    ``L = sqrt(d^2 - (rba - rbb)^2)``:
+    ``rba (theta_a - a_t) - rbb (theta_b - a_t) - L = const``. Newton to round-off.
+    """
+    a = (rba - rbb) / math.cos(aw)
+
+    def part(tb):
+        OA = ea * np.stack([np.cos(theta_a + pa), np.sin(theta_a + pa)])
+        OB = np.array([a, 0.0])[:, None] + eb * np.stack([np.cos(tb + pb), np.sin(tb + pb)])
+        D = OB - OA
+        d = np.hypot(*D)
+        at = np.arctan2(D[1], D[0]) - np.arccos((rba - rbb) / d)
+        return rba * (theta_a - at) + rbb * at - np.sqrt(d**2 - (rba - rbb) ** 2)
+
+    c0 = (rba - rbb) * aw - a * math.sin(aw)
+    tb = rba / rbb * theta_a
+    for _ in range(50):
+        tb = tb + (part(tb) - rbb * tb - c0) / rbb
+    assert np.abs(part(tb) - rbb * tb - c0).max() < 1e-15
+    return -(tb - rba / rbb * theta_a)
+
+
+@pytest.mark.parametrize(("ea", "pa", "eb", "pb"),
+                         [(10 * UM, 0.3, 0.0, 0.0), (0.0, 0.0, 10 * UM, 0.7),
+                          (7 * UM, -1.1, 4 * UM, 2.5)])  # fmt: skip
+def test_internal_pair_matches_the_exact_common_tangent(ea, pa, eb, pb):
+    # the KHV example's pair: ring 33 and planet 30 teeth, m 3.5 mm, alpha_w 30.5 deg
+    rba, rbb, aw = 0.05427, 0.04933, math.radians(30.5)
+    th = -np.linspace(0, 4 * math.pi, 3001)  # the ring turns clockwise in the carrier
+    exact = _exact_internal_lead(th, rba, rbb, aw, ea, pa, eb, pb)
+    tau = line_angle(-1, True, aw)
+    s = mesh_lead(th, rba / rbb * th, GearErrors(33, ea, pa), GearErrors(30, eb, pb), tau, 0.3)
+    # second order: relative to the tangent's short length L = a sin(alpha_w) ~ 2.9 mm
+    e, L = ea + eb, (rba - rbb) * math.tan(aw)
+    assert np.abs(s / rbb - exact).max() < 2 * (e / L) * (e / rbb)
+    assert np.ptp(exact) > 1.9 * max(ea, eb) / rbb
+
+
 def test_line_angle_closed_forms_and_bad_input():
     aw = math.radians(20)
     assert line_angle(-1, False, aw) == pytest.approx(math.pi / 2 - aw)

@@ -22,8 +22,8 @@ pressure angle), so ``s = e_A sin(psi_A + alpha_w) - e_B sin(psi_B + alpha_w)``:
 sinusoid of
 amplitude ``e`` (not ``e cos(alpha)``: the rotating offset projects in full on the
 fixed line of action) at once per revolution of the eccentric gear.
-``tests/test_transmission_accuracy.py`` checks it against the exact common tangent of
-two eccentric base circles (second-order residual ``~ e / r_b``).
+``tests/test_transmission_accuracy.py`` checks it, external and internal, against the
+exact common tangent of two eccentric base circles (second-order residual).
 
 **Pitch deviations.** ``f_pt,k`` (m, on the reference circle, ISO 1328-1) is the
 deviation of the pitch from tooth ``k`` to tooth ``k + 1``; the cumulative deviation
