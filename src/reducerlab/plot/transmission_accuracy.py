@@ -1,7 +1,8 @@
 """Figure of the transmission accuracy
 (:class:`~reducerlab.analysis.transmission_accuracy.TransmissionAccuracyResult`): left,
 the output angle error (arcsec) over one output revolution, each source dashed; right,
-its amplitude spectrum in orders of the output revolution. Plain
+its amplitude spectrum in orders of the output revolution, up to twice the highest
+order above 5 % of the largest line. Plain
 :class:`matplotlib.figure.Figure` (no pyplot, Agg-safe)."""
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     ax.legend(fontsize="small")
     order = ds["order"].values
     amp = ds["amplitude"].values
-    top = int(order[np.nonzero(amp > 1e-2 * max(amp.max(), 1e-300))[0]].max(initial=1))
+    top = int(order[np.nonzero(amp > 0.05 * max(amp.max(), 1e-300))[0]].max(initial=1))
     keep = order <= max(2 * top, 10)
     bx.vlines(order[keep][1:], 0, amp[keep][1:], color="k")
     bx.set_xlabel(
