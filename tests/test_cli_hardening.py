@@ -57,6 +57,7 @@ WRITERS = {
     "balls": ["balls", CYCLOID, "--points", "3", "--phases", "1"],
     "datasheet": ["datasheet", GEAR, "--steps", "3"],
     "efficiency": ["efficiency", GEAR, "--rigid", "--positions", "3", "--loads", "1"],
+    "accuracy": ["accuracy", KHV, "--samples", "256"],
     "khv clearances": ["khv", "clearances", KHV, "--teeth=-1:1", "--positions", "2"],
     # coarse FE teeth (0.35 m) and 3 positions: about 15 s
     "khv sharing": [
@@ -374,6 +375,7 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.campbell
     import reducerlab.analysis.complex_modal
     import reducerlab.analysis.contact
+    import reducerlab.analysis.efficiency
     import reducerlab.analysis.frequency_response
     import reducerlab.analysis.khv_sharing
     import reducerlab.analysis.kinematics
@@ -384,7 +386,8 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.response
     import reducerlab.analysis.sweep
     import reducerlab.analysis.te_sweep
-    import reducerlab.analysis.torsion_test  # noqa: F401
+    import reducerlab.analysis.torsion_test
+    import reducerlab.analysis.transmission_accuracy  # noqa: F401
 
     found, todo = {}, [Result]
     while todo:
@@ -441,7 +444,7 @@ def test_every_result_file_is_stamped_and_reloads(tmp_path):
     assert seen == {
         "modal", "sensitivity", "kinematics", "campbell", "sweep", "bifurcation", "response",
         "contact", "frequency-response", "ball-track", "khv-sharing", "torsion-test",
-        "efficiency",
+        "efficiency", "transmission-accuracy",
     }  # fmt: skip
 
 

@@ -54,6 +54,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "ball-track": "reducerlab.analysis.ball_track",
     "torsion-test": "reducerlab.analysis.torsion_test",
     "efficiency": "reducerlab.analysis.efficiency",
+    "transmission-accuracy": "reducerlab.analysis.transmission_accuracy",
 }
 
 

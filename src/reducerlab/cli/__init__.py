@@ -1,8 +1,8 @@
 """Command line: ``reducerlab run`` (the whole chain), ``modal``, ``sensitivity``,
 ``kinematics``, ``sweep``, ``campbell``, ``check``, ``bifurcation``,
 ``frequency-response``, ``regime-map``, ``response``, ``surface``, ``khv``,
-``body-modal``, ``contact``, ``efficiency``, ``rating``, ``balls``, ``datasheet``, ``report``,
-``demo``.
+``body-modal``, ``contact``, ``efficiency``, ``accuracy``, ``rating``, ``balls``,
+``datasheet``, ``report``, ``demo``.
 Every command that reads a design file takes ``--set PATH=VALUE`` to override a field.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
@@ -36,6 +36,7 @@ import typer
 
 from .. import __version__
 from . import (
+    accuracy,
     balls,
     body,
     check,
@@ -87,7 +88,7 @@ def _main(
 
 # the commands, in this order in the help
 for _group in (run, modal, kinematics, sweep, check, nonlinear, geometry, body, contact,
-               efficiency, rating_command, report, khv, balls, datasheet):  # fmt: skip
+               efficiency, accuracy, rating_command, report, khv, balls, datasheet):  # fmt: skip
     _group.register(app)
 del _group
 

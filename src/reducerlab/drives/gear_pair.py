@@ -41,6 +41,7 @@ from ..errors import DesignError, ReducerlabError
 from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Dof, Fourier, Inertia, Load, Mesh, Model, Support
 from ..model.laws import TimeLaw
+from .accuracy_specs import GearErrorSpec
 from .modification_specs import Layout, ModificationSpec
 from .rating_material import GearMaterialSpec
 
@@ -66,7 +67,8 @@ Shift = Annotated[Real, Field(ge=-1.0, le=2.0)]
 class Gear(Spec):
     """One gear body; ``shift`` is its profile shift coefficient ``x`` (ISO 21771);
     ``modifications`` its loaded flank's crowning and reliefs (``[pinion.modifications]``,
-    ``drives.modification_specs``)."""
+    ``drives.modification_specs``); ``errors`` its eccentricity and pitch deviations
+    (``[pinion.errors]``, ``drives.accuracy_specs``)."""
 
     teeth: PositiveInt
     mass: Mass
@@ -74,6 +76,7 @@ class Gear(Spec):
     bearing: Bearing
     shift: Shift = 0.0
     modifications: ModificationSpec | None = None
+    errors: GearErrorSpec | None = None
 
 
 class GearMesh(Spec):
@@ -155,6 +158,17 @@ class GearPairDesign(Design):
                 "operating.speed",
                 "mesh.stiffness_harmonics need operating.speed > 0 to set the mesh frequency",
             ))  # fmt: skip
+        return self
+
+    @model_validator(mode="after")
+    def _errors_fit(self) -> GearPairDesign:
+        problems = []
+        for name in ("pinion", "gear"):
+            g = getattr(self, name)
+            if g.errors is not None:
+                problems += g.errors.check_teeth(f"{name}.errors", g.teeth)
+        if problems:
+            raise field_rules(*problems)
         return self
 
     @model_validator(mode="after")

@@ -52,6 +52,7 @@ from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
 from ..model.laws import TimeLaw
+from .accuracy_specs import GearErrorSpec
 from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms
 from .modification_specs import Layout, ModificationSpec
 from .rating_material import GearMaterialSpec
@@ -72,7 +73,9 @@ class Gears(Spec):
     ``planet_modifications``, ``ring_modifications``: the loaded flanks' crowning and
     reliefs (``drives.modification_specs``); ``flank_modifications = "crowned"`` gives a
     gear without its table the default crowned layout (docs/contact.md). They take
-    effect in the internal pair's loaded contact analysis.
+    effect in the internal pair's loaded contact analysis. ``planet_errors``,
+    ``ring_errors``: eccentricity and pitch deviations (``drives.accuracy_specs``), for
+    the transmission accuracy.
     """
 
     planet_teeth: PositiveInt
@@ -89,6 +92,8 @@ class Gears(Spec):
     flank_modifications: Layout = "none"
     planet_modifications: ModificationSpec | None = None
     ring_modifications: ModificationSpec | None = None
+    planet_errors: GearErrorSpec | None = None
+    ring_errors: GearErrorSpec | None = None
 
     @model_validator(mode="after")
     def _teeth(self) -> Gears:
@@ -96,6 +101,13 @@ class Gears(Spec):
             raise field_rules(("ring_teeth", f"must exceed planet_teeth ({self.planet_teeth})"))
         if self.shift_line[0] == self.shift_line[2]:
             raise field_rules(("shift_line", "needs two points with different x1"))
+        problems = []
+        for name, z in (("planet", self.planet_teeth), ("ring", self.ring_teeth)):
+            spec = getattr(self, f"{name}_errors")
+            if spec is not None:
+                problems += spec.check_teeth(f"{name}_errors", z)
+        if problems:
+            raise field_rules(*problems)
         return self
 
     @property

@@ -1,0 +1,234 @@
+"""Angular transmission error over one output revolution from manufacturing errors.
+
+``transmission_accuracy(design)`` turns the drive's input through ``|i|`` revolutions
+(one output revolution, without reversing), takes each gear's rotation in its mesh's
+frame from the drive's kinematics (``DriveKinematics.relative_speeds``: the housing
+for a gear pair, the carrier for the KHV drive's internal mesh), and adds up the lead of
+the driven flank along the line of action that the gears' eccentricities and
+cumulative pitch deviations give (:func:`reducerlab.kinematics.accuracy.mesh_lead`):
+
+``delta theta_out = s / r_bB``
+
+with ``r_bB`` the base radius of the mesh's driven gear (the gear pair's gear; the KHV
+planet, whose angle relative to the carrier is the output's error because the carrier
+is the input and turns exactly). The error is the output angle minus its nominal
+``theta_in / i``, positive ahead in the output's turning sense; reported in arc seconds
+with its peak to peak and its amplitude spectrum in orders of the output revolution
+(and of the input: output order / ``|i|``).
+
+Rigid (unloaded) kinematics, one tooth pair in contact, first order in ``e / r_b``; the
+loaded transmission error of the contact analysis under a stated load is a later piece
+of issue 31. The gear pair and KHV drives; the others raise naming the design type.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+
+from ..errors import ReducerlabError
+from ..geometry.internal_pair import inv, inv_inverse
+from ..kinematics.accuracy import GearErrors, line_angle, mesh_lead, order_spectrum
+from ..results import Result, provenance
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["ARCSEC", "TransmissionAccuracyResult", "transmission_accuracy"]
+
+Array = NDArray[np.float64]
+
+#: one arc second in radians
+ARCSEC = math.pi / (180.0 * 3600.0)
+
+
+class TransmissionAccuracyResult(Result):
+    """Output angle error over one output revolution and its spectrum.
+
+    ``data``: coordinate ``output_angle`` (rad, ``samples`` even steps over one output
+    revolution) with ``error`` (rad) and ``contribution`` (``source`` x
+    ``output_angle``, rad: each gear's eccentricity and pitch deviations alone);
+    coordinate ``order`` (of the output revolution, with ``input_order``) with
+    ``amplitude`` (arcsec). Attributes: ``peak_to_peak_arcsec``, ``ratio``,
+    ``drive``, ``driven_base_radius`` (m).
+    """
+
+    kind: ClassVar[str] = "transmission-accuracy"
+
+    @property
+    def error_arcsec(self) -> Array:
+        """The output angle error (arcsec) over the revolution."""
+        return np.asarray(self.data["error"].values, float) / ARCSEC
+
+    @property
+    def peak_to_peak(self) -> float:
+        """Peak-to-peak output angle error (arcsec)."""
+        return float(self.data.attrs["peak_to_peak_arcsec"])
+
+    def largest_orders(self, n: int = 5) -> list[tuple[int, float]]:
+        """The ``n`` output orders of largest amplitude (order, arcsec), order > 0,
+        leaving out round-off (below ``1e-9`` of the largest)."""
+        amp = np.asarray(self.data["amplitude"].values, float)
+        floor = 1e-9 * amp[1:].max(initial=0.0)
+        idx = [int(k) for k in np.argsort(-amp[1:], kind="stable")[:n] + 1 if amp[k] > floor]
+        return [(k, float(amp[k])) for k in idx]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: attributes, peak to peak and the largest orders."""
+        a = self.data.attrs
+        out = {k: (v.item() if hasattr(v, "item") else v) for k, v in a.items()
+               if k != "design"}  # fmt: skip
+        ratio = abs(float(a["ratio"]))
+        out["largest_orders"] = [
+            {"output_order": k, "input_order": k / ratio, "amplitude_arcsec": v}
+            for k, v in self.largest_orders()
+        ]
+        out["contribution_peak_to_peak_arcsec"] = {
+            str(s): float(np.ptp(self.data["contribution"].sel(source=s).values) / ARCSEC)
+            for s in self.data["source"].values
+        }
+        return out
+
+    def table(self) -> str:
+        """Plain-text summary."""
+        d = self.to_dict()
+        lines = [
+            f"Transmission accuracy ({d['drive']}, i = {d['ratio']:.6g}): rigid kinematics, "
+            f"{self.data.sizes['output_angle']} samples over one output revolution",
+            f"peak to peak: {self.peak_to_peak:.4g} arcsec",
+            "source  peak to peak (arcsec)",
+        ]
+        lines += [f"  {s}: {v:.4g}" for s, v in d["contribution_peak_to_peak_arcsec"].items()]
+        lines.append("output order  input order  amplitude (arcsec)")
+        lines += [f"{r['output_order']:>12d}  {r['input_order']:>11.4g}  "
+                  f"{r['amplitude_arcsec']:.4g}" for r in d["largest_orders"]]  # fmt: skip
+        return "\n".join(lines)
+
+    def figure(self) -> Figure:
+        """Error over the output revolution; its spectrum in orders."""
+        from ..plot.transmission_accuracy import plot_transmission_accuracy
+
+        return plot_transmission_accuracy(self)
+
+    plot = figure
+
+
+@dataclass(frozen=True)
+class _Mesh:
+    """One mesh as the accuracy law takes it: gears A (driving) and B (driven) with
+    their speeds in the mesh frame per unit input speed."""
+
+    names: tuple[str, str]
+    gears: tuple[GearErrors, GearErrors]
+    speeds: tuple[float, float]
+    internal: bool
+    working_pressure_angle: float
+    pressure_angle: float
+    driven_base_radius: float
+
+
+def _errors(spec: Any, teeth: int) -> GearErrors:
+    return GearErrors(teeth) if spec is None else spec.value(teeth)
+
+
+def _mesh(design: Any) -> _Mesh:
+    kind = getattr(design, "type", None)
+    if kind == "gear_pair":
+        rel = design.kinematics().relative_speeds(1.0)
+        zp, zg = design.pinion.teeth, design.gear.teeth
+        alpha = design.mesh.pressure_angle
+        x = design.pinion.shift + design.gear.shift
+        aw = inv_inverse(inv(alpha) + 2 * x * math.tan(alpha) / (zp + zg))
+        return _Mesh(("pinion", "gear"),
+                     (_errors(design.pinion.errors, zp), _errors(design.gear.errors, zg)),
+                     (rel["pinion"], rel["gear"]), False, aw, alpha,
+                     design.base_radius("gear"))  # fmt: skip
+    if kind == "khv":
+        g = design.gears
+        rel = design.kinematics().relative_speeds(1.0)
+        pair = g.pair()
+        errors = (
+            _errors(g.ring_errors, g.ring_teeth),
+            _errors(g.planet_errors, g.planet_teeth),
+        )
+        speeds = (rel["ring K"], rel["planet V"])
+        aw, rb = pair.working_pressure_angle, pair.base_radius(1)
+        return _Mesh(("ring", "planet"), errors, speeds, True, aw, g.pressure_angle, rb)
+    raise ReducerlabError(
+        f"transmission accuracy: computed for gear_pair and khv designs so far; got a "
+        f"{kind or type(design).__name__} design"
+    )
+
+
+def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccuracyResult:
+    """Rigid-kinematics output angle error over one output revolution.
+
+    Parameters
+    ----------
+    design : GearPairDesign or KHVDesign
+        With the gears' ``errors`` tables (``drives.accuracy_specs``); none: zero error.
+    samples : int
+        Even steps over one output revolution, 64 .. 2**20 (resolve the pitch steps:
+        at least a few per tooth passing the mesh).
+
+    Returns
+    -------
+    TransmissionAccuracyResult
+        ``delta theta_out = s / r_bB`` (rad; module docstring) and its spectrum.
+
+    Raises
+    ------
+    ReducerlabError
+        A drive other than gear_pair and khv; ``samples`` out of range.
+    """
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 64 <= samples <= 2**20:
+        raise ReducerlabError(f"samples: must be an integer in 64 .. 2**20; got {samples!r}")
+    m = _mesh(design)
+    kin = design.kinematics()
+    ratio = float(kin.ratio)
+    u = 2 * math.pi * np.arange(samples) / samples  # output angle, its own sense
+    theta_in = abs(ratio) * u
+    ang = [v * theta_in for v in m.speeds]
+    sigma_b = 1 if m.speeds[1] > 0 else -1
+    tau = line_angle(sigma_b, m.internal, m.working_pressure_angle)
+    # B's lead in its mesh-frame sense is the output's when both turn alike (the KHV
+    # planet's angle relative to the carrier errs as its absolute one: the carrier is exact)
+    out_sense = 1.0 if (m.speeds[1] > 0) == (ratio > 0) else -1.0
+    zero = [GearErrors(g.teeth) for g in m.gears]
+    sources, parts = [], []
+    for k, (name, g) in enumerate(zip(m.names, m.gears, strict=True)):
+        for label, only in (("eccentricity", GearErrors(g.teeth, g.eccentricity, g.phase)),
+                            ("pitch", GearErrors(g.teeth, pitch=g.pitch))):  # fmt: skip
+            pair = [only, zero[1]] if k == 0 else [zero[0], only]
+            s = mesh_lead(ang[0], ang[1], *pair, tau, m.pressure_angle)
+            sources.append(f"{name} {label}")
+            parts.append(out_sense * s / m.driven_base_radius)
+    contribution = np.array(parts)
+    error = contribution.sum(axis=0)
+    orders, amp = order_spectrum(error / ARCSEC)
+    ds = xr.Dataset(
+        {
+            "error": ("output_angle", error, {"units": "rad"}),
+            "contribution": (("source", "output_angle"), contribution, {"units": "rad"}),
+            "amplitude": ("order", amp, {"units": "arcsec"}),
+        },
+        coords={
+            "output_angle": ("output_angle", u, {"units": "rad"}),
+            "source": sources,
+            "order": orders,
+            "input_order": ("order", orders / abs(ratio)),
+        },
+        attrs={
+            "title": "Transmission accuracy (rigid kinematics)",
+            **provenance(getattr(design, "provenance", None)),
+        },
+    )
+    ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
+                    drive=str(design.type), driven_base_radius=m.driven_base_radius,
+                    line_angle=tau, working_pressure_angle=m.working_pressure_angle)  # fmt: skip
+    return TransmissionAccuracyResult(ds)

@@ -1,0 +1,49 @@
+"""Figure of the transmission accuracy
+(:class:`~reducerlab.analysis.transmission_accuracy.TransmissionAccuracyResult`): left,
+the output angle error (arcsec) over one output revolution, each source dashed; right,
+its amplitude spectrum in orders of the output revolution, up to twice the highest
+order above 5 % of the largest line. Plain
+:class:`matplotlib.figure.Figure` (no pyplot, Agg-safe)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_transmission_accuracy"]
+
+ARCSEC = np.pi / (180.0 * 3600.0)
+
+
+def plot_transmission_accuracy(result: Any) -> Figure:
+    """Error over the output revolution and its spectrum in orders."""
+    from matplotlib.figure import Figure
+
+    ds = result.data
+    fig = Figure(figsize=(11, 4.2), layout="constrained")
+    ax, bx = fig.subplots(1, 2)
+    deg = np.degrees(ds["output_angle"].values)
+    for s in ds["source"].values:
+        c = ds["contribution"].sel(source=s).values
+        if np.any(c):
+            ax.plot(deg, c / ARCSEC, "--", lw=0.8, label=str(s))
+    ax.plot(deg, ds["error"].values / ARCSEC, "k-", lw=1.2, label="total")
+    ax.set_xlabel("output angle (deg)")
+    ax.set_ylabel("output angle error (arcsec)")
+    ax.set_title(f"peak to peak {ds.attrs['peak_to_peak_arcsec']:.4g} arcsec")
+    ax.legend(fontsize="small")
+    order = ds["order"].values
+    amp = ds["amplitude"].values
+    top = int(order[np.nonzero(amp > 0.05 * max(amp.max(), 1e-300))[0]].max(initial=1))
+    keep = order <= max(2 * top, 10)
+    bx.vlines(order[keep][1:], 0, amp[keep][1:], color="k")
+    bx.set_xlabel(
+        f"order of the output revolution (input order = order / {abs(ds.attrs['ratio']):.4g})"
+    )
+    bx.set_ylabel("amplitude (arcsec)")
+    bx.set_ylim(bottom=0.0)
+    return fig
