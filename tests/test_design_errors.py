@@ -168,7 +168,7 @@ def test_pressure_angle_message_shows_the_angle_in_degrees(tmp_path, written, sh
         (
             "[pinion]\n",
             "pinion.mas",
-            "bearing, mass, modifications, moment_of_inertia, shift, teeth",
+            "bearing, errors, mass, modifications, moment_of_inertia, shift, teeth",
         ),
         (
             "[pinion.bearing]\n",
