@@ -11,13 +11,35 @@ operating torque (``analysis.contact_law``) and makes ``k(t)`` its tangent.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Annotated, Any
 
-from pydantic import WrapValidator
+from pydantic import TypeAdapter, ValidationError, WrapValidator
 
+from ..design import Stiffness
 from ..design_files import field_rules
 
-__all__ = ["LoadExponent", "check_force_law", "check_stiffness_terms"]
+__all__ = ["LoadExponent", "check_force_law", "check_stiffness_terms", "stiffness_or"]
+
+_STIFFNESS = TypeAdapter(Stiffness)
+
+
+def stiffness_or(words: tuple[str, ...], hint: str) -> Callable[[Any, Any], float | str]:
+    """The validator of a mesh table's ``stiffness``: one of ``words`` (where the law
+    comes from), or a stiffness (N/m); a bad value's message ends with ``(hint)``."""
+
+    def validate(value: Any, handler: Any) -> float | str:
+        if value in words:
+            return value
+        try:
+            return _STIFFNESS.validate_python(value)
+        except ValidationError as exc:
+            err = exc.errors()[0]
+            msg = "must be greater than 0" if err["type"] == "greater_than" else str(err["msg"])
+            msg = msg.removeprefix("Value error, ")
+            raise ValueError(f"{msg} ({hint})") from None
+
+    return validate
 
 
 def _exponent_or_contact(value: Any, handler: Any) -> float | str:

@@ -22,11 +22,11 @@ stiffness with its mesh harmonics written into the design (paper 000 Eq. 8, as
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, ClassVar, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, TypeAdapter, ValidationError, WrapValidator, model_validator
+from pydantic import Field, WrapValidator, model_validator
 
 from ..contact.iso6336 import pitch_point_stiffness, single_double_law
 from ..design import (
@@ -40,7 +40,6 @@ from ..design import (
     Real,
     Spec,
     SpeedRange,
-    Stiffness,
     Torque,
     angle_between,
     quantity,
@@ -53,7 +52,7 @@ from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, M
 from ..model.forcing import inertial_error
 from ..model.laws import TimeLaw
 from .accuracy_specs import GearErrorSpec
-from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms
+from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms, stiffness_or
 from .modification_specs import Layout, ModificationSpec
 from .rating_material import GearMaterialSpec
 
@@ -150,24 +149,11 @@ class Shafts(Spec):
     damping_ratio: Ratio = 0.0
 
 
-_STIFFNESS = TypeAdapter(Stiffness)
 #: the words ``[mesh] stiffness`` takes besides a number
 SOURCES = ("iso", "contact")
-
-
-def _stiffness_source(value: Any, handler: Any) -> float | str:
-    """``"iso"``, ``"contact"`` or a stiffness (its own message when it is none)."""
-    if value in SOURCES:
-        return value
-    try:
-        return _STIFFNESS.validate_python(value)
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        msg = "must be greater than 0" if err["type"] == "greater_than" else str(err["msg"])
-        msg = msg.removeprefix("Value error, ")
-        raise ValueError(
-            f'{msg} (or "iso": paper 004 Eq. 7-9; "contact": the loaded contact\'s k(t))'
-        ) from None
+_stiffness_source = stiffness_or(
+    SOURCES, 'or "iso": paper 004 Eq. 7-9; "contact": the loaded contact\'s k(t)'
+)
 
 
 class MeshSpec(Spec):

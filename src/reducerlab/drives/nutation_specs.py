@@ -3,9 +3,9 @@ gears, supports, meshes and tooth surfaces (paper 000 Tables 1-2, paper 001)."""
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal
 
-from pydantic import Field, TypeAdapter, ValidationError, WrapValidator, model_validator
+from pydantic import Field, WrapValidator, model_validator
 
 from ..design import (
     Damping,
@@ -15,14 +15,13 @@ from ..design import (
     NonNegativeStiffness,
     PositiveInt,
     Spec,
-    Stiffness,
     TorsionalDamping,
     TorsionalStiffness,
     angle_between,
     quantity,
 )
 from ..design_files import field_rules
-from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms
+from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms, stiffness_or
 from .modification_specs import Layout, ModificationSpec
 
 __all__ = [
@@ -128,20 +127,7 @@ class TiltSupport(Spec):
     J_y: MomentOfInertia | None = None
 
 
-_STIFFNESS = TypeAdapter(Stiffness)
-
-
-def _stiffness_or_contact(value: Any, handler: Any) -> float | str:
-    """``"contact"``, or a stiffness (its own message when it is neither)."""
-    if value == "contact":
-        return "contact"
-    try:
-        return _STIFFNESS.validate_python(value)
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        msg = "must be greater than 0" if err["type"] == "greater_than" else str(err["msg"])
-        msg = msg.removeprefix("Value error, ")
-        raise ValueError(f'{msg} (or "contact": the loaded contact\'s k(t))') from None
+_stiffness_or_contact = stiffness_or(("contact",), 'or "contact": the loaded contact\'s k(t)')
 
 
 class MeshSpec(Spec):
