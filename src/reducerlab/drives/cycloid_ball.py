@@ -215,12 +215,6 @@ def contact_force_law(design: CycloidBallDesign) -> tuple[TimeLaw, float, float,
     return law, 1.0, 0.0, 0.0  # preloaded (or at rest): the tangent law
 
 
-def contact_stiffness_law(design: CycloidBallDesign) -> TimeLaw:
-    """``K_mx(t)`` (N/m) of the ball track at the operating torque (the tangent
-    stiffness law of :func:`contact_force_law`)."""
-    return contact_force_law(design)[0]
-
-
 def cross_ball_stiffness(single_pair: float, loaded_balls: int = 6) -> float:
     """Lumped torsional stiffness of the cross-ball mechanism (N/m on ``u``), Eq. 2.
 
@@ -284,7 +278,7 @@ class CycloidBallPair(Spec):
     ball's normal (negative: a preload; one value for every ball) and the elastic
     constants of balls and discs. ``stiffness_source = "contact"`` takes the model's
     ``K_mx(t)`` from the ball track at the operating torque
-    (:func:`contact_stiffness_law`) instead of Eq. 1/10 with ``ball_stiffness``."""
+    (:func:`contact_force_law`) instead of Eq. 1/10 with ``ball_stiffness``."""
 
     ball_stiffness: Stiffness
     deformation_coefficient: Annotated[Real, Field(gt=0, le=1)]
@@ -419,7 +413,7 @@ class CycloidBallDesign(Design):
     def mesh_stiffness(self) -> float:
         """Mean lumped stiffness ``K_mx`` of the cycloid-ball pairs (N/m), paper 003 Eq.
         1/10 with ``ball_stiffness`` (with ``stiffness_source = "contact"`` the model
-        takes :func:`contact_stiffness_law` instead)."""
+        takes :func:`contact_force_law` instead)."""
         p = self.cycloid_pair
         return cycloid_ball_stiffness(p.ball_stiffness, self.balls, p.deformation_coefficient)
 
