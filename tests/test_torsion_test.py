@@ -218,7 +218,7 @@ def test_example_drives_loop_and_stiffness_at_rated(name):
     lines are linear beyond the backlash); the backlash jump equals the lines' gap seen
     at the output."""
     d = load_design(example_dir() / f"{name}.toml")
-    res = torsion_test(d, steps=4)
+    res = torsion_test(d, steps=4, mu=0.0)  # frictionless: friction in test_torsion_friction
     T, th, br = (res.data[v].values for v in ("torque", "twist", "branch"))
     for j in range(4):
         t, x = T[br == j], th[br == j]
@@ -249,7 +249,7 @@ def test_nutation_backlash_through_both_meshes():
     col = {n: i for i, n in enumerate(s.dof_names)}
     h1, h2 = s.half_backlash
     G = s.G
-    res = torsion_test(d, steps=4)
+    res = torsion_test(d, steps=4, mu=0.0)
     top = int(np.argmax(res.data["torque"].values))
     s1, s2 = np.sign(res.data["line_force"].values[top])  # the sides +T_r loads
     th13 = s1 * h1 / G[0, col["g13.rz"]]
@@ -271,7 +271,7 @@ def test_result_file_table_figure_and_cli(tmp_path):
     assert isinstance(back, TorsionTestResult)
     assert back.numbers == res.numbers
     table = res.table()
-    assert "N m/arcmin" in table and "arcmin" in table and "no friction" in table
+    assert "N m/arcmin" in table and "arcmin" in table and "Coulomb mu = 0.05" in table
     lm = res.to_dict()["datasheet"]["lost_motion_3pct_arcmin"]
     assert lm == pytest.approx(res.numbers.lost_motion_3 / ARCMIN)
     res.figure()

@@ -169,6 +169,18 @@ class _Bench:
     b: Array  # generalised force of a unit output torque
     c: Array  # output twist (rad) per q
 
+    friction = False  # no Coulomb friction (analysis.torsion_friction adds it)
+
+    @property
+    def frictionless(self) -> _Bench:
+        return self
+
+    def start(self, q: Array) -> None:
+        """A branch starts at ``q`` (no state to reset without friction)."""
+
+    def commit(self, q: Array) -> None:
+        """Accept a solved state (no state to advance without friction)."""
+
     def forces(self, q: Array) -> tuple[Array, Array, Array]:
         """Line forces (N), their slopes (N/m; 0 apart) and the deflection beyond the
         backlash ``f`` (m) at ``q``."""
@@ -219,6 +231,31 @@ def _bench(s: NonlinearSystem, ends: BenchEnds, position: float | None) -> tuple
         d=s.line_power[:, 1].copy(), b=b, c=c,
     )  # fmt: skip
     return bench, [names[i] for i in free]
+
+
+def _with_friction(
+    design: Any, model: Model, s: NonlinearSystem, bench: _Bench, free: list, mu: float | None
+) -> tuple[Any, float, str]:
+    """The bench with Coulomb friction on its sliding lines (:mod:`.torsion_friction`),
+    the coefficient and a note saying what slides."""
+    from .efficiency import friction_coefficient
+    from .torsion_friction import friction_bench, mindlin_ratio, sliding_matrix
+
+    mu = friction_coefficient(design, mu)
+    names = list(s.dof_names)
+    S = sliding_matrix(model, list(s.line_names))[:, [names.index(n) for n in free]]
+    nu = getattr(getattr(design, "material", None), "poisson_ratio", None)
+    kappa = mindlin_ratio(0.3 if nu is None else float(nu))
+    fb = friction_bench(bench, S, mu, kappa)
+    if fb is None:
+        why = "mu = 0" if mu == 0 else "no line slides (rolling contacts)"
+        return bench, mu, f"none ({why}: the loop encloses no area)"
+    lines = [n for n, row in zip(s.line_names, S, strict=True) if np.any(row)]
+    return (
+        fb,
+        mu,
+        (f"Coulomb mu = {mu:g} at {', '.join(lines)} (Jenkins elements, k_t = {kappa:.3f} k)"),
+    )
 
 
 def torsion_estimate(steps: int, dofs: int, lines: int) -> Estimate:
@@ -360,8 +397,7 @@ class TorsionTestResult(Result):
         a = self.data.attrs
         head = [
             f"Torsion test: {a['ends']}; output {a['output_dof']}, rated torque "
-            f"{a['rated_torque']:.4g} N m, {a['points']} states, no friction (the loop "
-            "encloses no area)",
+            f"{a['rated_torque']:.4g} N m, {a['points']} states; friction: {a['friction']}",
         ]
         return "\n".join(head + self.numbers.rows())
 
@@ -386,6 +422,7 @@ def torsion_test(
     held: tuple[str, ...] | None = None,
     output: str | None = None,
     model: Model | None = None,
+    mu: float | None = None,
 ) -> TorsionTestResult:
     """The quasi-static torsion test of a drive, input held.
 
@@ -409,6 +446,10 @@ def torsion_test(
         and output (lumped), or to override :func:`bench_ends`.
     model : Model, optional
         The design's model when the caller has built it.
+    mu : float, optional
+        Coulomb coefficient at the sliding mesh contacts (``[0, 0.3]``; 0: no friction,
+        the loop encloses no area); default the design's
+        ``material.friction_coefficient``, else 0.05 (:mod:`.torsion_friction`).
 
     Returns
     -------
@@ -440,6 +481,7 @@ def torsion_test(
     s = model.nonlinear()
     torsion_estimate(steps, len(s.dof_names), len(s.line_names)).check()
     bench, free = _bench(s, ends, position)
+    bench, mu, friction = _with_friction(design, model, s, bench, free, mu)
     fractions = (0.03, 0.04, t1, t2)
     up = loop_torques(float(rated), steps, fractions)
     torque, branch, states = _run_loop(bench, up, float(rated))
@@ -467,7 +509,8 @@ def torsion_test(
         rated_torque=float(rated), steps=int(steps), t1_fraction=float(t1),
         t2_fraction=float(t2), points=len(torque),
         position="mean laws" if position is None else f"t = {position:.6g} s",
-        friction="none (the loop encloses no area)", free_dofs=",".join(free),
+        friction=friction, mu=mu, friction_work=float(getattr(bench, "work", 0.0)),
+        free_dofs=",".join(free),
         seconds=time.perf_counter() - t0, **nums.attrs(),
     )  # fmt: skip
     return TorsionTestResult(ds)
@@ -485,18 +528,28 @@ def _run_loop(bench: _Bench, up: Array, rated: float) -> tuple[Array, Array, lis
     for j, (sign, order) in enumerate(((1, up), (1, up[::-1]), (-1, up), (-1, up[::-1]))):
         Ts = [sign * float(v) for v in order]
         nonzero = [T for T in Ts if T != 0.0]
+        rest = None  # the branch's zero-torque start, when friction needs it first
         if j in (1, 3):  # continuing the loop: from the previous branch's last state
             T_prev, q_prev = torque[-1], states[-1]
         else:
             T_prev = nonzero[0]
-            q_prev = _solve(bench, T_prev, 0.0, _closed_guess(bench, T_prev), scale)
+            plain = bench.frictionless
+            q_prev = _solve(plain, T_prev, 0.0, _closed_guess(bench, T_prev), scale)
+            if bench.friction:  # at rest with every slider let go, then loaded
+                rest = _zero_limit(plain, T_prev, q_prev, scale)
+                bench.start(rest)
+                q_prev = _solve(bench, T_prev, 0.0, rest, scale)
         solved: dict[float, Array] = {}
         for T in nonzero:
             q_prev = _solve(bench, T, T_prev, q_prev, scale)
+            bench.commit(q_prev)
             T_prev, solved[T] = T, q_prev
         near = min(nonzero, key=abs)
         for T in Ts:
-            q = solved[T] if T != 0.0 else _zero_limit(bench, near, solved[near], scale)
+            if T != 0.0:
+                q = solved[T]
+            else:
+                q = rest if rest is not None else _zero_limit(bench, near, solved[near], scale)
             torque.append(T)
             branch.append(j)
             states.append(q)

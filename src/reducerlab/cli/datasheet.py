@@ -1,7 +1,8 @@
 """``reducerlab datasheet``: the catalogue numbers of a drive computed from its model
-(issue 31). This first part runs the torsion test with the input held
-(``analysis.torsion_test``) and prints backlash, lost motion, hysteresis loss,
-K1/K2/K3 with T1/T2 and the RV torsional rigidity (N m, arcmin, N m/arcmin)."""
+(issue 31). It runs the torsion test with the input held (``analysis.torsion_test``,
+Coulomb friction at the sliding contacts) and prints backlash, lost motion, hysteresis
+loss, loop area, K1/K2/K3 with T1/T2 and the RV torsional rigidity (N m, arcmin,
+N m/arcmin)."""
 
 from __future__ import annotations
 
@@ -31,6 +32,14 @@ def datasheet(
     ] = 20,
     t1: Annotated[float, typer.Option(help="T1 as a fraction of rated (K1/K2 limit).")] = 0.2,
     t2: Annotated[float, typer.Option(help="T2 as a fraction of rated (K2/K3 limit).")] = 0.7,
+    mu: Annotated[
+        float | None,
+        typer.Option(
+            "--mu",
+            help="Coulomb coefficient at the sliding tooth contacts (0 = no friction; "
+            "default: the design's material.friction_coefficient, else 0.05).",
+        ),
+    ] = None,
     output: Annotated[
         Path | None,
         typer.Option(
@@ -43,8 +52,8 @@ def datasheet(
     sets: SetOption = None,
 ) -> None:
     """Torsion test with the input held, output torque 0 -> +rated -> -rated -> 0
-    (quasi-static, whole drive model, no friction yet): the hysteresis loop and the
-    catalogue numbers read from it."""
+    (quasi-static, whole drive model, Coulomb friction at the sliding tooth contacts):
+    the hysteresis loop and the catalogue numbers read from it."""
     from ..analysis.torsion_test import torsion_estimate, torsion_test
     from ..drives import build_model, load_design
 
@@ -57,7 +66,7 @@ def datasheet(
         model = build_model(d)
         work = torsion_estimate(steps, model.n, len(model.nonlinear().line_names)).check()
         typer.echo(f"estimate: {work.what}: {work.work:.3g} {work.unit}", err=True)
-        res = torsion_test(d, rated=torque, steps=steps, t1=t1, t2=t2, model=model)
+        res = torsion_test(d, rated=torque, steps=steps, t1=t1, t2=t2, model=model, mu=mu)
         if files is not None:
             with files:
                 add_result(res, files, "datasheet")

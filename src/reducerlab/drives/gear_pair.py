@@ -312,6 +312,16 @@ def build_model(design: GearPairDesign) -> Model:
             damping=design.mesh.damping,
             backlash=Backlash.full(design.mesh.backlash),
             name="mesh",
+            # sliding at the pitch point (gear on +x): t = (-cos a, sin a) along the
+            # flanks, a rotation slides them by r_w sin(a) = r_b tan(a) per radian
+            sliding={
+                "pinion.x": -c,
+                "pinion.y": s,
+                "pinion.rz": rbp * s / c,
+                "gear.x": c,
+                "gear.y": -s,
+                "gear.rz": rbg * s / c,
+            },
         )
     )
     point = design.operating_point()

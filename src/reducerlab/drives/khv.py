@@ -370,6 +370,10 @@ def build_model(design: KHVDesign) -> Model:
             name="mesh",
             exponent=mesh.exponent,
             reference_deflection=mesh.reference_deflection,
+            # at the pitch point the flanks slide by tan(a_w) per unit of the line's
+            # rotational deflection (carrier held: the planet's rho = r_bV tan(a_w));
+            # the conjugate motion (planet.u = carrier.u) rolls without sliding
+            sliding={"planet.u": math.tan(aw), "carrier.u": -math.tan(aw)},
         ),
     ]
     # X = theta r_b: the rigid motion turns every X alike, so T_D / r_bH = T_L / r_bV

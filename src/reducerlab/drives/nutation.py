@@ -59,7 +59,7 @@ from ..model import (
     Support,
 )
 from ..model.laws import TimeLaw
-from .nutation_mesh import contact_normal, drive_loads, tilt_lever
+from .nutation_mesh import contact_normal, drive_loads, sliding_direction, tilt_lever
 from .nutation_specs import Bevel, MaterialSpec, MeshSpec, Support3, SurfaceSpec, TiltSupport
 
 __all__ = ["NutationDesign", "build_model"]
@@ -413,6 +413,12 @@ def build_model(design: NutationDesign) -> Model:
         }  # fmt: skip
         if tilt is not None:
             g["g13.rx"], g["g13.ry"] = tilt_lever(dn, dc, b, an, th, cone[2 * j + 1])
+        t_n, t_c = sliding_direction(a_n), sliding_direction(a_c)
+        slide = {
+            "g13.x": t_n[0], "g13.y": t_n[1], "g13.z": t_n[2], "g13.rz": t_n[1] * n.mean_radius,
+            f"{cbody}.x": -t_c[0], f"{cbody}.y": -t_c[1], f"{cbody}.z": -t_c[2],
+            f"{cbody}.rz": -t_c[1] * c.mean_radius,
+        }  # fmt: skip
         omega = 2 * math.pi * mesh_hz[j]
         error = Fourier(0.0, (spec.error_amplitude,), omega, ref_speed=design.input_speed)
         elements.append(
@@ -425,6 +431,7 @@ def build_model(design: NutationDesign) -> Model:
                 name=f"mesh{j + 1}",
                 exponent=spec.exponent,
                 reference_deflection=spec.reference_deflection,
+                sliding=slide,
             )
         )
     if design.gyroscopic and tilt is not None:

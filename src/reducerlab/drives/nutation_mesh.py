@@ -14,7 +14,7 @@ from ..kinematics import DriveKinematics
 from ..kinematics.torques import mesh_torques
 from ..model import Load
 
-__all__ = ["contact_normal", "contact_point", "drive_loads", "tilt_lever"]
+__all__ = ["contact_normal", "contact_point", "drive_loads", "sliding_direction", "tilt_lever"]
 
 #: The model's rotation DOF of each gear of the kinematics' torque train.
 GEAR_DOFS = {
@@ -42,6 +42,23 @@ def contact_normal(
     x, z = -A, C
     c, s = math.cos(nutation), math.sin(nutation)
     return (x * c + z * s, math.cos(beta) * math.cos(alpha_n), -x * s + z * c)
+
+
+def sliding_direction(normal: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Unit tangent ``t = (y - a_y a) / |y - a_y a|`` of the flanks at the mean contact
+    point: the direction in which a rotation of either gear about its own axis slides
+    them (``y``, the circumferential direction at the contact point in both gears'
+    frames, less its part along the normal ``a`` of :func:`contact_normal`).
+
+    A rotation ``phi`` of a gear of mean radius ``R`` moves its flank by ``R phi y``:
+    ``R a_y phi`` along the normal (the line's coefficient) and ``R w phi`` along ``t``
+    with ``w = sqrt(1 - a_y^2) = t . y``; a translation ``u`` slides it by ``t . u``.
+    """
+    ax, ay, az = normal
+    w = math.sqrt(max(1.0 - ay * ay, 0.0))
+    if w == 0.0:
+        raise ValueError("the contact normal is circumferential: no sliding direction")
+    return (-ay * ax / w, w, -ay * az / w)
 
 
 def contact_point(delta_c: float, nutation: float, cone_distance: float) -> tuple[float, ...]:

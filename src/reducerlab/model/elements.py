@@ -328,6 +328,13 @@ class Mesh(Element):
     reference_deflection : float
         ``delta_ref`` (m, > 0 where ``p != 1``): the deflection at which ``k(t)`` is the
         tangent stiffness.
+    sliding : mapping of str to float, optional
+        DOF name -> coefficient ``s_i`` of the relative sliding displacement of the two
+        flanks at the line's mean contact point, ``s = sum_i s_i q_i`` (m per unit DOF),
+        tangent to the flanks in the direction a rotation of either gear about its own
+        axis slides them (the quasi-static torsion test's Coulomb friction,
+        ``analysis.torsion_friction``). Its DOFs must be among ``coefficients``; None
+        (default) for a line whose contact rolls without sliding or is not modelled.
     """
 
     coefficients: Mapping[str, float]
@@ -338,12 +345,22 @@ class Mesh(Element):
     name: str = ""
     exponent: float = 1.0
     reference_deflection: float = 0.0
+    sliding: Mapping[str, float] | None = None
 
     def __post_init__(self) -> None:
         if not self.name:
             object.__setattr__(self, "name", "mesh:" + "-".join(dict(self.coefficients)))
         coef = _coefficients(self.name, self.coefficients)
         object.__setattr__(self, "coefficients", coef)
+        if self.sliding is not None:
+            slide = _coefficients(f"{self.name} (sliding)", self.sliding)
+            stray = sorted(set(slide) - set(coef))
+            if stray:
+                raise ModelError(
+                    f"{self.name}: sliding coefficients must be on the line's own DOFs "
+                    f"{sorted(coef)}; got {stray}"
+                )
+            object.__setattr__(self, "sliding", slide)
         object.__setattr__(self, "stiffness", _as_law(self.stiffness, self.name, "stiffness"))
         object.__setattr__(self, "error", _as_law(self.error, self.name, "error"))
         if self.backlash is None:

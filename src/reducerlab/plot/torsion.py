@@ -60,7 +60,7 @@ def plot_torsion_loop(result: Any) -> Figure:
     ax.set_ylabel("output twist (arcmin)")
     ax.set_title(
         f"Torsion test, input held: backlash {n.backlash / _ARCMIN:.3g} arcmin, lost motion "
-        f"{lm:.3g} arcmin, K3 {n.K3 * _ARCMIN:.4g} N m/arcmin (no friction)",
+        f"{lm:.3g} arcmin, K3 {n.K3 * _ARCMIN:.4g} N m/arcmin\n{_friction_note(result)}",
         fontsize=9,
     )
     ax.axhline(0.0, color="0.6", lw=0.5)
@@ -68,3 +68,13 @@ def plot_torsion_loop(result: Any) -> Figure:
     ax.grid(True, lw=0.3)
     ax.legend(fontsize=7, loc="upper left")
     return fig
+
+
+def _friction_note(res: Any) -> str:
+    """The title's friction line: the coefficient and the loop's area (the friction
+    work per cycle), or why the loop is closed."""
+    a = res.data.attrs
+    mu = float(a.get("mu", 0.0))
+    if not float(a.get("friction_work", 0.0)):
+        return "no friction in the loop (" + str(a.get("friction", "none")).split("(", 1)[-1]
+    return f"Coulomb mu = {mu:g}: loop area {res.numbers.loop_area:.3g} J (friction work per cycle)"

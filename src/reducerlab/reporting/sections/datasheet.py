@@ -24,8 +24,6 @@ __all__ = ["datasheet_section", "efficiency_row"]
 
 #: What the datasheet does not compute yet (the later parts of issue 31).
 NOT_YET = (
-    "friction at the contacts in the torsion test (the loop encloses no area: hysteresis "
-    "loss and lost motion are elastic twist and backlash alone)",
     "transmission accuracy (output angle error over one output revolution)",
     "starting and back-driving torque",
     "the distribution over manufacturing tolerances (Monte-Carlo)",
