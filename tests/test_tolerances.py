@@ -291,6 +291,11 @@ def test_cli_writes_result_and_names_bad_options(tmp_path):
                        ([], "--tol")):  # fmt: skip
         bad = CliRunner().invoke(app, ["tolerances", str(GEAR), *args, "-o", str(tmp_path / "b")])
         assert bad.exit_code == 2 and name in bad.output, (args, bad.output)
+    typo = tmp_path / "typo.toml"
+    typo.write_text('[tolerances]\nmesh.backlsh = "1..2 um"\n')
+    bad = CliRunner().invoke(app, ["tolerances", str(GEAR), "--tolerances", str(typo)])
+    assert bad.exit_code == 2 and f"--tolerances {typo}: mesh.backlsh" in bad.output
+    assert "unknown field" in bad.output, bad.output
     taken = tmp_path / "taken"
     taken.write_text("keep")
     r = CliRunner().invoke(app, ["tolerances", str(tmp_path / "missing.toml"), "--tol",
