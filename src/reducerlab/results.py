@@ -55,6 +55,7 @@ _KNOWN_KINDS: dict[str, str] = {
     "torsion-test": "reducerlab.analysis.torsion_test",
     "efficiency": "reducerlab.analysis.efficiency",
     "transmission-accuracy": "reducerlab.analysis.transmission_accuracy",
+    "tolerances": "reducerlab.analysis.tolerances",
 }
 
 

@@ -2,7 +2,7 @@
 ``kinematics``, ``sweep``, ``campbell``, ``check``, ``bifurcation``,
 ``frequency-response``, ``regime-map``, ``response``, ``surface``, ``khv``,
 ``body-modal``, ``contact``, ``efficiency``, ``accuracy``, ``rating``, ``balls``,
-``datasheet``, ``report``, ``demo``.
+``datasheet``, ``tolerances``, ``report``, ``demo``.
 Every command that reads a design file takes ``--set PATH=VALUE`` to override a field.
 
 Errors caused by the user's input are printed as one clear message (exit code 2),
@@ -51,6 +51,7 @@ from . import (
     report,
     run,
     sweep,
+    tolerances,
 )
 from . import rating as rating_command
 from .output import err, kept, reset_kept
@@ -88,7 +89,8 @@ def _main(
 
 # the commands, in this order in the help
 for _group in (run, modal, kinematics, sweep, check, nonlinear, geometry, body, contact,
-               efficiency, accuracy, rating_command, report, khv, balls, datasheet):  # fmt: skip
+               efficiency, accuracy, rating_command, report, khv, balls, datasheet,
+               tolerances):  # fmt: skip
     _group.register(app)
 del _group
 
