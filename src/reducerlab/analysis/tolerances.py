@@ -186,6 +186,7 @@ class _Job:
     steps: int
     te_samples: int
     te: bool
+    mu: float | None = None
 
     def design(self, row: Array, index: int) -> Any:
         """The sample's validated design."""
@@ -212,7 +213,7 @@ class _Job:
         from .transmission_accuracy import transmission_accuracy
 
         d = self.design(row, index)
-        n = torsion_test(d, rated=self.rated, steps=self.steps).numbers
+        n = torsion_test(d, rated=self.rated, steps=self.steps, mu=self.mu).numbers
         te = math.nan
         if self.te:
             te = transmission_accuracy(d, samples=self.te_samples).peak_to_peak * ARCSEC
@@ -327,6 +328,7 @@ def tolerances(
     seed: int = 0,
     steps: int = 4,
     rated: float | None = None,
+    mu: float | None = None,
     te_samples: int = 4096,
     chunk_size: int = 50,
     output: str | Path | None = None,
@@ -352,6 +354,9 @@ def tolerances(
         point whatever the steps).
     rated : float, optional
         Rated output torque (N m); default the nominal design's output torque.
+    mu : float, optional
+        Coulomb coefficient of the torsion test's sliding contacts (``torsion_test``'s
+        ``mu``; 0: frictionless); default the design's.
     te_samples : int
         Steps over the output revolution of each transmission error (64 .. 2**20).
     chunk_size : int
@@ -393,11 +398,11 @@ def tolerances(
     tolerance_estimate(samples, steps, numbers).check()
     te, te_note = _te_support(design, te_samples)
     values, fields = _draw(tol_list, samples, seed)
-    job = _Job(base, tuple(fields), source, float(rated), steps, te_samples, te)
+    job = _Job(base, tuple(fields), source, float(rated), steps, te_samples, te, mu)
     for i, row in enumerate(values):  # every sample valid before any work (~0.1 ms each)
         job.design(row, i)
     spec = {"design": design.hash, "tolerances": {t.path: t.dist.text for t in tol_list},
-            "samples": samples, "seed": seed, "steps": steps, "rated": float(rated),
+            "samples": samples, "seed": seed, "steps": steps, "rated": float(rated), "mu": mu,
             "te_samples": te_samples, "chunk_size": chunk_size}  # fmt: skip
     temporary = output is None
     folder = Path(output) if output is not None else Path(tempfile.mkdtemp(prefix="rl-tol-"))

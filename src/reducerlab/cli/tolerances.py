@@ -58,6 +58,14 @@ def tolerances(
             "--rated", help="Rated output torque, e.g. '120 N*m' (default: the design's)."
         ),
     ] = None,
+    mu: Annotated[
+        float | None,
+        typer.Option(
+            "--mu",
+            help="Coulomb coefficient of the torsion test's sliding contacts (0: none; "
+            "default: the design's material.friction_coefficient, else 0.05).",
+        ),
+    ] = None,
     te_samples: Annotated[
         int,
         typer.Option(help="Steps over one output revolution of each TE.", min=64, max=2**20),
@@ -101,7 +109,7 @@ def tolerances(
         keeps_run(output)
         with scheduler_client(scheduler) as client, progress_bar() as bar:
             task = bar.add_task("tolerance samples", total=samples)
-            res = run(d, given, samples=samples, seed=seed, steps=steps, rated=torque,
+            res = run(d, given, samples=samples, seed=seed, steps=steps, rated=torque, mu=mu,
                       te_samples=te_samples, chunk_size=chunk_size, output=output,
                       scheduler=client,
                       progress=lambda done, total: bar.update(task, completed=done,

@@ -1,0 +1,286 @@
+"""``datasheet``: a reducer's catalogue page computed from its design (issue 31).
+
+One call gathers what a precision-reducer catalogue prints, each from its own analysis:
+
+* the **torsion test** with the input held (``analysis.torsion_test``; Coulomb friction
+  at the sliding tooth contacts): backlash, lost motion, hysteresis loss and loop area,
+  K1/K2/K3 with T1/T2, RV torsional rigidity;
+* the **transmission accuracy** over one output revolution (``analysis.
+  transmission_accuracy``: the design's manufacturing errors through the kinematics),
+  where the drive type has it;
+* the **efficiency** from Coulomb friction at the loaded tooth contacts
+  (``analysis.efficiency``) at 1/4, 1/2 and 1 times the rated torque, with the
+  **starting torque** (the input torque that starts the drive against the rated output
+  torque) and the **back-driving torque** (the output torque that starts turning the
+  input against the input torque equivalent to rated), from it.
+
+The finite-element tooth models of the efficiency's contact analysis are the run's
+compliance stage (:func:`.stages.compliance_stage`) in the same stage cache, and the
+efficiency itself is cached by its inputs (:class:`.store.Store`): a datasheet after a
+``reducerlab run`` of the same design with the same cache builds no tooth model, and a
+second datasheet reads everything.
+
+**Starting and back-driving torque.** With static and sliding coefficients equal
+(``mu``), the drive starts when the input torque reaches the running one:
+``T_start = T_r / (|i| eta(T_r))``. Back-driving, the output drives and the same mesh
+forces lose, to first order in the loss, the same power, so the reverse efficiency is
+``eta_b = 1 - P_V / P_0 = eta`` (``analysis.efficiency``'s first-order torque flow) and
+the output torque that turns the input against ``T_r / |i|`` is ``T_r / eta_b``. Only
+the meshes' friction enters: without load it vanishes, so the no-load starting torque
+of a catalogue (bearings, seals, lubricant) is not computed.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ReducerlabError
+from .stages import ContactSettings, Stage, compliance_stage, design_inputs
+from .store import Store
+
+__all__ = ["Datasheet", "datasheet", "starting_torques"]
+
+#: Fractions of the rated torque at which the datasheet computes the efficiency.
+EFFICIENCY_LOADS = (0.25, 0.5, 1.0)
+
+
+def _quiet(_d: str, _f: float) -> None:
+    return None
+
+
+@dataclass
+class Datasheet:
+    """The results behind a datasheet page, each with why it is missing when it is.
+
+    Attributes
+    ----------
+    torsion : TorsionTestResult
+    accuracy : TransmissionAccuracyResult or None
+    efficiency : EfficiencyResult or None
+    notes : dict of str to str
+        Why ``accuracy`` or ``efficiency`` is None (keys ``"accuracy"``, ``"efficiency"``).
+    stages : list of Stage
+        The efficiency's stages (tooth models, contact), computed or read from the cache.
+    """
+
+    torsion: Any
+    accuracy: Any = None
+    efficiency: Any = None
+    notes: dict[str, str] = field(default_factory=dict)
+    stages: list[Stage] = field(default_factory=list)
+
+    @property
+    def results(self) -> list[Any]:
+        """The computed results (for the report's ``results=``)."""
+        return [r for r in (self.torsion, self.accuracy, self.efficiency) if r is not None]
+
+    def starting(self) -> dict[str, float] | None:
+        """Starting and back-driving torques at the rated torque
+        (:func:`starting_torques`), or None without an efficiency."""
+        if self.efficiency is None:
+            return None
+        rated = float(self.torsion.data.attrs["rated_torque"])
+        return starting_torques(self.efficiency, rated, float(self.efficiency.attrs["ratio"]))
+
+    def table(self) -> str:
+        """The datasheet as plain text: the torsion test's table, then accuracy and
+        efficiency lines (or why they are missing)."""
+        lines = [self.torsion.table()]
+        if self.accuracy is not None:
+            lines.append(
+                f"transmission error, one output revolution     "
+                f"{self.accuracy.peak_to_peak * 206264.80624709636:.5g}  arcsec p-p"
+            )
+        else:
+            lines.append(f"transmission error: {self.notes.get('accuracy', 'not computed')}")
+        st = self.starting()
+        if st is None:
+            lines.append(f"efficiency: {self.notes.get('efficiency', 'not computed')}")
+        else:
+            lines += [
+                f"efficiency at rated torque (meshes)           {100 * st['efficiency']:.5g}  %",
+                f"starting torque at rated output (input)       {st['starting_torque']:.5g}  N m",
+                f"back-driving torque at rated (output)         {st['backdriving_torque']:.5g}  N m",
+            ]
+        return "\n".join(lines)
+
+
+def starting_torques(eff: Any, rated: float, ratio: float) -> dict[str, float]:
+    """Efficiency, starting and back-driving torque at the rated output torque.
+
+    Parameters
+    ----------
+    eff : EfficiencyResult
+        Computed at torques whose output torques (``output_torque`` attribute scale:
+        ``T_out = T_r_design * T / T_design``) bracket ``rated``.
+    rated : float
+        Rated output torque ``T_r`` (N m).
+    ratio : float
+        ``|i|``, input over output speed.
+
+    Returns
+    -------
+    dict
+        ``efficiency`` (linear in the torque between the computed ones),
+        ``starting_torque`` ``T_r / (|i| eta)`` (N m, input) and ``backdriving_torque``
+        ``T_r / eta_b`` with ``eta_b = eta`` (N m, output; the module's first-order
+        relation).
+    """
+    ds = eff.data
+    out_t = np.asarray(ds["output_torque"].values, float)
+    eta_all = np.asarray(ds["efficiency"].values, float)
+    if not (out_t.min() * (1 - 1e-9) <= rated <= out_t.max() * (1 + 1e-9)):
+        raise ReducerlabError(
+            f"datasheet: the efficiency was computed at output torques {out_t.min():.4g} to "
+            f"{out_t.max():.4g} N m, not around the rated {rated:.4g} N m"
+        )
+    eta = float(np.interp(rated, out_t, eta_all))
+    return {
+        "efficiency": eta,
+        "starting_torque": rated / (abs(ratio) * eta),
+        "backdriving_efficiency": eta,
+        "backdriving_torque": rated / eta,
+    }
+
+
+def efficiency_stage(
+    store: Store | None,
+    design: Any,
+    rated: float,
+    *,
+    mu: float | None,
+    positions: int,
+    rigid: bool,
+    settings: ContactSettings,
+    report: Callable[[str, float], None] = _quiet,
+) -> tuple[Any, list[Stage]]:
+    """The drive's efficiency at :data:`EFFICIENCY_LOADS` times ``rated`` (N m on the
+    output), on the compliance stage's tooth models (none with ``rigid``), cached in
+    ``store`` by its inputs."""
+    from ..analysis.efficiency import _pairs, efficiency, friction_coefficient
+    from ..analysis.te_sweep import design_load
+
+    mu = friction_coefficient(design, mu)
+    T_design = float(design.operating_point().output_torque)
+    if not T_design > 0:
+        raise ReducerlabError("datasheet: the design has no output torque for the efficiency")
+    torques = [design_load(design, 1) * f * rated / T_design for f in EFFICIENCY_LOADS]
+    inputs = {
+        "design": design_inputs("efficiency", design, {}), "mu": mu, "torques": torques,
+        "positions": positions, "rigid": bool(rigid), "cell": settings.cell,
+        "tooth_size": settings.tooth_size, "root_stress": settings.root_stress,
+    }  # fmt: skip
+    stages: list[Stage] = []
+    key = store.key("efficiency", inputs) if store is not None else ""
+    hit = store.get("efficiency", key) if store is not None else None
+    if hit is not None:
+        return hit[0], [Stage("efficiency", key, "cached")]
+    comps = None
+    if not rigid:
+        comps = []
+        for p in _pairs(design):
+            if store is None:
+                comps = None
+                break
+            comp, sts = compliance_stage(store, design, p, settings, report)
+            comps.append(comp)
+            stages += sts
+    t0 = time.perf_counter()
+    report("efficiency", 0.0)
+    res = efficiency(
+        design, mu=mu, torques=torques, positions=positions, cell=settings.cell,
+        tooth_size=settings.tooth_size, rigid=rigid, compliance=comps,
+        stage=lambda s: report(f"efficiency: {s}", 0.0),
+        progress=lambda d, t: report(f"efficiency: {d}/{t} positions", d / t),
+    )  # fmt: skip
+    res.data.attrs["ratio"] = abs(float(design.kinematics().ratio))
+    if store is not None:
+        store.put("efficiency", key, inputs, res)
+    stages.append(Stage("efficiency", key, "computed", time.perf_counter() - t0))
+    return res, stages
+
+
+def datasheet(
+    design: Any,
+    *,
+    rated: float | None = None,
+    steps: int = 20,
+    t1: float = 0.2,
+    t2: float = 0.7,
+    mu: float | None = None,
+    efficiency: bool = True,
+    rigid: bool = False,
+    positions: int = 12,
+    cache: str | Path | None = None,
+    contact: ContactSettings | None = None,
+    progress: Callable[[str, float], None] = _quiet,
+) -> Datasheet:
+    """The catalogue datasheet of ``design`` (see the module).
+
+    Parameters
+    ----------
+    design : Design
+        A drive design.
+    rated : float, optional
+        Rated output torque (N m); default the design's output torque.
+    steps, t1, t2, mu
+        As :func:`reducerlab.analysis.torsion_test.torsion_test` (``mu`` also for the
+        efficiency).
+    efficiency : bool
+        Compute the efficiency (a loaded contact analysis of every gear pair; designs
+        with tooth surfaces: gear pair, KHV, nutation with ``[surface]``).
+    rigid : bool
+        Teeth rigid beyond the contact half-space in the efficiency (fast, for checks).
+    positions : int
+        Mesh positions a cycle in the efficiency (>= 3).
+    cache : path, optional
+        Stage cache folder (``reducerlab run``'s ``OUTPUT/cache``): the tooth models and
+        the efficiency are read from it when there and stored in it when computed.
+    contact : ContactSettings, optional
+        The tooth models' settings (default the run's, so that its cache serves).
+    progress : callable
+        ``progress(description, fraction)`` of the efficiency's stages.
+
+    Returns
+    -------
+    Datasheet
+    """
+    from ..analysis.torsion_test import torsion_test
+    from ..analysis.transmission_accuracy import transmission_accuracy
+
+    sheet = Datasheet(torsion_test(design, rated=rated, steps=steps, t1=t1, t2=t2, mu=mu))
+    rated_T = float(sheet.torsion.data.attrs["rated_torque"])
+    try:
+        sheet.accuracy = transmission_accuracy(design)
+    except ReducerlabError as exc:
+        sheet.notes["accuracy"] = str(exc)
+    if not efficiency:
+        sheet.notes["efficiency"] = "not asked for (--no-efficiency)"
+        return sheet
+    if not _has_surfaces(design):
+        sheet.notes["efficiency"] = (
+            "needs tooth surfaces (a gear pair, a KHV drive, a nutation drive with "
+            "[surface]); the cycloid-ball drive's rolling balls are out of its scope"
+        )
+        return sheet
+    store = Store(cache) if cache is not None else None
+    sheet.efficiency, sheet.stages = efficiency_stage(
+        store, design, rated_T, mu=mu, positions=positions, rigid=rigid,
+        settings=contact or ContactSettings(), report=progress,
+    )  # fmt: skip
+    return sheet
+
+
+def _has_surfaces(design: Any) -> bool:
+    """Whether the efficiency's contact analysis applies to ``design``."""
+    from ..drives.gear_pair import GearPairDesign
+
+    if isinstance(design, GearPairDesign) or getattr(design, "type", None) == "khv":
+        return True
+    return getattr(design, "surface", None) is not None
