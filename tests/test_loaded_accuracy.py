@@ -163,7 +163,8 @@ def test_superposition_with_an_eccentricity(gear):
     assert both.data["amplitude"].values[1] == pytest.approx(
         5e-6 / d.base_radius("gear") / ARCSEC, rel=1e-6
     )
-    assert both.data.attrs["contact_seconds"] == 0.0  # the given contact, not recomputed
+    assert both.data.attrs["contact_reused"] == 1  # the given contact, not recomputed
+    assert both.data.attrs["contact_seconds"] == sweep.data.attrs["seconds"]
 
 
 def test_cycle_to_output_is_linear_between_positions():

@@ -55,7 +55,6 @@ torque) is carried to gear A of the contact pair losslessly: the pinion's
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -238,7 +237,9 @@ class LoadedMeshError:
     rigid : bool
         Teeth rigid beyond the contact half-space.
     seconds : float
-        Time of the contact analysis (0 when ``sweep`` was given).
+        Time the contact analysis took (s; the given ``sweep``'s own record).
+    reused : bool
+        Whether the contact was given (a cache), not computed in this call.
     """
 
     variation: Array
@@ -249,6 +250,7 @@ class LoadedMeshError:
     sweep: Any
     rigid: bool
     seconds: float
+    reused: bool
 
     def annotate(self, ds: xr.Dataset) -> None:
         """Put the contact's cycle (``mesh_te`` over ``mesh_position``, m) and the load's
@@ -267,6 +269,7 @@ class LoadedMeshError:
             mesh_te_peak_to_peak_m=float(np.ptp(te)), mesh_te_mean_m=float(te.mean()),
             loaded_peak_to_peak_arcsec=float(np.ptp(self.variation) / ARCSEC),
             rigid_teeth=int(self.rigid), contact_seconds=self.seconds,
+            contact_reused=int(self.reused),
         )  # fmt: skip
 
 
@@ -333,19 +336,18 @@ def loaded_error(
             f"tooth-mesh order needs more than {2 * cycles} samples; got {len(u)}"
         )
     torque = mesh_torque(design, t_out)
-    t0 = time.perf_counter()
+    reused = sweep is not None
     if sweep is None:
         sweep = mesh_te(design, torque, positions=positions, rigid=rigid,
                         tooth_size=tooth_size, stage=stage, progress=progress)  # fmt: skip
-        seconds = time.perf_counter() - t0
     else:
         _check_sweep(sweep, torque)
-        seconds = 0.0
     te = np.asarray(sweep.data["te"].values[0], float)
     values = cycle_to_output(te, cycles, u)
     return LoadedMeshError(
         variation=-out_sense * values / driven_base_radius,
         wind_up=out_sense * float(te.mean()) / driven_base_radius,
         load=t_out, torque=torque, cycles=cycles, sweep=sweep,
-        rigid=bool(sweep.data.attrs.get("fe_dofs", 0) == 0), seconds=seconds,
+        rigid=bool(sweep.data.attrs.get("fe_dofs", 0) == 0),
+        seconds=float(sweep.data.attrs.get("seconds", math.nan)), reused=reused,
     )  # fmt: skip

@@ -127,10 +127,11 @@ def _load_lines(d: dict[str, Any]) -> list[str]:
     """The table's rows of the load (none unloaded)."""
     if "load_N_m" not in d:
         return []
+    how = "reused, computed in" if d["contact_reused"] else "computed in"
     return [f"load: {d['load_N_m']:.4g} N m on the output ({d['mesh_torque_N_m']:.4g} N m on "
-            f"gear A of the mesh, contact {d['contact_seconds']:.3g} s); mean wind-up of the "
-            f"mesh {d['wind_up_arcsec']:.4g} arcsec (output behind, not in the trace); "
-            f"tooth-mesh order {d['mesh_order']}"]  # fmt: skip
+            f"gear A of the mesh; contact {how} {d['contact_seconds']:.3g} s); mean wind-up "
+            f"of the mesh {d['wind_up_arcsec']:.4g} arcsec (output behind, not in the "
+            f"trace); tooth-mesh order {d['mesh_order']}"]  # fmt: skip
 
 
 @dataclass(frozen=True)
