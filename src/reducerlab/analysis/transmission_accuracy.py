@@ -233,8 +233,8 @@ def transmission_accuracy(
         of range; contact options without a load.
     """
     m = _mesh(design)
-    if load is None and (rigid or mesh_te is not None):
-        raise ReducerlabError("rigid, mesh_te: apply under load only; give load (N m)")
+    if load is None and (rigid or mesh_te is not None or tooth_size is not None):
+        raise ReducerlabError("rigid, tooth_size, mesh_te: apply under load only; give load")
     if samples is None:
         from .loaded_accuracy import loaded_samples
 
