@@ -16,14 +16,17 @@ is the input and turns exactly). The error is the output angle minus its nominal
 with its peak to peak and its amplitude spectrum in orders of the output revolution
 (and of the input: output order / ``|i|``).
 
-Rigid (unloaded) kinematics, one tooth pair in contact, first order in ``e / r_b``; the
-loaded transmission error of the contact analysis under a stated load is a later piece
-of issue 31. The gear pair and KHV drives; the others raise naming the design type.
+Rigid (unloaded) kinematics, one tooth pair in contact, first order in ``e / r_b``.
+Under a stated ``load`` the mesh's loaded transmission error of the contact analysis is
+added (``analysis.loaded_accuracy``: its variation as the source ``mesh under load``,
+its mean as the separate elastic wind-up). The gear pair and KHV drives; the others
+raise naming the design type.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -98,8 +101,10 @@ class TransmissionAccuracyResult(Result):
         """Plain-text summary."""
         d = self.to_dict()
         lines = [
-            f"Transmission accuracy ({d['drive']}, i = {d['ratio']:.6g}): rigid kinematics, "
+            f"Transmission accuracy ({d['drive']}, i = {d['ratio']:.6g}): "
+            f"{d.get('basis', 'rigid kinematics')}, "
             f"{self.data.sizes['output_angle']} samples over one output revolution",
+            *_load_lines(d),
             f"peak to peak: {self.peak_to_peak:.4g} arcsec",
             "source  peak to peak (arcsec)",
         ]
@@ -116,6 +121,17 @@ class TransmissionAccuracyResult(Result):
         return plot_transmission_accuracy(self)
 
     plot = figure
+
+
+def _load_lines(d: dict[str, Any]) -> list[str]:
+    """The table's rows of the load (none unloaded)."""
+    if "load_N_m" not in d:
+        return []
+    how = "reused, computed in" if d["contact_reused"] else "computed in"
+    return [f"load: {d['load_N_m']:.4g} N m on the output ({d['mesh_torque_N_m']:.4g} N m on "
+            f"gear A of the mesh; contact {how} {d['contact_seconds']:.3g} s); mean wind-up "
+            f"of the mesh {d['wind_up_arcsec']:.4g} arcsec (output behind, not in the "
+            f"trace); tooth-mesh order {d['mesh_order']}"]  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -165,30 +181,66 @@ def _mesh(design: Any) -> _Mesh:
     )
 
 
-def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccuracyResult:
-    """Rigid-kinematics output angle error over one output revolution.
+def transmission_accuracy(
+    design: Any,
+    samples: int | None = None,
+    load: float | str | None = None,
+    *,
+    rigid: bool = False,
+    positions: int = 24,
+    tooth_size: float | None = None,
+    mesh_te: Any = None,
+    stage: Callable[[str], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> TransmissionAccuracyResult:
+    """Output angle error over one output revolution: rigid kinematics, and under
+    ``load`` the mesh's loaded transmission error (``analysis.loaded_accuracy``).
 
     Parameters
     ----------
     design : GearPairDesign or KHVDesign
         With the gears' ``errors`` tables (``drives.accuracy_specs``); none: zero error.
-    samples : int
+    samples : int, optional
         Even steps over one output revolution, 64 .. 2**20 (resolve the pitch steps:
-        at least a few per tooth passing the mesh).
+        at least a few per tooth passing the mesh); under load more than twice the
+        tooth-mesh order. Default 4096; under load the least multiple of the
+        tooth-mesh order times ``positions`` from 4096 (each contact position a sample).
+    load : float or str, optional
+        Output torque (N m, or a string with units), or ``"design"`` for the design's
+        operating output torque; None: unloaded (rigid kinematics only).
+    rigid : bool
+        Under load, teeth rigid beyond the contact half-space (no finite-element tooth
+        model: fast, for checks).
+    positions : int
+        Under load, positions over one mesh cycle of the contact analysis (3..400).
+    tooth_size : float, optional
+        Finite-element tooth element size (m), as ``te_sweep``.
+    mesh_te : TESweepResult, optional
+        The contact's loaded TE at this load from an earlier run (a cache): reused.
+    stage, progress : callable, optional
+        The contact analysis's ``stage(text)`` and ``progress(done, total)``.
 
     Returns
     -------
     TransmissionAccuracyResult
-        ``delta theta_out = s / r_bB`` (rad; module docstring) and its spectrum.
+        ``delta theta_out = s / r_bB`` (rad; module docstring), under load plus
+        ``-TE / r_bB`` about its mean, and its spectrum.
 
     Raises
     ------
     ReducerlabError
-        A drive other than gear_pair and khv; ``samples`` out of range.
+        A drive other than gear_pair and khv; ``samples``, ``load`` or an option out
+        of range; contact options without a load.
     """
+    m = _mesh(design)
+    if load is None and (rigid or mesh_te is not None or tooth_size is not None):
+        raise ReducerlabError("rigid, tooth_size, mesh_te: apply under load only; give load")
+    if samples is None:
+        from .loaded_accuracy import loaded_samples
+
+        samples = 4096 if load is None else loaded_samples(design, positions, mesh_te)
     if isinstance(samples, bool) or not isinstance(samples, int) or not 64 <= samples <= 2**20:
         raise ReducerlabError(f"samples: must be an integer in 64 .. 2**20; got {samples!r}")
-    m = _mesh(design)
     kin = design.kinematics()
     ratio = float(kin.ratio)
     u = 2 * math.pi * np.arange(samples) / samples  # output angle, its own sense
@@ -208,6 +260,15 @@ def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccur
             s = mesh_lead(ang[0], ang[1], *pair, tau, m.pressure_angle)
             sources.append(f"{name} {label}")
             parts.append(out_sense * s / m.driven_base_radius)
+    under = None
+    if load is not None:
+        from .loaded_accuracy import loaded_error
+
+        under = loaded_error(design, load, u, out_sense, m.driven_base_radius,
+                             positions=positions, rigid=rigid, tooth_size=tooth_size,
+                             sweep=mesh_te, stage=stage, progress=progress)  # fmt: skip
+        sources.append("mesh under load")
+        parts.append(under.variation)
     contribution = np.array(parts)
     error = contribution.sum(axis=0)
     orders, amp = order_spectrum(error / ARCSEC)
@@ -231,4 +292,6 @@ def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccur
     ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
                     drive=str(design.type), driven_base_radius=m.driven_base_radius,
                     line_angle=tau, working_pressure_angle=m.working_pressure_angle)  # fmt: skip
+    if under is not None:
+        under.annotate(ds)
     return TransmissionAccuracyResult(ds)

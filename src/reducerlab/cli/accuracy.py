@@ -1,15 +1,43 @@
 """``reducerlab accuracy``: output angle error over one output revolution from the
-gears' eccentricities and pitch deviations (``analysis.transmission_accuracy``)."""
+gears' eccentricities and pitch deviations (``analysis.transmission_accuracy``), and
+under ``--load`` the mesh's loaded transmission error (``analysis.loaded_accuracy``)."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
-from .options import SetOption
-from .output import add_result, output_set, user_errors
+from .options import SetOption, quantity_option
+from .output import add_result, output_set, position_callbacks, progress_bar, user_errors
+
+
+def _cached_mesh_te(cache: Path, design: Any, load: Any, kw: dict[str, Any]) -> Any:
+    """The loaded TE at ``load`` from the stage cache ``cache`` (``pipeline.store``),
+    computed and stored when absent. Key: the design's fields (without the gears'
+    ``errors`` tables, which the contact of the perfect teeth does not read), the torque
+    on gear A, positions, rigid teeth and tooth size."""
+    from ..analysis.loaded_accuracy import mesh_te, mesh_torque, output_load
+    from ..pipeline.stages import design_inputs
+    from ..pipeline.store import Store
+    from .output import keeps_cache
+
+    store = Store(cache)
+    torque = mesh_torque(design, output_load(design, load))
+    fields = {k: v for k, v in design_inputs("te-sweep", design, {"pair": 1}).items()
+              if "errors" not in k}  # fmt: skip
+    inputs = {"design": fields, "torque": torque, "positions": kw["positions"],
+              "rigid": kw["rigid"], "tooth_size": kw["tooth_size"]}  # fmt: skip
+    key = store.key("accuracy_mesh_te", inputs)
+    hit = store.get("accuracy_mesh_te", key)
+    if hit is not None:
+        return hit[0]
+    keeps_cache(store.root)
+    res = mesh_te(design, torque, **kw)
+    res.compliance = None
+    store.put("accuracy_mesh_te", key, inputs, res)
+    return res
 
 
 def accuracy(
@@ -21,25 +49,81 @@ def accuracy(
         ),
     ],
     samples: Annotated[
-        int, typer.Option(help="Even steps over one output revolution.", min=64, max=2**20)
-    ] = 4096,
+        int | None,
+        typer.Option(
+            help="Even steps over one output revolution; default 4096, under --load the "
+            "least multiple of the tooth-mesh order times --positions from 4096.",
+            min=64,
+            max=2**20,
+        ),
+    ] = None,
+    load: Annotated[
+        str | None,
+        typer.Option(
+            help="Output torque, e.g. '60 N*m', or 'design' (the design's operating output "
+            "torque): adds the mesh's loaded transmission error (contact analysis)."
+        ),
+    ] = None,
+    rigid: Annotated[
+        bool,
+        typer.Option(
+            "--rigid",
+            help="Under --load: teeth rigid beyond the contact half-space (no "
+            "finite-element build): fast.",
+        ),
+    ] = False,
+    positions: Annotated[
+        int, typer.Option(help="Under --load: positions over one mesh cycle.", min=3, max=400)
+    ] = 24,
+    tooth_size: Annotated[
+        str | None,
+        typer.Option(help="Under --load: finite-element tooth elements, e.g. '0.9 mm'."),
+    ] = None,
+    cache: Annotated[
+        Path | None,
+        typer.Option(
+            help="Under --load: a cache folder for the loaded contact (a repeated call "
+            "with the same teeth, load and settings reads it)."
+        ),
+    ] = None,
     output: Annotated[Path, typer.Option("--output", "-o", help="Output folder.")] = Path(
         "accuracy-output"
     ),
     sets: SetOption = None,
 ) -> None:
-    """Transmission accuracy, rigid kinematics: the output angle error (arcsec) over one
-    output revolution without reversing, its peak to peak and its spectrum in orders:
-    accuracy.nc/.json/.txt/.png."""
+    """Transmission accuracy: the output angle error (arcsec) over one output revolution
+    without reversing, its peak to peak and its spectrum in orders, from rigid kinematics
+    and, with --load, the mesh's loaded transmission error (its mean, the wind-up,
+    reported apart): accuracy.nc/.json/.txt/.png."""
     from ..analysis.transmission_accuracy import transmission_accuracy
     from ..drives import load_design
+    from ..errors import ReducerlabError
 
     with user_errors():
         files = output_set(output)
         d = load_design(design, sets or ())
-        res = transmission_accuracy(d, samples=samples)
-        with files:
-            add_result(res, files, "accuracy")
+        if load is None and (rigid or cache is not None or tooth_size is not None):
+            raise ReducerlabError("--rigid, --tooth-size, --cache: apply with --load only")
+        target = None
+        if load is not None and load.strip().lower() != "design":
+            target = quantity_option(load, "--load", "torque")
+        elif load is not None:
+            target = "design"
+        ts = quantity_option(tooth_size, "--tooth-size", "length")
+        with progress_bar() as progress:
+            task = progress.add_task("transmission accuracy", total=None)
+            kw = {"positions": positions, "rigid": rigid, "tooth_size": ts,
+                  **position_callbacks(progress, task, "loaded contact, position "
+                                       "{done}/{total}")}  # fmt: skip
+            mesh_te = None
+            if target is not None and cache is not None:
+                mesh_te = _cached_mesh_te(cache, d, target, kw)
+            contact = {} if target is None else kw
+            res = transmission_accuracy(d, samples=samples, load=target, mesh_te=mesh_te,
+                                        **contact)  # fmt: skip
+            progress.update(task, description="writing results")
+            with files:
+                add_result(res, files, "accuracy")
     typer.echo(res.table())
 
 

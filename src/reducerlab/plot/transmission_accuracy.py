@@ -1,8 +1,9 @@
 """Figure of the transmission accuracy
 (:class:`~reducerlab.analysis.transmission_accuracy.TransmissionAccuracyResult`): left,
-the output angle error (arcsec) over one output revolution, each source dashed; right,
-its amplitude spectrum in orders of the output revolution, up to twice the highest
-order above 5 % of the largest line. Plain
+the output angle error (arcsec) over one output revolution, each source dashed (under
+load the loaded mesh's variation among them); middle, its amplitude spectrum in orders
+of the output revolution, up to twice the highest order above 5 % of the largest line;
+under load, right, three tooth-mesh cycles. Plain
 :class:`matplotlib.figure.Figure` (no pyplot, Agg-safe)."""
 
 from __future__ import annotations
@@ -24,8 +25,9 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     from matplotlib.figure import Figure
 
     ds = result.data
-    fig = Figure(figsize=(11, 4.2), layout="constrained")
-    ax, bx = fig.subplots(1, 2)
+    loaded = "load_N_m" in ds.attrs  # a third panel: three tooth-mesh cycles
+    fig = Figure(figsize=(15 if loaded else 11, 4.2), layout="constrained")
+    ax, bx, *zx = fig.subplots(1, 3 if loaded else 2)
     deg = np.degrees(ds["output_angle"].values)
     for s in ds["source"].values:
         c = ds["contribution"].sel(source=s).values
@@ -35,6 +37,8 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     ax.set_xlabel("output angle (deg)")
     ax.set_ylabel("output angle error (arcsec)")
     ax.set_title(f"peak to peak {ds.attrs['peak_to_peak_arcsec']:.4g} arcsec")
+    if loaded:
+        _loaded_zoom(fig, zx[0], ds, deg)
     ax.legend(fontsize="small")
     order = ds["order"].values
     amp = ds["amplitude"].values
@@ -47,3 +51,20 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     bx.set_ylabel("amplitude (arcsec)")
     bx.set_ylim(bottom=0.0)
     return fig
+
+
+def _loaded_zoom(fig: Figure, ax: Any, ds: Any, deg: Any) -> None:
+    """Under load: the figure's title names the load and the mean wind-up (not in the
+    trace), and ``ax`` shows the first three tooth-mesh cycles of the trace."""
+    a = ds.attrs
+    fig.suptitle(f"under {a['load_N_m']:.4g} N m on the output: mean wind-up of the mesh "
+                 f"{a['wind_up_arcsec']:.3g} arcsec (output behind; not in the trace)",
+                 fontsize="medium")  # fmt: skip
+    span = deg <= 3 * 360.0 / a["mesh_order"]
+    loaded = ds["contribution"].sel(source="mesh under load").values
+    ax.plot(deg[span], loaded[span] / ARCSEC, "--", lw=0.8, label="mesh under load")
+    ax.plot(deg[span], ds["error"].values[span] / ARCSEC, "k-", lw=1.2, label="total")
+    ax.set_xlabel("output angle (deg)")
+    ax.set_ylabel("output angle error (arcsec)")
+    ax.set_title(f"three tooth-mesh cycles (order {a['mesh_order']})")
+    ax.legend(fontsize="small")
