@@ -49,7 +49,7 @@ from ..threads import with_compute_threads
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["DEFAULT_MU", "EfficiencyResult", "efficiency", "friction_coefficient"]
+__all__ = ["DEFAULT_MU", "EfficiencyResult", "efficiency", "friction_coefficient", "gear_pairs"]
 
 Array = NDArray[np.float64]
 
@@ -67,6 +67,7 @@ class EfficiencyResult(Result):
     Variables: ``loss`` (pair, torque, position; W at the design speed), ``mesh_loss``
     (pair, torque; W, the mean over the cycle), ``rolling_power`` (pair, torque; W),
     ``mesh_efficiency`` (pair, torque), ``output_power`` (torque; W, lossless),
+    ``output_torque`` (torque; N m, the drive's output torque at that load),
     ``efficiency`` (torque), ``loss_at_speed`` (torque, speed; W, all pairs),
     ``sliding_speed`` (pair, position; m/s, the largest at a loaded cell at the
     largest torque) and ``pair_torque`` (pair, torque; N m on each pair's gear A).
@@ -141,7 +142,7 @@ def friction_coefficient(design: Any, mu: float | None) -> float:
     return check_friction_coefficient(value, "material.friction_coefficient")
 
 
-def _pairs(design: Any) -> tuple[int, ...]:
+def gear_pairs(design: Any) -> tuple[int, ...]:
     """The design's gear pairs (1 for a gear_pair or khv; a nutation drive's meshes)."""
     from ..drives.gear_pair import GearPairDesign
 
@@ -164,6 +165,7 @@ def efficiency(
     cell: float | None = None,
     tooth_size: float | None = None,
     rigid: bool = False,
+    compliance: Sequence[tuple[Any, Any]] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> EfficiencyResult:
@@ -190,6 +192,10 @@ def efficiency(
     rigid : bool
         Teeth rigid beyond the contact half-space (no finite-element build): fast, for
         checks; the load sharing of the tooth pairs is then that of contact alone.
+    compliance : sequence of (ToothCompliance, ToothCompliance), optional
+        Both gears' finite-element tooth compliances of every pair, built earlier (the
+        run's compliance stage, ``pipeline.stages.compliance_stage``): no model is
+        built again.
     stage, progress : callable, optional
         ``stage(text)``; ``progress(done, total)`` per position.
 
@@ -216,7 +222,7 @@ def efficiency(
         raise ReducerlabError("operating speed: the design has no input speed for the losses")
     if not point.output_torque:
         raise ReducerlabError("load: the design gives no load (output torque or power)")
-    pairs = _pairs(design)
+    pairs = gear_pairs(design)
     ref = np.array([design_load(design, p) for p in pairs])
     if torques is None:
         if isinstance(loads, bool) or not isinstance(loads, int) or not 1 <= loads <= 41:
@@ -233,9 +239,14 @@ def efficiency(
         raise ReducerlabError("speeds: must be input speeds > 0 (rad/s)")
     scale = T / ref[0]  # load over the design load
     setups = [pair_setup(design, p) for p in pairs]
+    if compliance is not None and (rigid or len(compliance) != len(pairs)):
+        raise ReducerlabError(
+            f"compliance: give one (gear A, gear B) pair of tooth compliances for each of "
+            f"the design's {len(pairs)} gear pairs, and not with rigid teeth"
+        )
     for setup in setups:  # every pair's work bounds before any finite-element build
         sweep_estimate(positions, T.size).check()
-        if not rigid:
+        if not rigid and compliance is None:
             setup.compliance_estimate(tooth_size).check()
     loss = np.full((len(pairs), T.size, positions), np.nan)
     rolling = np.zeros((len(pairs), T.size))
@@ -254,8 +265,9 @@ def efficiency(
 
         if stage is not None:
             stage(f"pair {p}: loaded contact at {positions} positions x {T.size} torques")
+        given = None if compliance is None else tuple(compliance[k])
         te_sweep(design, p, torques=Tk, positions=positions, harmonics=1, cell=cell,
-                 tooth_size=tooth_size, compliance=(None, None) if rigid else None,
+                 tooth_size=tooth_size, compliance=(None, None) if rigid else given,
                  observe=observe, progress=progress)  # fmt: skip
     mesh_loss = loss.mean(axis=2)
     p_out = point.power * scale
@@ -267,6 +279,7 @@ def efficiency(
             "rolling_power": (("pair", "torque"), rolling, {"units": "W"}),
             "mesh_efficiency": (("pair", "torque"), 1.0 - mesh_loss / rolling),
             "output_power": ("torque", p_out, {"units": "W"}),
+            "output_torque": ("torque", abs(point.output_torque) * scale, {"units": "N m"}),
             "efficiency": ("torque", eta),
             "loss_at_speed": (
                 ("torque", "speed"),
@@ -285,5 +298,6 @@ def efficiency(
         attrs={"title": "Mesh friction loss and efficiency", **provenance(design.provenance)},
     )
     ds.attrs.update(mu=mu, input_speed_rad_s=speed0, design_torque=float(ref[0]),
+                    ratio=abs(float(design.kinematics().ratio)),
                     rigid=int(bool(rigid)), seconds=time.perf_counter() - t0)  # fmt: skip
     return EfficiencyResult(ds)

@@ -184,13 +184,15 @@ def mesh_te(
     rigid: bool = False,
     cell: float | None = None,
     tooth_size: float | None = None,
+    compliance: tuple[Any, Any] | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Any:
     """The loaded TE of the design's mesh over one cycle at ``torque`` on gear A (N m):
     ``te_sweep`` at that one torque, its work and memory checked first (the sweep's
     position-torque solves; the finite-element tooth models unless ``rigid``: teeth
-    rigid beyond the contact half-space, no finite-element build, for checks).
+    rigid beyond the contact half-space, no finite-element build, for checks, or
+    ``compliance``: both gears' tooth models built earlier, the run's compliance stage).
 
     Returns
     -------
@@ -207,11 +209,11 @@ def mesh_te(
 
     _check_options(positions, rigid)
     sweep_estimate(positions, 1).check()
-    if not rigid:
+    if not rigid and compliance is None:
         pair_setup(design).compliance_estimate(tooth_size).check()
     return te_sweep(design, 1, torques=[torque], torque=torque, positions=positions,
                     harmonics=1, cell=cell, tooth_size=tooth_size,
-                    compliance=(None, None) if rigid else None, stage=stage,
+                    compliance=(None, None) if rigid else compliance, stage=stage,
                     progress=progress)  # fmt: skip
 
 

@@ -44,7 +44,7 @@ from ..errors import ReducerlabError
 from .stages import ContactSettings, Stage, compliance_stage, design_inputs
 from .store import Store
 
-__all__ = ["Datasheet", "datasheet", "starting_torques"]
+__all__ = ["Datasheet", "accuracy_rows", "datasheet", "starting_torques"]
 
 #: Fractions of the rated torque at which the datasheet computes the efficiency.
 EFFICIENCY_LOADS = (0.25, 0.5, 1.0)
@@ -86,43 +86,51 @@ class Datasheet:
         if self.efficiency is None:
             return None
         rated = float(self.torsion.data.attrs["rated_torque"])
-        return starting_torques(self.efficiency, rated, float(self.efficiency.attrs["ratio"]))
+        return starting_torques(self.efficiency, rated)
 
     def table(self) -> str:
         """The datasheet as plain text: the torsion test's table, then accuracy and
         efficiency lines (or why they are missing)."""
         lines = [self.torsion.table()]
         if self.accuracy is not None:
-            lines.append(
-                f"transmission error, one output revolution     "
-                f"{self.accuracy.peak_to_peak * 206264.80624709636:.5g}  arcsec p-p"
-            )
+            lines += [f"{a:<42}{b:>12.5g}  {c}" for a, b, c in accuracy_rows(self.accuracy)]
         else:
             lines.append(f"transmission error: {self.notes.get('accuracy', 'not computed')}")
         st = self.starting()
         if st is None:
             lines.append(f"efficiency: {self.notes.get('efficiency', 'not computed')}")
         else:
-            lines += [
-                f"efficiency at rated torque (meshes)           {100 * st['efficiency']:.5g}  %",
-                f"starting torque at rated output (input)       {st['starting_torque']:.5g}  N m",
-                f"back-driving torque at rated (output)         {st['backdriving_torque']:.5g}  N m",
-            ]
+            rows = (
+                ("efficiency at rated torque (meshes)", 100 * st["efficiency"], "%"),
+                ("starting torque at rated output (input)", st["starting_torque"], "N m"),
+                ("back-driving torque at rated (output)", st["backdriving_torque"], "N m"),
+            )
+            lines += [f"{a:<42}{b:>12.5g}  {c}" for a, b, c in rows]  # fmt: skip
         return "\n".join(lines)
 
 
-def starting_torques(eff: Any, rated: float, ratio: float) -> dict[str, float]:
+def accuracy_rows(res: Any) -> list[tuple[str, float, str]]:
+    """The datasheet rows of a transmission-accuracy result: peak to peak over one
+    output revolution (arcsec; under its load when it has one) and the mean wind-up."""
+    a = res.data.attrs
+    load = float(a.get("load_N_m", 0.0) or 0.0)
+    where = f"under {load:.4g} N m" if load else "rigid, unloaded"
+    rows = [(f"transmission error p-p, one output turn ({where})", res.peak_to_peak, "arcsec")]
+    if load:
+        rows.append(("mean wind-up under that load", float(a["wind_up_arcsec"]), "arcsec"))
+    return rows
+
+
+def starting_torques(eff: Any, rated: float) -> dict[str, float]:
     """Efficiency, starting and back-driving torque at the rated output torque.
 
     Parameters
     ----------
     eff : EfficiencyResult
-        Computed at torques whose output torques (``output_torque`` attribute scale:
-        ``T_out = T_r_design * T / T_design``) bracket ``rated``.
+        Computed at output torques (its ``output_torque``) around ``rated``; its
+        ``ratio`` attribute is ``|i|``, input over output speed.
     rated : float
         Rated output torque ``T_r`` (N m).
-    ratio : float
-        ``|i|``, input over output speed.
 
     Returns
     -------
@@ -141,12 +149,38 @@ def starting_torques(eff: Any, rated: float, ratio: float) -> dict[str, float]:
             f"{out_t.max():.4g} N m, not around the rated {rated:.4g} N m"
         )
     eta = float(np.interp(rated, out_t, eta_all))
+    ratio = float(ds.attrs["ratio"])
     return {
         "efficiency": eta,
         "starting_torque": rated / (abs(ratio) * eta),
         "backdriving_efficiency": eta,
         "backdriving_torque": rated / eta,
     }
+
+
+def _stored(store: Store | None, stage: str, inputs: dict[str, Any]) -> tuple[str, Any]:
+    """``(key, result or None)`` of a stage in ``store`` (no store: no key, no hit)."""
+    if store is None:
+        return "", None
+    key = store.key(stage, inputs)
+    hit = store.get(stage, key)
+    return key, None if hit is None else hit[0]
+
+
+def _tooth_models(
+    store: Store | None, design: Any, pairs: tuple[int, ...], settings: ContactSettings,
+    report: Callable[[str, float], None],
+) -> tuple[list[Any] | None, list[Stage]]:  # fmt: skip
+    """Every pair's tooth compliances from the compliance stage (None without a store:
+    each analysis then builds its own)."""
+    if store is None:
+        return None, []
+    comps, stages = [], []
+    for p in pairs:
+        comp, sts = compliance_stage(store, design, p, settings, report)
+        comps.append(comp)
+        stages += sts
+    return comps, stages
 
 
 def efficiency_stage(
@@ -158,52 +192,80 @@ def efficiency_stage(
     positions: int,
     rigid: bool,
     settings: ContactSettings,
+    compliance: list[Any] | None = None,
     report: Callable[[str, float], None] = _quiet,
-) -> tuple[Any, list[Stage]]:
+) -> tuple[Any, Stage]:
     """The drive's efficiency at :data:`EFFICIENCY_LOADS` times ``rated`` (N m on the
-    output), on the compliance stage's tooth models (none with ``rigid``), cached in
-    ``store`` by its inputs."""
-    from ..analysis.efficiency import _pairs, efficiency, friction_coefficient
+    output), on the given tooth models (``compliance``, one pair of each gear pair;
+    none with ``rigid``), cached in ``store`` by its inputs."""
+    from ..analysis.efficiency import efficiency, friction_coefficient
     from ..analysis.te_sweep import design_load
 
     mu = friction_coefficient(design, mu)
-    T_design = float(design.operating_point().output_torque)
+    T_design = float(design.operating_point().output_torque or 0.0)
     if not T_design > 0:
         raise ReducerlabError("datasheet: the design has no output torque for the efficiency")
     torques = [design_load(design, 1) * f * rated / T_design for f in EFFICIENCY_LOADS]
     inputs = {
         "design": design_inputs("efficiency", design, {}), "mu": mu, "torques": torques,
         "positions": positions, "rigid": bool(rigid), "cell": settings.cell,
-        "tooth_size": settings.tooth_size, "root_stress": settings.root_stress,
+        "tooth_size": settings.tooth_size,
     }  # fmt: skip
-    stages: list[Stage] = []
-    key = store.key("efficiency", inputs) if store is not None else ""
-    hit = store.get("efficiency", key) if store is not None else None
+    key, hit = _stored(store, "efficiency", inputs)
     if hit is not None:
-        return hit[0], [Stage("efficiency", key, "cached")]
-    comps = None
-    if not rigid:
-        comps = []
-        for p in _pairs(design):
-            if store is None:
-                comps = None
-                break
-            comp, sts = compliance_stage(store, design, p, settings, report)
-            comps.append(comp)
-            stages += sts
+        return hit, Stage("efficiency", key, "cached")
     t0 = time.perf_counter()
     report("efficiency", 0.0)
     res = efficiency(
         design, mu=mu, torques=torques, positions=positions, cell=settings.cell,
-        tooth_size=settings.tooth_size, rigid=rigid, compliance=comps,
+        tooth_size=settings.tooth_size, rigid=rigid, compliance=compliance,
         stage=lambda s: report(f"efficiency: {s}", 0.0),
         progress=lambda d, t: report(f"efficiency: {d}/{t} positions", d / t),
     )  # fmt: skip
-    res.data.attrs["ratio"] = abs(float(design.kinematics().ratio))
     if store is not None:
         store.put("efficiency", key, inputs, res)
-    stages.append(Stage("efficiency", key, "computed", time.perf_counter() - t0))
-    return res, stages
+    return res, Stage("efficiency", key, "computed", time.perf_counter() - t0)
+
+
+def accuracy_stage(
+    store: Store | None,
+    design: Any,
+    rated: float,
+    *,
+    positions: int,
+    rigid: bool,
+    settings: ContactSettings,
+    compliance: tuple[Any, Any] | None = None,
+    report: Callable[[str, float], None] = _quiet,
+) -> tuple[Any, Stage]:
+    """The transmission accuracy at the rated output torque ``rated`` (N m): the rigid
+    kinematics' error of the design's manufacturing errors plus the mesh's loaded TE
+    (``analysis.loaded_accuracy``), its contact cached in ``store`` (without the gears'
+    ``errors`` tables, which the contact of perfect teeth does not read)."""
+    from ..analysis.loaded_accuracy import mesh_te, mesh_torque
+    from ..analysis.transmission_accuracy import transmission_accuracy
+
+    torque = mesh_torque(design, rated)
+    fields = {k: v for k, v in design_inputs("te-sweep", design, {"pair": 1}).items()
+              if "errors" not in k}  # fmt: skip
+    inputs = {"design": fields, "torque": torque, "positions": positions,
+              "rigid": bool(rigid), "tooth_size": settings.tooth_size}  # fmt: skip
+    key, te = _stored(store, "accuracy_mesh_te", inputs)
+    t0 = time.perf_counter()
+    status = "cached" if te is not None else "computed"
+    if te is None:
+        report("loaded transmission error", 0.0)
+        te = mesh_te(
+            design, torque, positions=positions, rigid=rigid, tooth_size=settings.tooth_size,
+            compliance=compliance,
+            progress=lambda d, t: report(f"loaded TE: {d}/{t} positions", d / t),
+        )  # fmt: skip
+        te.compliance = None
+        if store is not None:
+            store.put("accuracy_mesh_te", key, inputs, te)
+    res = transmission_accuracy(design, load=rated, rigid=rigid, positions=positions,
+                                tooth_size=settings.tooth_size, mesh_te=te)  # fmt: skip
+    return res, Stage("loaded transmission error", key, status, time.perf_counter() - t0)
 
 
 def datasheet(
@@ -215,6 +277,7 @@ def datasheet(
     t2: float = 0.7,
     mu: float | None = None,
     efficiency: bool = True,
+    loaded: bool = True,
     rigid: bool = False,
     positions: int = 12,
     cache: str | Path | None = None,
@@ -235,46 +298,72 @@ def datasheet(
     efficiency : bool
         Compute the efficiency (a loaded contact analysis of every gear pair; designs
         with tooth surfaces: gear pair, KHV, nutation with ``[surface]``).
+    loaded : bool
+        The transmission accuracy under the rated torque (gear pair, KHV: the mesh's
+        loaded TE added to the rigid kinematics' error); else the rigid error alone.
     rigid : bool
-        Teeth rigid beyond the contact half-space in the efficiency (fast, for checks).
+        Teeth rigid beyond the contact half-space in the contact analyses (fast, for
+        checks).
     positions : int
-        Mesh positions a cycle in the efficiency (>= 3).
+        Mesh positions a cycle in the contact analyses (>= 3; the loaded transmission
+        error joins them linearly, ``analysis.loaded_accuracy``).
     cache : path, optional
         Stage cache folder (``reducerlab run``'s ``OUTPUT/cache``): the tooth models and
-        the efficiency are read from it when there and stored in it when computed.
+        the contact results are read from it when there and stored in it when computed.
     contact : ContactSettings, optional
         The tooth models' settings (default the run's, so that its cache serves).
     progress : callable
-        ``progress(description, fraction)`` of the efficiency's stages.
+        ``progress(description, fraction)`` of the contact stages.
 
     Returns
     -------
     Datasheet
     """
+    from ..analysis.efficiency import gear_pairs
     from ..analysis.torsion_test import torsion_test
     from ..analysis.transmission_accuracy import transmission_accuracy
 
     sheet = Datasheet(torsion_test(design, rated=rated, steps=steps, t1=t1, t2=t2, mu=mu))
     rated_T = float(sheet.torsion.data.attrs["rated_torque"])
+    surfaces = _has_surfaces(design)
+    with_load = loaded and surfaces and gear_pairs(design) == (1,) and not _is_nutation(design)
+    want_eff = efficiency and surfaces
+    settings = contact or ContactSettings()
+    store = Store(cache) if cache is not None else None
+    comps, sheet.stages = (None, [])
+    if (want_eff or with_load) and not rigid:
+        pairs = gear_pairs(design) if want_eff else (1,)
+        comps, sheet.stages = _tooth_models(store, design, pairs, settings, progress)
     try:
-        sheet.accuracy = transmission_accuracy(design)
+        if with_load:
+            sheet.accuracy, st = accuracy_stage(
+                store, design, rated_T, positions=positions, rigid=rigid,
+                settings=settings, compliance=None if comps is None else comps[0],
+                report=progress,
+            )  # fmt: skip
+            sheet.stages.append(st)
+        else:
+            sheet.accuracy = transmission_accuracy(design)
     except ReducerlabError as exc:
         sheet.notes["accuracy"] = str(exc)
     if not efficiency:
         sheet.notes["efficiency"] = "not asked for (--no-efficiency)"
-        return sheet
-    if not _has_surfaces(design):
+    elif not surfaces:
         sheet.notes["efficiency"] = (
             "needs tooth surfaces (a gear pair, a KHV drive, a nutation drive with "
             "[surface]); the cycloid-ball drive's rolling balls are out of its scope"
         )
-        return sheet
-    store = Store(cache) if cache is not None else None
-    sheet.efficiency, sheet.stages = efficiency_stage(
-        store, design, rated_T, mu=mu, positions=positions, rigid=rigid,
-        settings=contact or ContactSettings(), report=progress,
-    )  # fmt: skip
+    else:
+        sheet.efficiency, st = efficiency_stage(
+            store, design, rated_T, mu=mu, positions=positions, rigid=rigid,
+            settings=settings, compliance=comps, report=progress,
+        )  # fmt: skip
+        sheet.stages.append(st)
     return sheet
+
+
+def _is_nutation(design: Any) -> bool:
+    return str(getattr(design, "type", "")).startswith("nutation")
 
 
 def _has_surfaces(design: Any) -> bool:

@@ -137,7 +137,9 @@ def report(
         (``contact``), bifurcation diagrams, regime maps, torque sweeps, layouts, a KHV
         pair's load sharing (``khv-sharing``), a torsion test (``torsion-test``, shown
         in the datasheet instead of the one the report computes), a drive's efficiency
-        (``efficiency``, added to the datasheet). Each is checked against the design
+        (``efficiency``, added to the datasheet with the starting and back-driving
+        torque), a transmission accuracy (``transmission-accuracy``, shown in the
+        datasheet instead of the rigid one the report computes). Each is checked against the design
         (:func:`reducerlab.inputs.check_inputs`): a result computed for other values of
         the inputs it depends on is refused, naming the fields that differ.
     only : sequence of str, optional
@@ -250,6 +252,7 @@ GIVEN_KINDS = (
     "khv-sharing",
     "torsion-test",
     "efficiency",
+    "transmission-accuracy",
 )
 
 

@@ -24,9 +24,8 @@ __all__ = ["datasheet_section", "efficiency_row"]
 
 #: What the datasheet does not compute yet (the later parts of issue 31).
 NOT_YET = (
-    "transmission accuracy (output angle error over one output revolution)",
-    "starting and back-driving torque",
-    "the distribution over manufacturing tolerances (Monte-Carlo)",
+    "the distribution over manufacturing tolerances (reducerlab tolerances, a "
+    "Monte-Carlo run of its own)",
 )
 
 
@@ -127,13 +126,23 @@ def datasheet_section(ctx: Context) -> Section | None:
         ("tangent stiffness at rated", cat["tangent_stiffness_at_rated_N_m_per_arcmin"],
          "N m/arcmin"),
     ]  # fmt: skip
+    rows.insert(5, ("loop area (friction work per cycle)", float(nums.loop_area), "J"))
     eff = ctx.given("efficiency")
+    eff_percent = None
     if eff:
         rows.append(efficiency_row(eff[0]))
+        eff_percent = rows[-1][1]
+        rows += _starting_rows(eff[0], rated)
+    acc, acc_note = _accuracy(ctx)
+    if acc is not None:
+        from ...pipeline.datasheet import accuracy_rows
+
+        rows += accuracy_rows(acc)
     s.values.update(
         numbers=nums.attrs(), catalogue=cat, rated_torque=rated, source=source,
         output_dof=str(a["output_dof"]), held=str(a["held"]),
-        efficiency_percent=rows[-1][1] if eff else None,
+        efficiency_percent=eff_percent,
+        te_peak_to_peak_arcsec=None if acc is None else acc.peak_to_peak,
     )  # fmt: skip
     s.blocks.append(
         table(
@@ -150,8 +159,55 @@ def datasheet_section(ctx: Context) -> Section | None:
             "K1/K2/K3 secants, T1/T2 and the +/-3 % band",
         )
     )
+    if acc is not None:
+        s.blocks.append(
+            figure(
+                acc.figure(),
+                "transmission error: output angle error over one output revolution "
+                "(arcsec) and its spectrum in orders of the output rotation",
+            )
+        )
     missing = list(NOT_YET)
     if not eff:
-        missing.insert(2, "efficiency (give an efficiency result: report --with)")
-    s.blocks.append(note("Not computed yet: " + "; ".join(missing) + "."))
+        missing.insert(0, "efficiency, starting and back-driving torque (reducerlab "
+                          "datasheet computes them, or give an efficiency result: report "
+                          "--with)")  # fmt: skip
+    if acc_note:
+        missing.insert(0, acc_note)
+    s.blocks.append(note("Not computed here: " + "; ".join(missing) + "."))
     return s
+
+
+def _starting_rows(eff: Any, rated: float) -> list[tuple[str, float, str]]:
+    """Starting and back-driving torque rows at the rated torque from a given
+    efficiency (``pipeline.datasheet.starting_torques``), none when its torques do not
+    reach the rated one or it predates the output torque it needs."""
+    from ...errors import ReducerlabError
+    from ...pipeline.datasheet import starting_torques
+
+    if "output_torque" not in eff.data or "ratio" not in eff.data.attrs:
+        return []
+    try:
+        st = starting_torques(eff, rated)
+    except ReducerlabError:
+        return []
+    return [
+        ("starting torque at rated output (input side, meshes)", st["starting_torque"], "N m"),
+        ("back-driving torque at rated (output side, meshes)", st["backdriving_torque"], "N m"),
+    ]
+
+
+def _accuracy(ctx: Context) -> tuple[Any, str]:
+    """A given transmission-accuracy result, else the rigid kinematics' one computed
+    here (cheap) where the drive type has it; with a note when there is none."""
+    from ...errors import ReducerlabError
+
+    given = ctx.given("transmission-accuracy")
+    if given:
+        return given[0], ""
+    from ...analysis.transmission_accuracy import transmission_accuracy
+
+    try:
+        return transmission_accuracy(ctx.design), ""
+    except ReducerlabError as exc:
+        return None, f"transmission accuracy ({exc})"
