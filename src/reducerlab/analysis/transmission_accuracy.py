@@ -35,6 +35,7 @@ from ..errors import ReducerlabError
 from ..geometry.internal_pair import inv, inv_inverse
 from ..kinematics.accuracy import GearErrors, line_angle, mesh_lead, order_spectrum
 from ..results import Result, provenance
+from .accuracy_drives import DRIVE_SOURCES, assembly_attrs, crank_leads
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -104,6 +105,10 @@ class TransmissionAccuracyResult(Result):
             "source  peak to peak (arcsec)",
         ]
         lines += [f"  {s}: {v:.4g}" for s, v in d["contribution_peak_to_peak_arcsec"].items()]
+        if "backlash_change" in d:  # an assembly error (analysis.accuracy_drives)
+            dj, dja = d["backlash_change"], d["backlash_change_arcsec"]
+            lines.append(f"backlash change (centre distance): {dj * 1e6:.4g} um normal, "
+                         f"{dja:.4g} arcsec at the output")  # fmt: skip
         lines.append("output order  input order  amplitude (arcsec)")
         lines += [f"{r['output_order']:>12d}  {r['input_order']:>11.4g}  "
                   f"{r['amplitude_arcsec']:.4g}" for r in d["largest_orders"]]  # fmt: skip
@@ -160,8 +165,8 @@ def _mesh(design: Any) -> _Mesh:
         aw, rb = pair.working_pressure_angle, pair.base_radius(1)
         return _Mesh(("ring", "planet"), errors, speeds, True, aw, g.pressure_angle, rb)
     raise ReducerlabError(
-        f"transmission accuracy: computed for gear_pair and khv designs so far; got a "
-        f"{kind or type(design).__name__} design"
+        f"transmission accuracy: computed for gear_pair, khv, cycloid_ball and nutation "
+        f"designs; got a {kind or type(design).__name__} design"
     )
 
 
@@ -184,14 +189,20 @@ def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccur
     Raises
     ------
     ReducerlabError
-        A drive other than gear_pair and khv; ``samples`` out of range.
+        A drive other than gear_pair, khv, cycloid_ball and nutation; ``samples`` out
+        of range.
     """
     if isinstance(samples, bool) or not isinstance(samples, int) or not 64 <= samples <= 2**20:
         raise ReducerlabError(f"samples: must be an integer in 64 .. 2**20; got {samples!r}")
-    m = _mesh(design)
+    drive = DRIVE_SOURCES.get(getattr(design, "type", None))
+    m = _mesh(design) if drive is None else None
     kin = design.kinematics()
     ratio = float(kin.ratio)
     u = 2 * math.pi * np.arange(samples) / samples  # output angle, its own sense
+    if m is None:  # the drives with their own laws (analysis.accuracy_drives)
+        assert drive is not None
+        sources, parts, extra = drive(design, u)
+        return _result(design, u, sources, np.array(parts), ratio, extra)
     theta_in = abs(ratio) * u
     ang = [v * theta_in for v in m.speeds]
     sigma_b = 1 if m.speeds[1] > 0 else -1
@@ -208,7 +219,19 @@ def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccur
             s = mesh_lead(ang[0], ang[1], *pair, tau, m.pressure_angle)
             sources.append(f"{name} {label}")
             parts.append(out_sense * s / m.driven_base_radius)
-    contribution = np.array(parts)
+    for name, s in crank_leads(design, ang[0], tau):  # assembly (KHV crank) errors
+        sources.append(name)
+        parts.append(out_sense * s / m.driven_base_radius)
+    extra = {"driven_base_radius": m.driven_base_radius, "line_angle": tau,
+             "working_pressure_angle": m.working_pressure_angle,
+             **assembly_attrs(design, m.working_pressure_angle)}  # fmt: skip
+    return _result(design, u, sources, np.array(parts), ratio, extra)
+
+
+def _result(design: Any, u: Array, sources: list[str], contribution: Array, ratio: float,
+            extra: dict[str, Any]) -> TransmissionAccuracyResult:  # fmt: skip
+    """The result: the error (the sources' sum), its spectrum and attributes."""
+    contribution = np.reshape(contribution, (len(sources), u.size))
     error = contribution.sum(axis=0)
     orders, amp = order_spectrum(error / ARCSEC)
     ds = xr.Dataset(
@@ -229,6 +252,5 @@ def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccur
         },
     )
     ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
-                    drive=str(design.type), driven_base_radius=m.driven_base_radius,
-                    line_angle=tau, working_pressure_angle=m.working_pressure_angle)  # fmt: skip
+                    drive=str(design.type), **extra)  # fmt: skip
     return TransmissionAccuracyResult(ds)
