@@ -393,3 +393,151 @@ def test_bad_assembly_and_track_fields_are_named():
         ReducerlabError, match=r"gear_pair, khv, cycloid_ball and nutation designs; got a lumped"
     ):
         transmission_accuracy(load_design(example_dir() / "torsional_chain.toml"))
+
+
+NUT2 = example_dir() / "nutation_double_sided.toml"
+NUT1 = example_dir() / "nutation_surface.toml"
+
+
+def _nut(path, values):
+    return load_design(path).with_values(values)
+
+
+def _model_closure(design, gear, eps_local):
+    """Output rotation (rad, the model's rz sense) that keeps the drive model's mesh
+    deflections zero (``drives.nutation.build_model``'s Mesh coefficients: paper 000
+    Eq. 2-4 assembled there, with the nutating gear's normal turned by the nutation
+    angle into the crank frame) when gear ``gear`` (1..4) is offset by ``eps_local``
+    (m, (radial, tangential) in its own frame), gear 2 held: an independent assembly
+    of the same constraints the law solves in closed form."""
+    from reducerlab.drives import build_model
+    from reducerlab.model import Mesh
+
+    model = build_model(design)
+    meshes = {e.name: e.coefficients for e in model.elements if isinstance(e, Mesh)}
+    th = design.theta
+    x, y = eps_local
+    if gear in (1, 3):  # the nutating body's frame turned by theta about y
+        body, q = "g13", {"x": x * math.cos(th), "y": y, "z": -x * math.sin(th)}
+    else:
+        body, q = ("g2" if gear == 2 else "g4"), {"x": x, "y": y, "z": 0.0}
+    mesh_of = {1: "mesh1", 2: "mesh1", 3: "mesh2", 4: "mesh2"}[gear]
+    lam = {m: sum(g.get(f"{body}.{k}", 0.0) * v for k, v in q.items()) if m == mesh_of else 0.0
+           for m, g in meshes.items()}  # fmt: skip
+    g1 = meshes["mesh1"]
+    d13 = -lam["mesh1"] / g1["g13.rz"]
+    if "mesh2" not in meshes:
+        return d13
+    g2 = meshes["mesh2"]
+    return -(lam["mesh2"] + g2["g13.rz"] * d13) / g2["g4.rz"]
+
+
+@pytest.mark.parametrize(("path", "gear"), [(NUT2, 1), (NUT2, 2), (NUT2, 3), (NUT2, 4),
+                                            (NUT1, 1), (NUT1, 2)])  # fmt: skip
+def test_nutation_law_matches_the_drive_models_constraints(path, gear):
+    """Each gear's eccentricity, at every sample, against the drive model's own mesh
+    constraints solved for the rotations (the crank and gear 2 exact)."""
+    e, phase = 5 * UM, 0.6
+    d = _nut(path, {f"gear{gear}.errors": {"eccentricity": e, "eccentricity_phase": phase}})
+    r = transmission_accuracy(d, samples=64)
+    kin = d.kinematics()
+    ratio = kin.ratio
+    rel = kin.relative_speeds(1.0)
+    rel = rel if d.sides == "double" else {"gear 1": rel["nutating gear"],
+                                           "gear 2": rel["central gear"]}  # fmt: skip
+    u = r.data["output_angle"].values
+    got = r.data["contribution"].sel(source=f"gear {gear} eccentricity").values
+    for j in range(0, 64, 5):
+        psi = rel[f"gear {gear}"] * abs(ratio) * u[j] + phase
+        want = math.copysign(1, ratio) * _model_closure(d, gear, (e * math.cos(psi),
+                                                                  e * math.sin(psi)))  # fmt: skip
+        # the same linear constraints: equal to round-off
+        assert got[j] == pytest.approx(want, rel=1e-9, abs=1e-15)
+    assert np.ptp(got) > 1.5 * e / 0.05  # a real error, ~e / r_m
+
+
+def test_nutation_relative_speeds_keep_the_models_meshes_closed():
+    """The law turns each gear by the kinematics' relative speed in the model's rz
+    sense: those speeds must keep the model's mesh deflections zero (to the 1e-3 by
+    which the design lets the mean radii depart from the tooth numbers)."""
+    from reducerlab.drives import build_model
+    from reducerlab.model import Mesh
+
+    for path in (NUT2, NUT1):
+        d = load_design(path)
+        rel = d.kinematics().relative_speeds(1.0)
+        rz = {
+            "g13": rel.get("gear 1", rel.get("nutating gear")),
+            "g2": rel.get("gear 2", rel.get("central gear")),
+            "g4": rel.get("gear 4"),
+        }
+        for e in build_model(d).elements:
+            if isinstance(e, Mesh):
+                terms = [g * rz[k.split(".")[0]] for k, g in e.coefficients.items()
+                         if k.endswith(".rz")]  # fmt: skip
+                assert abs(sum(terms)) < 2e-3 * max(abs(t) for t in terms)
+
+
+def test_nutation_orders_and_superposition():
+    """Which rotation carries each gear's error, per output turn of the example
+    (i = 105): gear 2 (fixed) turns once back per crank turn: order 105 (input order
+    1); gear 4 relative to the crank 105 - 1 = 104; the nutating body 105 z2 / z1 =
+    97.5 times (a half order: its line falls between 97 and 98)."""
+    e = 5 * UM
+    d = load_design(NUT2)
+    assert d.kinematics().ratio == 105
+    r2 = transmission_accuracy(_nut(NUT2, {"gear2.errors": {"eccentricity": e}}), samples=4096)
+    r4 = transmission_accuracy(_nut(NUT2, {"gear4.errors": {"eccentricity": e}}), samples=4096)
+    assert [k for k, _ in r2.largest_orders(1)] == [105]
+    assert [k for k, _ in r4.largest_orders(1)] == [104]
+    # amplitudes: e / r_m sqrt(1 + (a_x / a_y)^2), gear 2's times the levers r_m2 / r_m1 and
+    # r_m3 / r_m4 through the body
+    from reducerlab.drives.nutation_mesh import contact_normal
+    from reducerlab.kinematics.accuracy_nutation import radial_ratio
+
+    (d1, d2), (d3, d4) = d.cones(d.theta)
+    b, an = d.helix_angle, d.normal_pressure_angle
+    for delta in (d1, d2, d3, d4):
+        n = contact_normal(delta, b, an)
+        assert radial_ratio(delta, b, an) == pytest.approx(n[0] / n[1], rel=1e-12)
+    rm = [getattr(d, f"gear{k}").mean_radius for k in range(1, 5)]
+    k4 = math.hypot(1, radial_ratio(d4, b, an))
+    assert r4.largest_orders(1)[0][1] == pytest.approx(e / rm[3] * k4 / ARCSEC, rel=1e-9)
+    k2 = math.hypot(1, radial_ratio(d2, b, an)) * rm[1] / rm[0] * rm[2] / rm[3]
+    assert r2.largest_orders(1)[0][1] == pytest.approx(e / rm[1] * k2 / ARCSEC, rel=1e-9)
+    r1 = transmission_accuracy(_nut(NUT2, {"gear1.errors": {"eccentricity": e}}), samples=4096)
+    assert {k for k, _ in r1.largest_orders(2)} == {97, 98}
+    # superposition: all four at once is the sum of each alone
+    every = {f"gear{k}.errors": {"eccentricity": e, "eccentricity_phase": 0.3 * k}
+             for k in range(1, 5)}  # fmt: skip
+    total = transmission_accuracy(_nut(NUT2, every), samples=512).data["error"].values
+    alone = sum(transmission_accuracy(_nut(NUT2, {k: v}), samples=512).data["error"].values
+                for k, v in every.items())  # fmt: skip
+    assert total == pytest.approx(alone, abs=1e-18)
+
+
+def test_nutation_pitch_deviations_of_the_output_gear():
+    """Gear 4's cumulative pitch F_k of the tooth in mesh, tooth by tooth: a tooth ahead
+    in the driven gear's turning sense in the crank frame holds the gear back there by
+    F_k / r_m4; gear 4 turns backwards in the crank frame (-0.99 of the input) and
+    forwards absolutely (+1/105), so the output leads by F_k / r_m4. Gear 4 turns 104
+    times per output turn relative to the crank: its 30 teeth pass 3120 times."""
+    d0 = load_design(NUT2)
+    z = d0.gear4.teeth
+    k = np.arange(z)
+    f = np.round(2 * UM * np.sin(2 * math.pi * k / z), 9)  # whole nm; pairs k, z - k cancel
+    d = _nut(NUT2, {"gear4.errors": {"pitch_deviations": list(f)}})
+    n = 3120 * 8 + 7  # not a multiple of the tooth passing: no sample on a change
+    r = transmission_accuracy(d, samples=n)
+    u = r.data["output_angle"].values
+    angle = d.kinematics().relative_speeds(1.0)["gear 4"] * 105 * u
+    tooth = np.mod(np.floor(np.abs(angle) * z / (2 * math.pi) + 0.5).astype(int), z)
+    F = np.concatenate([[0.0], np.cumsum(f)[:-1]])
+    assert r.data["error"].values == pytest.approx(F[tooth] / d.gear4.mean_radius, abs=1e-18)
+
+
+def test_nutation_bad_errors_are_named():
+    with pytest.raises(DesignError, match=r"gear3\.errors\.pitch_deviations.*32 teeth"):
+        _nut(NUT2, {"gear3.errors": {"pitch_deviations": [1e-6, -1e-6]}})
+    with pytest.raises(DesignError, match=r"gear2\.errors\.eccentricity"):
+        _nut(NUT2, {"gear2.errors": {"eccentricity": -1e-6}})

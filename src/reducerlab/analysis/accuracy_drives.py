@@ -19,8 +19,20 @@ from numpy.typing import NDArray
 
 from ..kinematics.accuracy_assembly import axis_offset_lead, backlash_change, planet_axis_lead
 from ..kinematics.accuracy_cycloid import output_error, transmission_offset
+from ..kinematics.accuracy_nutation import (
+    eccentricity_rotation,
+    output_rotation,
+    pitch_rotation,
+    radial_ratio,
+)
 
-__all__ = ["DRIVE_SOURCES", "assembly_attrs", "crank_leads", "cycloid_sources"]
+__all__ = [
+    "DRIVE_SOURCES",
+    "assembly_attrs",
+    "crank_leads",
+    "cycloid_sources",
+    "nutation_sources",
+]
 
 Array = NDArray[np.float64]
 
@@ -105,5 +117,40 @@ def assembly_attrs(design: Any, working_pressure_angle: float) -> dict[str, floa
     return {"backlash_change": dj, "backlash_change_arcsec": dj / rb_out / (math.pi / 648000)}
 
 
+def nutation_sources(design: Any, u: Array) -> tuple[list[str], list[Array], dict[str, Any]]:
+    """The nutation drive's sources: each bevel gear's eccentricity and pitch
+    deviations (``[gearK.errors]``) as equivalent rotations in the crank frame, through
+    the drive's two stages (:mod:`reducerlab.kinematics.accuracy_nutation`). The normals
+    are the drive model's (paper 000 Eq. 4 with ``helix_angle``)."""
+    kin = design.kinematics()
+    ratio = float(kin.ratio)
+    theta_in = abs(ratio) * np.asarray(u, float)
+    double = design.sides == "double"
+    rel = kin.relative_speeds(1.0)
+    if not double:
+        rel = {"gear 1": rel["nutating gear"], "gear 2": rel["central gear"]}
+    cones = [c for pair in design.cones(design.theta) for c in pair]
+    names = [f"gear {k}" for k in range(1, 5 if double else 3)]
+    radii = {n: getattr(design, f"gear{k + 1}").mean_radius for k, n in enumerate(names)}
+    beta, alpha_n = design.helix_angle, design.normal_pressure_angle
+    sense = math.copysign(1.0, ratio)
+    sources: list[str] = []
+    parts: list[Array] = []
+    for k, name in enumerate(names):
+        spec = getattr(design, f"gear{k + 1}").errors
+        if spec is None:
+            continue
+        angle = rel[name] * theta_in
+        ecc = eccentricity_rotation(spec.eccentricity, spec.eccentricity_phase, angle,
+                                    radial_ratio(cones[k], beta, alpha_n), radii[name])  # fmt: skip
+        turning = 1 if rel[name] > 0 else -1
+        teeth = getattr(design, f"gear{k + 1}").teeth
+        pitch = pitch_rotation(tuple(spec.pitch_deviations), angle, teeth, radii[name], turning)
+        for label, eps in (("eccentricity", ecc), ("pitch", pitch)):
+            sources.append(f"{name} {label}")
+            parts.append(sense * output_rotation({name: eps}, radii, double))
+    return sources, parts, {"sides": str(design.sides), "nutation_angle": design.theta}
+
+
 #: drive type -> its sources (names, output angle errors, attributes) over ``u``
-DRIVE_SOURCES = {"cycloid_ball": cycloid_sources}
+DRIVE_SOURCES = {"cycloid_ball": cycloid_sources, "nutation": nutation_sources}
