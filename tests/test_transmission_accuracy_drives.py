@@ -541,3 +541,22 @@ def test_nutation_bad_errors_are_named():
         _nut(NUT2, {"gear3.errors": {"pitch_deviations": [1e-6, -1e-6]}})
     with pytest.raises(DesignError, match=r"gear2\.errors\.eccentricity"):
         _nut(NUT2, {"gear2.errors": {"eccentricity": -1e-6}})
+
+
+def test_cli_cycloid_with_a_groove_error(tmp_path):
+    from typer.testing import CliRunner
+
+    from reducerlab.analysis.transmission_accuracy import TransmissionAccuracyResult
+    from reducerlab.cli import app
+    from reducerlab.results import Result
+
+    out = tmp_path / "acc"
+    args = ["accuracy", str(CYCLOID), "--samples", "256", "-o", str(out),
+            "--set", "centre_disc.track_errors.eccentricity=5 um"]  # fmt: skip
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    assert "centre disc track eccentricity" in r.output
+    res = Result.load(out / "accuracy.nc")
+    assert isinstance(res, TransmissionAccuracyResult)
+    assert res.data.attrs["output"] == "centre"
+    assert res.peak_to_peak == pytest.approx(2 * 5 * UM / R2 / ARCSEC, rel=1e-3)

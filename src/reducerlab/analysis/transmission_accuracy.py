@@ -18,7 +18,10 @@ with its peak to peak and its amplitude spectrum in orders of the output revolut
 
 Rigid (unloaded) kinematics, one tooth pair in contact, first order in ``e / r_b``; the
 loaded transmission error of the contact analysis under a stated load is a later piece
-of issue 31. The gear pair and KHV drives; the others raise naming the design type.
+of issue 31. The gear pair and KHV drives here, with the assembly errors (the KHV crank,
+the pair's centre distance: ``analysis.accuracy_drives``); the cycloid-ball and
+nutation drives through their own laws (``analysis.accuracy_drives.DRIVE_SOURCES``);
+the others raise naming the design type.
 """
 
 from __future__ import annotations
