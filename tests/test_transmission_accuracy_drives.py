@@ -560,3 +560,29 @@ def test_cli_cycloid_with_a_groove_error(tmp_path):
     assert isinstance(res, TransmissionAccuracyResult)
     assert res.data.attrs["output"] == "centre"
     assert res.peak_to_peak == pytest.approx(2 * 5 * UM / R2 / ARCSEC, rel=1e-3)
+
+
+def test_bevel_law_reduces_to_the_cylindrical_gears():
+    """At zero cone angle the bevel gear's normal is a helical gear's: a_x / a_y =
+    -tan(alpha_n) / cos(beta) = -tan(alpha_t), and a runout e gives the amplitude
+    e sqrt(1 + tan^2 alpha_t) / r = e / r_b, the cylindrical law of
+    kinematics.accuracy (checked there against the exact common tangent); at 90 deg
+    (a crown gear) a straight tooth's normal has no radial part."""
+    from reducerlab.kinematics.accuracy_nutation import eccentricity_rotation, radial_ratio
+
+    an, b, r, e = math.radians(20), math.radians(25), 0.05, 5 * UM
+    at = math.atan(math.tan(an) / math.cos(b))
+    assert radial_ratio(0.0, b, an) == pytest.approx(-math.tan(at), rel=1e-12)
+    th = np.linspace(0, 2 * math.pi, 257)
+    eps = eccentricity_rotation(e, 0.3, th, radial_ratio(0.0, b, an), r)
+    assert np.abs(eps).max() == pytest.approx(e / (r * math.cos(at)), rel=1e-4)
+    assert radial_ratio(math.pi / 2, 0.0, an) == pytest.approx(0.0, abs=1e-15)
+
+
+def test_cycloid_line_of_centres_offset_is_reported():
+    # the crank's radius error lies on the line of centres: no output error, but every
+    # ball's clearance changes (up to the offset itself)
+    r = transmission_accuracy(_cycloid({"input_shaft.crank_errors": {"radius_error": 7 * UM}}),
+                              samples=128)  # fmt: skip
+    assert r.peak_to_peak == 0.0
+    assert r.data.attrs["line_of_centres_offset_max"] == pytest.approx(7 * UM)

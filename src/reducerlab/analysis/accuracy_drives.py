@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..kinematics.accuracy_assembly import axis_offset_lead, backlash_change, planet_axis_lead
-from ..kinematics.accuracy_cycloid import output_error, transmission_offset
+from ..kinematics.accuracy_cycloid import centres_offset, output_error, transmission_offset
 from ..kinematics.accuracy_nutation import (
     eccentricity_rotation,
     output_rotation,
@@ -41,6 +41,8 @@ def cycloid_sources(design: Any, u: Array) -> tuple[list[str], list[Array], dict
     """The cycloid-ball drive's sources: each groove's eccentricity, the crank's axis
     offset and tangential offset (its radius error moves the planetary disc along the
     line of centres: the balls' clearances change, not the output angle; first order).
+    The attribute ``line_of_centres_offset_max`` (m) is the largest ``|c_y|`` over the
+    revolution: ball ``i``'s clearance changes by ``c_y cos(theta_i)``.
 
     ``c_x`` (the centre disc's groove minus the planetary disc's along the
     transmission direction, in the frame of the eccentric) gives ``-c_x / r_2``
@@ -56,16 +58,20 @@ def cycloid_sources(design: Any, u: Array) -> tuple[list[str], list[Array], dict
     r3 = design.pitch_radius(design.planetary_disc.lobes)
     sense = math.copysign(1.0, ratio)  # the output turns with sign(1 / i)
     out: list[tuple[str, Array]] = []
+    c_y = np.zeros_like(phi)  # along the line of centres: the balls' clearances
     t2 = design.centre_disc.track_errors
     if t2 is not None:
         c = transmission_offset(t2.eccentricity, t2.eccentricity_phase, centre, phi)
         out.append(("centre disc track eccentricity", c))
+        c_y += centres_offset(t2.eccentricity, t2.eccentricity_phase, centre, phi)
     t3 = design.planetary_disc.track_errors
     if t3 is not None:
         c = -transmission_offset(t3.eccentricity, t3.eccentricity_phase, planetary, phi)
         out.append(("planetary disc track eccentricity", c))
+        c_y -= centres_offset(t3.eccentricity, t3.eccentricity_phase, planetary, phi)
     k = design.input_shaft.crank_errors
     if k is not None:
+        c_y -= centres_offset(k.axis_offset, k.axis_offset_phase, zero, phi) + k.radius_error
         # the crank moves the planetary disc (c_3): its axis offset is housing-fixed; its
         # tangential offset lies along -x (z x y) in the frame of the eccentric
         out.append(("crank axis offset", -transmission_offset(k.axis_offset, k.axis_offset_phase,
@@ -74,7 +80,8 @@ def cycloid_sources(design: Any, u: Array) -> tuple[list[str], list[Array], dict
     names = [n for n, _ in out]
     parts = [sense * output_error(c, design.output, r2, r3) for _, c in out]
     return names, parts, {"output": str(design.output), "centre_pitch_radius": r2,
-                          "planetary_pitch_radius": r3}  # fmt: skip
+                          "planetary_pitch_radius": r3,
+                          "line_of_centres_offset_max": float(np.abs(c_y).max())}  # fmt: skip
 
 
 def crank_leads(design: Any, ring_angle: Array, line_angle: float) -> list[tuple[str, Array]]:

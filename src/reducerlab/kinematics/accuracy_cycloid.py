@@ -52,7 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ReducerlabError
 
-__all__ = ["ball_lead", "output_error", "transmission_offset"]
+__all__ = ["ball_lead", "centres_offset", "output_error", "transmission_offset"]
 
 Array = NDArray[np.float64]
 
@@ -64,6 +64,15 @@ def transmission_offset(size: float, phase: float, angle: ArrayLike, phi: ArrayL
     a = np.asarray(angle, float)
     p = np.asarray(phi, float)
     return -float(size) * np.sin(float(phase) + a - p)
+
+
+def centres_offset(size: float, phase: float, angle: ArrayLike, phi: ArrayLike) -> Array:
+    """``y`` component (m, along the line of centres) of the same offset as
+    :func:`transmission_offset`: ``size cos(phase + angle - phi)``; it changes ball
+    ``i``'s clearance by ``c_y cos(theta_i)`` along its normal, not the output angle."""
+    a = np.asarray(angle, float)
+    p = np.asarray(phi, float)
+    return float(size) * np.cos(float(phase) + a - p)
 
 
 def output_error(offset_x: ArrayLike, output: str, r_centre: float, r_planetary: float) -> Array:
