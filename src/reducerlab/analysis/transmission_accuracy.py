@@ -18,7 +18,7 @@ with its peak to peak and its amplitude spectrum in orders of the output revolut
 
 Rigid (unloaded) kinematics, one tooth pair in contact, first order in ``e / r_b``; the
 loaded transmission error of the contact analysis under a stated load is a later piece
-of issue 31. The gear pair and KHV drives here, with the assembly errors (the KHV crank,
+of issue 31. The gear pair and KHV drives, with their assembly errors (the KHV crank,
 the pair's centre distance: ``analysis.accuracy_drives``); the cycloid-ball and
 nutation drives through their own laws (``analysis.accuracy_drives.DRIVE_SOURCES``);
 the others raise naming the design type.
@@ -125,6 +125,37 @@ class TransmissionAccuracyResult(Result):
 
     plot = figure
 
+    @classmethod
+    def from_contributions(cls, design: Any, u: Array, sources: list[str],
+                           contribution: Array, ratio: float,
+                           **attrs: Any) -> TransmissionAccuracyResult:  # fmt: skip
+        """The result of the sources' errors ``contribution`` (rad, ``source`` x
+        ``output_angle``) over the output angles ``u`` (rad): their sum, its spectrum,
+        ``attrs`` added to the dataset's attributes."""
+        contribution = np.reshape(np.asarray(contribution, float), (len(sources), u.size))
+        error = contribution.sum(axis=0)
+        orders, amp = order_spectrum(error / ARCSEC)
+        ds = xr.Dataset(
+            {
+                "error": ("output_angle", error, {"units": "rad"}),
+                "contribution": (("source", "output_angle"), contribution, {"units": "rad"}),
+                "amplitude": ("order", amp, {"units": "arcsec"}),
+            },
+            coords={
+                "output_angle": ("output_angle", u, {"units": "rad"}),
+                "source": sources,
+                "order": orders,
+                "input_order": ("order", orders / abs(ratio)),
+            },
+            attrs={
+                "title": "Transmission accuracy (rigid kinematics)",
+                **provenance(getattr(design, "provenance", None)),
+            },
+        )
+        ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
+                        drive=str(design.type), **attrs)  # fmt: skip
+        return cls(ds)
+
 
 @dataclass(frozen=True)
 class _Mesh:
@@ -195,17 +226,15 @@ def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccur
         A drive other than gear_pair, khv, cycloid_ball and nutation; ``samples`` out
         of range.
     """
+    drive = DRIVE_SOURCES.get(getattr(design, "type", None))
+    if drive is not None:  # cycloid_ball, nutation: their own laws (accuracy_drives)
+        return _drive_accuracy(design, samples, drive)
     if isinstance(samples, bool) or not isinstance(samples, int) or not 64 <= samples <= 2**20:
         raise ReducerlabError(f"samples: must be an integer in 64 .. 2**20; got {samples!r}")
-    drive = DRIVE_SOURCES.get(getattr(design, "type", None))
-    m = _mesh(design) if drive is None else None
+    m = _mesh(design)
     kin = design.kinematics()
     ratio = float(kin.ratio)
     u = 2 * math.pi * np.arange(samples) / samples  # output angle, its own sense
-    if m is None:  # the drives with their own laws (analysis.accuracy_drives)
-        assert drive is not None
-        sources, parts, extra = drive(design, u)
-        return _result(design, u, sources, np.array(parts), ratio, extra)
     theta_in = abs(ratio) * u
     ang = [v * theta_in for v in m.speeds]
     sigma_b = 1 if m.speeds[1] > 0 else -1
@@ -222,19 +251,10 @@ def transmission_accuracy(design: Any, samples: int = 4096) -> TransmissionAccur
             s = mesh_lead(ang[0], ang[1], *pair, tau, m.pressure_angle)
             sources.append(f"{name} {label}")
             parts.append(out_sense * s / m.driven_base_radius)
-    for name, s in crank_leads(design, ang[0], tau):  # assembly (KHV crank) errors
+    for name, s in crank_leads(design, ang[0], tau):  # assembly errors (the KHV crank)
         sources.append(name)
         parts.append(out_sense * s / m.driven_base_radius)
-    extra = {"driven_base_radius": m.driven_base_radius, "line_angle": tau,
-             "working_pressure_angle": m.working_pressure_angle,
-             **assembly_attrs(design, m.working_pressure_angle)}  # fmt: skip
-    return _result(design, u, sources, np.array(parts), ratio, extra)
-
-
-def _result(design: Any, u: Array, sources: list[str], contribution: Array, ratio: float,
-            extra: dict[str, Any]) -> TransmissionAccuracyResult:  # fmt: skip
-    """The result: the error (the sources' sum), its spectrum and attributes."""
-    contribution = np.reshape(contribution, (len(sources), u.size))
+    contribution = np.array(parts)
     error = contribution.sum(axis=0)
     orders, amp = order_spectrum(error / ARCSEC)
     ds = xr.Dataset(
@@ -255,5 +275,20 @@ def _result(design: Any, u: Array, sources: list[str], contribution: Array, rati
         },
     )
     ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
-                    drive=str(design.type), **extra)  # fmt: skip
+                    drive=str(design.type), driven_base_radius=m.driven_base_radius,
+                    line_angle=tau, working_pressure_angle=m.working_pressure_angle)  # fmt: skip
+    ds.attrs.update(assembly_attrs(design, m.working_pressure_angle))  # backlash change
     return TransmissionAccuracyResult(ds)
+
+
+def _drive_accuracy(design: Any, samples: int | None, drive: Any) -> TransmissionAccuracyResult:
+    """A drive with its own law (``analysis.accuracy_drives.DRIVE_SOURCES``): its
+    sources over one output revolution of ``samples`` (default 4096) even steps."""
+    samples = 4096 if samples is None else samples
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 64 <= samples <= 2**20:
+        raise ReducerlabError(f"samples: must be an integer in 64 .. 2**20; got {samples!r}")
+    u = 2 * math.pi * np.arange(samples) / samples  # output angle, its own sense
+    sources, parts, attrs = drive(design, u)
+    ratio = float(design.kinematics().ratio)
+    return TransmissionAccuracyResult.from_contributions(design, u, sources, np.array(parts),
+                                                         ratio, **attrs)  # fmt: skip
