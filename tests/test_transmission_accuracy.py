@@ -247,8 +247,8 @@ def test_bad_input_is_named():
         _with(GEAR, {"pinion.errors": {"eccentricity": 5}})  # 5 m: meant um
     with pytest.raises(ReducerlabError, match="samples"):
         transmission_accuracy(load_design(GEAR), samples=10)
-    with pytest.raises(ReducerlabError, match="gear_pair and khv"):
-        transmission_accuracy(load_design(example_dir() / "cycloid_ball.toml"))
+    with pytest.raises(ReducerlabError, match="gear_pair, khv"):
+        transmission_accuracy(load_design(example_dir() / "torsional_chain.toml"))
     with pytest.raises(ReducerlabError, match="pitch"):
         GearErrors(3, pitch=(1e-6, -1e-6))
 

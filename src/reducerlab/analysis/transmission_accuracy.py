@@ -19,7 +19,10 @@ with its peak to peak and its amplitude spectrum in orders of the output revolut
 Rigid (unloaded) kinematics, one tooth pair in contact, first order in ``e / r_b``.
 Under a stated ``load`` the mesh's loaded transmission error of the contact analysis is
 added (``analysis.loaded_accuracy``: its variation as the source ``mesh under load``,
-its mean as the separate elastic wind-up). The gear pair and KHV drives; the others
+its mean as the separate elastic wind-up; gear pair and KHV). The gear pair and KHV
+drives, with their assembly errors (the KHV crank, the pair's centre distance:
+``analysis.accuracy_drives``); the cycloid-ball and nutation drives through their own
+laws (``analysis.accuracy_drives.DRIVE_SOURCES``, rigid and unloaded only); the others
 raise naming the design type.
 """
 
@@ -38,6 +41,7 @@ from ..errors import ReducerlabError
 from ..geometry.internal_pair import inv, inv_inverse
 from ..kinematics.accuracy import GearErrors, line_angle, mesh_lead, order_spectrum
 from ..results import Result, provenance
+from .accuracy_drives import DRIVE_SOURCES, assembly_attrs, crank_leads
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -109,6 +113,10 @@ class TransmissionAccuracyResult(Result):
             "source  peak to peak (arcsec)",
         ]
         lines += [f"  {s}: {v:.4g}" for s, v in d["contribution_peak_to_peak_arcsec"].items()]
+        if "backlash_change" in d:  # an assembly error (analysis.accuracy_drives)
+            dj, dja = d["backlash_change"], d["backlash_change_arcsec"]
+            lines.append(f"backlash change (centre distance): {dj * 1e6:.4g} um normal, "
+                         f"{dja:.4g} arcsec at the output")  # fmt: skip
         lines.append("output order  input order  amplitude (arcsec)")
         lines += [f"{r['output_order']:>12d}  {r['input_order']:>11.4g}  "
                   f"{r['amplitude_arcsec']:.4g}" for r in d["largest_orders"]]  # fmt: skip
@@ -121,6 +129,37 @@ class TransmissionAccuracyResult(Result):
         return plot_transmission_accuracy(self)
 
     plot = figure
+
+    @classmethod
+    def from_contributions(cls, design: Any, u: Array, sources: list[str],
+                           contribution: Array, ratio: float,
+                           **attrs: Any) -> TransmissionAccuracyResult:  # fmt: skip
+        """The result of the sources' errors ``contribution`` (rad, ``source`` x
+        ``output_angle``) over the output angles ``u`` (rad): their sum, its spectrum,
+        ``attrs`` added to the dataset's attributes."""
+        contribution = np.reshape(np.asarray(contribution, float), (len(sources), u.size))
+        error = contribution.sum(axis=0)
+        orders, amp = order_spectrum(error / ARCSEC)
+        ds = xr.Dataset(
+            {
+                "error": ("output_angle", error, {"units": "rad"}),
+                "contribution": (("source", "output_angle"), contribution, {"units": "rad"}),
+                "amplitude": ("order", amp, {"units": "arcsec"}),
+            },
+            coords={
+                "output_angle": ("output_angle", u, {"units": "rad"}),
+                "source": sources,
+                "order": orders,
+                "input_order": ("order", orders / abs(ratio)),
+            },
+            attrs={
+                "title": "Transmission accuracy (rigid kinematics)",
+                **provenance(getattr(design, "provenance", None)),
+            },
+        )
+        ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
+                        drive=str(design.type), **attrs)  # fmt: skip
+        return cls(ds)
 
 
 def _load_lines(d: dict[str, Any]) -> list[str]:
@@ -176,8 +215,8 @@ def _mesh(design: Any) -> _Mesh:
         aw, rb = pair.working_pressure_angle, pair.base_radius(1)
         return _Mesh(("ring", "planet"), errors, speeds, True, aw, g.pressure_angle, rb)
     raise ReducerlabError(
-        f"transmission accuracy: computed for gear_pair and khv designs so far; got a "
-        f"{kind or type(design).__name__} design"
+        f"transmission accuracy: computed for gear_pair, khv, cycloid_ball and nutation "
+        f"designs; got a {kind or type(design).__name__} design"
     )
 
 
@@ -229,12 +268,21 @@ def transmission_accuracy(
     Raises
     ------
     ReducerlabError
-        A drive other than gear_pair and khv; ``samples``, ``load`` or an option out
-        of range; contact options without a load.
+        A drive other than gear_pair, khv, cycloid_ball and nutation; ``samples``,
+        ``load`` or an option out of range; contact options without a load; a load on
+        a cycloid-ball or nutation design (rigid kinematics only).
     """
-    m = _mesh(design)
+    drive = DRIVE_SOURCES.get(getattr(design, "type", None))
     if load is None and (rigid or mesh_te is not None or tooth_size is not None):
         raise ReducerlabError("rigid, tooth_size, mesh_te: apply under load only; give load")
+    if drive is not None:  # cycloid_ball, nutation: their own laws (accuracy_drives)
+        if load is not None:
+            raise ReducerlabError(
+                f"load: the transmission accuracy under load is computed for gear_pair and "
+                f"khv designs; a {design.type} design's is rigid kinematics only"
+            )
+        return _drive_accuracy(design, samples, drive)
+    m = _mesh(design)
     if samples is None:
         from .loaded_accuracy import loaded_samples
 
@@ -260,6 +308,9 @@ def transmission_accuracy(
             s = mesh_lead(ang[0], ang[1], *pair, tau, m.pressure_angle)
             sources.append(f"{name} {label}")
             parts.append(out_sense * s / m.driven_base_radius)
+    for name, s in crank_leads(design, ang[0], tau):  # assembly errors (the KHV crank)
+        sources.append(name)
+        parts.append(out_sense * s / m.driven_base_radius)
     under = None
     if load is not None:
         from .loaded_accuracy import loaded_error
@@ -292,6 +343,20 @@ def transmission_accuracy(
     ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
                     drive=str(design.type), driven_base_radius=m.driven_base_radius,
                     line_angle=tau, working_pressure_angle=m.working_pressure_angle)  # fmt: skip
+    ds.attrs.update(assembly_attrs(design, m.working_pressure_angle))  # backlash change
     if under is not None:
         under.annotate(ds)
     return TransmissionAccuracyResult(ds)
+
+
+def _drive_accuracy(design: Any, samples: int | None, drive: Any) -> TransmissionAccuracyResult:
+    """A drive with its own law (``analysis.accuracy_drives.DRIVE_SOURCES``): its
+    sources over one output revolution of ``samples`` (default 4096) even steps."""
+    samples = 4096 if samples is None else samples
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 64 <= samples <= 2**20:
+        raise ReducerlabError(f"samples: must be an integer in 64 .. 2**20; got {samples!r}")
+    u = 2 * math.pi * np.arange(samples) / samples  # output angle, its own sense
+    sources, parts, attrs = drive(design, u)
+    ratio = float(design.kinematics().ratio)
+    return TransmissionAccuracyResult.from_contributions(design, u, sources, np.array(parts),
+                                                         ratio, **attrs)  # fmt: skip

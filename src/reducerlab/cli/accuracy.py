@@ -44,8 +44,10 @@ def accuracy(
     design: Annotated[
         Path,
         typer.Argument(
-            help="A gear_pair or khv design; the gears' errors tables ([pinion.errors], "
-            "[gears.planet_errors], ...) give eccentricity and pitch deviations"
+            help="A gear_pair, khv, cycloid_ball or nutation design; the errors tables "
+            "([pinion.errors], [gears.planet_errors], [gears.crank_errors], "
+            "[centre_disc.track_errors], [gear2.errors], ...) give eccentricity, pitch "
+            "deviations and assembly errors"
         ),
     ],
     samples: Annotated[

@@ -14,6 +14,13 @@ One table per gear (``[pinion.errors]`` / ``[gear.errors]`` of a gear pair,
 
 The law is :mod:`reducerlab.kinematics.accuracy`; ``analysis.transmission_accuracy``
 uses it.
+
+Assembly and track errors (``TrackErrorSpec``, ``CrankErrorSpec``): the cycloid-ball
+drive's ball tracks (``[centre_disc.track_errors]``, ``[planetary_disc.track_errors]``)
+and the crank of the KHV and cycloid-ball drives (``[gears.crank_errors]``,
+``[input_shaft.crank_errors]``); their laws are in
+:mod:`reducerlab.kinematics.accuracy_assembly` and
+:mod:`reducerlab.kinematics.accuracy_cycloid`.
 """
 
 from __future__ import annotations
@@ -24,7 +31,7 @@ from ..design import Spec, angle_between, quantity
 from ..design_files import field_rules
 from ..kinematics.accuracy import GearErrors
 
-__all__ = ["GearErrorSpec"]
+__all__ = ["CrankErrorSpec", "GearErrorSpec", "TrackErrorSpec"]
 
 #: 1 mm: far beyond any gear that meshes at all; catches "5" meant as um
 LIMIT = 1e-3
@@ -64,3 +71,39 @@ class GearErrorSpec(Spec):
         """The errors as :mod:`reducerlab.kinematics.accuracy` takes them."""
         return GearErrors(teeth, self.eccentricity, self.eccentricity_phase,
                           tuple(self.pitch_deviations))  # fmt: skip
+
+
+class TrackErrorSpec(Spec):
+    """Eccentricity of a cycloid-ball disc's groove (its trochoid's centre off the
+    disc's axis), ``[centre_disc.track_errors]`` / ``[planetary_disc.track_errors]``.
+
+    ``eccentricity`` (length, 0..1 mm; half the groove's radial runout) and
+    ``eccentricity_phase``, its direction at zero rotation, counter-clockwise from the
+    line of centres (the centre disc's axis to the planetary disc's centre) at zero
+    input angle.
+    """
+
+    eccentricity: quantity("length", ge=0, le=LIMIT) = 0.0  # type: ignore[valid-type]
+    eccentricity_phase: angle_between(-360, 360, closed=True) = 0.0  # type: ignore[valid-type]
+
+
+class CrankErrorSpec(Spec):
+    """Errors of the crank (the input's eccentric: the KHV carrier, the cycloid-ball
+    input shaft), ``[gears.crank_errors]`` / ``[input_shaft.crank_errors]``.
+
+    * ``radius_error`` (signed length): the eccentric journal's radius minus its nominal
+      (the centre distance of the KHV pair, the cycloid-ball eccentricity ``e``);
+    * ``tangential_offset`` (signed length): the journal's offset perpendicular to the
+      crank, counter-clockwise positive (an angular error of the crank);
+    * ``axis_offset`` (length >= 0) and ``axis_offset_phase``: the crank's axis of
+      rotation off the axis of the fixed member (the KHV ring, the cycloid-ball centre
+      disc's bearing axis), a housing-fixed vector; its direction counter-clockwise
+      from the crank's direction at zero input angle.
+
+    Lengths 0..1 mm in size.
+    """
+
+    radius_error: quantity("length", ge=-LIMIT, le=LIMIT) = 0.0  # type: ignore[valid-type]
+    tangential_offset: quantity("length", ge=-LIMIT, le=LIMIT) = 0.0  # type: ignore[valid-type]
+    axis_offset: quantity("length", ge=0, le=LIMIT) = 0.0  # type: ignore[valid-type]
+    axis_offset_phase: angle_between(-360, 360, closed=True) = 0.0  # type: ignore[valid-type]

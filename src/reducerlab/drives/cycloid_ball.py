@@ -66,6 +66,7 @@ from ..model import (
     Support,
 )
 from ..model.laws import TimeLaw
+from .accuracy_specs import CrankErrorSpec, TrackErrorSpec
 
 if TYPE_CHECKING:
     from ..contact.ball_track import BallTrack
@@ -226,7 +227,9 @@ def cross_ball_stiffness(single_pair: float, loaded_balls: int = 6) -> float:
 
 
 class InputShaft(Spec):
-    """Input shaft (component 1): mass, inertia, supports (N/m on x and on u1 = e theta1)."""
+    """Input shaft (component 1): mass, inertia, supports (N/m on x and on u1 = e theta1);
+    ``crank_errors``: the eccentric's errors (transmission accuracy,
+    ``drives.accuracy_specs.CrankErrorSpec``)."""
 
     mass: Mass
     moment_of_inertia: MomentOfInertia
@@ -234,10 +237,12 @@ class InputShaft(Spec):
     torsional_stiffness: NonNegativeStiffness = 0.0
     radial_damping: Damping = 0.0
     torsional_damping: Damping = 0.0
+    crank_errors: CrankErrorSpec | None = None
 
 
 class CentreDisc(Spec):
-    """Centre disc (component 2, output): epitrochoid groove with ``lobes`` lobes."""
+    """Centre disc (component 2, output): epitrochoid groove with ``lobes`` lobes;
+    ``track_errors``: the groove's eccentricity (``drives.accuracy_specs``)."""
 
     lobes: PositiveInt
     mass: Mass
@@ -247,10 +252,12 @@ class CentreDisc(Spec):
     radial_damping: Damping = 0.0
     torsional_damping: Damping = 0.0
     pitch_radius: Length | None = None
+    track_errors: TrackErrorSpec | None = None
 
 
 class PlanetaryDisc(Spec):
-    """Planetary disc (component 3): hypotrochoid groove, on the eccentric bearing."""
+    """Planetary disc (component 3): hypotrochoid groove, on the eccentric bearing;
+    ``track_errors``: the groove's eccentricity (``drives.accuracy_specs``)."""
 
     lobes: PositiveInt
     mass: Mass
@@ -258,6 +265,7 @@ class PlanetaryDisc(Spec):
     bearing_stiffness: NonNegativeStiffness
     bearing_damping: Damping = 0.0
     pitch_radius: Length | None = None
+    track_errors: TrackErrorSpec | None = None
 
 
 class EndCoverDisc(Spec):

@@ -104,6 +104,9 @@ class GearMesh(Spec):
     stiffness: Stiffness
     damping: Damping = 0.0
     backlash: quantity("length", ge=0) = 0.0  # type: ignore[valid-type]
+    #: assembly error (transmission accuracy): actual minus nominal centre distance; it
+    #: changes the backlash, not the transmission error (kinematics.accuracy_assembly)
+    centre_distance_error: quantity("length", ge=-1e-3, le=1e-3) = 0.0  # type: ignore[valid-type]
     stiffness_harmonics: list[quantity("stiffness", ge=0)] = Field(default_factory=list)  # type: ignore[valid-type]
     stiffness_phases: list[angle_between(-360, 360, closed=True)] = Field(  # type: ignore[valid-type]
         default_factory=list

@@ -51,7 +51,7 @@ from ..kinematics import TRAINS, DriveKinematics
 from ..model import Backlash, Constant, Coupling, Dof, Fourier, Inertia, Load, Mesh, Model
 from ..model.forcing import inertial_error
 from ..model.laws import TimeLaw
-from .accuracy_specs import GearErrorSpec
+from .accuracy_specs import CrankErrorSpec, GearErrorSpec
 from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms, stiffness_or
 from .modification_specs import Layout, ModificationSpec
 from .rating_material import GearMaterialSpec
@@ -74,7 +74,8 @@ class Gears(Spec):
     gear without its table the default crowned layout (docs/contact.md). They take
     effect in the internal pair's loaded contact analysis. ``planet_errors``,
     ``ring_errors``: eccentricity and pitch deviations (``drives.accuracy_specs``), for
-    the transmission accuracy.
+    the transmission accuracy; ``crank_errors``: the carrier's radius error, tangential
+    offset and axis offset (``drives.accuracy_specs.CrankErrorSpec``).
     """
 
     planet_teeth: PositiveInt
@@ -93,6 +94,7 @@ class Gears(Spec):
     ring_modifications: ModificationSpec | None = None
     planet_errors: GearErrorSpec | None = None
     ring_errors: GearErrorSpec | None = None
+    crank_errors: CrankErrorSpec | None = None
 
     @model_validator(mode="after")
     def _teeth(self) -> Gears:

@@ -108,6 +108,17 @@ class NutationDesign(Design):
     material: MaterialSpec = Field(default_factory=MaterialSpec)
 
     @model_validator(mode="after")
+    def _errors_fit(self) -> NutationDesign:
+        problems = []
+        for k in range(1, 5):
+            g = getattr(self, f"gear{k}")
+            if g is not None and g.errors is not None:
+                problems += g.errors.check_teeth(f"gear{k}.errors", g.teeth)
+        if problems:
+            raise field_rules(*problems)
+        return self
+
+    @model_validator(mode="after")
     def _geometry(self) -> NutationDesign:
         double = self.sides == "double"
         optional = ("gear3", "gear4", "support4", "mesh2")

@@ -21,6 +21,7 @@ from ..design import (
     quantity,
 )
 from ..design_files import field_rules
+from .accuracy_specs import GearErrorSpec
 from .force_law_specs import LoadExponent, check_force_law, check_stiffness_terms, stiffness_or
 from .modification_specs import Layout, ModificationSpec
 
@@ -87,7 +88,10 @@ class MaterialSpec(Spec):
 
 
 class Bevel(Spec):
-    """One spiral bevel gear (paper 000 Table 1)."""
+    """One spiral bevel gear (paper 000 Table 1). ``errors``: its eccentricity at the
+    mean cone point, its phase (from the mean contact point's direction, about the
+    gear's own axis) and single pitch deviations on the mean circle, for the
+    transmission accuracy (``kinematics.accuracy_nutation``)."""
 
     teeth: PositiveInt
     mass: Mass
@@ -97,6 +101,7 @@ class Bevel(Spec):
     mean_radius: Length
     blank: BlankSpec | None = None
     modifications: ModificationSpec | None = None
+    errors: GearErrorSpec | None = None
 
 
 class Support3(Spec):
