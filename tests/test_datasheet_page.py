@@ -15,12 +15,13 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
+from reducerlab.analysis.datasheet import starting_torques
 from reducerlab.analysis.torsion_test import torsion_test
 from reducerlab.analysis.transmission_accuracy import transmission_accuracy
 from reducerlab.cli import app
 from reducerlab.drives import load_design
 from reducerlab.examples import example_dir
-from reducerlab.pipeline.datasheet import EFFICIENCY_LOADS, datasheet, starting_torques
+from reducerlab.pipeline.datasheet import EFFICIENCY_LOADS, datasheet
 from reducerlab.reporting import report
 
 

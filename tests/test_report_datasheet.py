@@ -12,6 +12,7 @@ import pytest
 
 from reducerlab.analysis.efficiency import efficiency
 from reducerlab.analysis.torsion_test import torsion_test
+from reducerlab.analysis.transmission_accuracy import transmission_accuracy
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
@@ -22,8 +23,8 @@ from reducerlab.reporting.sections.datasheet import efficiency_row
 #: Table rows (in order) and the catalogue keys they show.
 ROWS = [
     "backlash_arcmin", "lost_motion_3pct_arcmin", "lost_motion_4pct_arcmin",
-    "hysteresis_loss_arcmin", "T1_N_m", "T2_N_m", "K1_N_m_per_arcmin", "K2_N_m_per_arcmin",
-    "K3_N_m_per_arcmin", "theta1_arcmin", "theta2_arcmin",
+    "hysteresis_loss_arcmin", "loop_area_J", "T1_N_m", "T2_N_m", "K1_N_m_per_arcmin",
+    "K2_N_m_per_arcmin", "K3_N_m_per_arcmin", "theta1_arcmin", "theta2_arcmin",
     "torsional_rigidity_rv_N_m_per_arcmin", "tangent_stiffness_at_rated_N_m_per_arcmin",
 ]  # fmt: skip
 
@@ -67,13 +68,17 @@ def test_the_datasheet_is_the_torsion_tests(name, rated):
     want = torsion_test(load_design(path))
     assert sec.values["numbers"] == want.numbers.attrs()
     cat = want.numbers.catalogue()
-    assert _shown(rep.html) == [float(want.data.attrs["rated_torque"]), *(cat[k] for k in ROWS)]
+    shown = _shown(rep.html)
+    n = len(ROWS) + 1
+    assert shown[:n] == [float(want.data.attrs["rated_torque"]), *(cat[k] for k in ROWS)]
+    te = transmission_accuracy(load_design(path)).peak_to_peak  # the rigid TE, computed
+    assert shown[n:] == [te] and sec.values["te_peak_to_peak_arcsec"] == te
     assert sec.values["rated_torque"] == pytest.approx(rated, rel=1e-12)
     assert sec.values["source"] == "computed for this report"
     assert sec.values["efficiency_percent"] is None
     assert '<img alt="hysteresis loop' in rep.html  # the result's own figure
-    assert "Not computed yet" in rep.html and "efficiency (give an efficiency result" in rep.html
-    assert "transmission accuracy" in rep.html and "tolerances" in rep.html
+    assert "Not computed here" in rep.html and "give an efficiency result" in rep.html
+    assert "transmission error: output angle error" in rep.html and "tolerances" in rep.html
 
 
 def test_the_khv_numbers_are_its_backlash_and_stiffness():
@@ -108,7 +113,7 @@ def test_a_given_efficiency_enters_the_table():
     sec = rep.section("datasheet")
     want = 100.0 * float(np.interp(60.0, [40.0, 80.0], eff.efficiency))
     assert sec.values["efficiency_percent"] == want
-    assert _shown(rep.html)[-1] == want
+    assert _shown(rep.html)[len(ROWS) + 1] == want  # after the torsion test's rows
     assert "efficiency (give" not in rep.html
     label, value, unit = efficiency_row(eff)
     assert "design load" in label and unit == "%" and value == want
@@ -163,7 +168,8 @@ def test_cli_report_takes_the_datasheet_file(tmp_path):
 
     path = str(example_dir() / "gear_pair.toml")
     cli = CliRunner()
-    got = cli.invoke(app, ["datasheet", path, "--rated", "120 N*m", "-o", str(tmp_path / "s")])
+    got = cli.invoke(app, ["datasheet", path, "--rated", "120 N*m", "--no-efficiency",
+                           "--unloaded", "-o", str(tmp_path / "s")])  # fmt: skip
     assert got.exit_code == 0, got.output
     page = tmp_path / "r.html"
     got = cli.invoke(app, ["report", path, "-s", "datasheet", "--with",

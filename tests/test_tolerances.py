@@ -187,9 +187,16 @@ def test_dask_gives_the_local_numbers(gear_pair):
         assert np.array_equal(local.data[name].values, remote.data[name].values)
 
 
-def test_drive_without_transmission_accuracy_gives_lost_motion():
-    """The cycloid-ball drive has no transmission accuracy yet: the run says so and
-    gives the torsion test's numbers."""
+def test_drive_without_transmission_accuracy_gives_lost_motion(monkeypatch):
+    """A drive type without a transmission accuracy (every bundled type has one now:
+    simulated by refusing it) still gives the torsion test's numbers, and says so."""
+    import reducerlab.analysis.transmission_accuracy as ta
+    from reducerlab.errors import ReducerlabError
+
+    def refuse(design, *a, **k):
+        raise ReducerlabError(f"transmission accuracy: not written for {design.type}")
+
+    monkeypatch.setattr(ta, "transmission_accuracy", refuse)
     d = load_design(example_dir() / "cycloid_ball.toml")
     res = tolerances(d, {"cycloid_pair.ball_stiffness": "2.5e7..3.2e7 N/m"}, samples=3,
                      steps=3)  # fmt: skip
@@ -198,6 +205,28 @@ def test_drive_without_transmission_accuracy_gives_lost_motion():
     assert "transmission error: not computed" in res.table()
     assert np.all(res.values("lost_motion") > 0)
     assert np.ptp(res.values("lost_motion")) > 0  # the stiffness moves it
+
+
+def test_cycloid_ball_track_eccentricity_is_linear():
+    """The cycloid-ball drive's groove eccentricity: its first-order law
+    (kinematics/accuracy_cycloid.py) makes each sample's TE proportional to its
+    eccentricity (one line of amplitude c_x / r_2), so TE / e is the same in every
+    sample (to round-off) and the nominal 5 um gives it times 5 um."""
+    d = load_design(example_dir() / "cycloid_ball.toml")
+    res = tolerances(d, {"centre_disc.track_errors.eccentricity": "1..5 um"}, samples=4,
+                     steps=3)  # fmt: skip
+    e = res.data["value"].sel(field="centre_disc.track_errors.eccentricity").values
+    ratio = res.values("te_peak_to_peak") / e
+    # the drawn phase moves the sine's peaks between the 4096 samples of the turn: a
+    # sampled order-20 sine's p-p lies within 1 - cos(pi 20 / 4096) = 1.2e-5 of 2A
+    sampling = 1 - math.cos(math.pi * 20 / 4096)
+    assert np.ptp(ratio) <= sampling * ratio.max()
+    five = load_design(example_dir() / "cycloid_ball.toml",
+                       ("centre_disc.track_errors.eccentricity=5 um",))  # fmt: skip
+    from reducerlab.analysis.transmission_accuracy import transmission_accuracy
+
+    want = transmission_accuracy(five).peak_to_peak * math.pi / (180 * 3600)
+    assert ratio[0] * 5 * UM == pytest.approx(want, rel=sampling)
 
 
 def test_distribution_text():

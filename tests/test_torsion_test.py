@@ -275,8 +275,8 @@ def test_result_file_table_figure_and_cli(tmp_path):
     lm = res.to_dict()["datasheet"]["lost_motion_3pct_arcmin"]
     assert lm == pytest.approx(res.numbers.lost_motion_3 / ARCMIN)
     res.figure()
-    run = CliRunner().invoke(app, ["datasheet", str(example), "--steps", "3", "-o",
-                                   str(tmp_path / "out")])  # fmt: skip
+    run = CliRunner().invoke(app, ["datasheet", str(example), "--steps", "3", "--no-efficiency",
+                                   "--unloaded", "-o", str(tmp_path / "out")])  # fmt: skip
     assert run.exit_code == 0, run.output
     assert {p.name for p in (tmp_path / "out").iterdir()} >= {
         "datasheet.nc", "datasheet.json", "datasheet.txt", "datasheet.png"}  # fmt: skip

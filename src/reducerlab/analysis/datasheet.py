@@ -35,14 +35,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 
-__all__ = ["LoopNumbers", "loop_numbers"]
+__all__ = ["LoopNumbers", "accuracy_rows", "loop_numbers", "starting_torques"]
 
 Array = NDArray[np.float64]
 _ARCMIN = math.pi / (180.0 * 60.0)
@@ -184,3 +184,52 @@ def loop_numbers(
         theta2=T1 / K1 + (T2 - T1) / K2, rigidity_rv=0.5 * (rv[0] + rv[1]),
         stiffness_at_rated=tangent_at_rated,
     )  # fmt: skip
+
+
+def accuracy_rows(res: Any) -> list[tuple[str, float, str]]:
+    """The datasheet rows of a transmission-accuracy result: peak to peak over one
+    output revolution (arcsec; under its load when it has one) and the mean wind-up."""
+    a = res.data.attrs
+    load = float(a.get("load_N_m", 0.0) or 0.0)
+    where = f"under {load:.4g} N m" if load else "rigid, unloaded"
+    rows = [(f"transmission error p-p, one output turn ({where})", res.peak_to_peak, "arcsec")]
+    if load:
+        rows.append(("mean wind-up under that load", float(a["wind_up_arcsec"]), "arcsec"))
+    return rows
+
+
+def starting_torques(eff: Any, rated: float) -> dict[str, float]:
+    """Efficiency, starting and back-driving torque at the rated output torque.
+
+    Parameters
+    ----------
+    eff : EfficiencyResult
+        Computed at output torques (its ``output_torque``) around ``rated``; its
+        ``ratio`` attribute is ``|i|``, input over output speed.
+    rated : float
+        Rated output torque ``T_r`` (N m).
+
+    Returns
+    -------
+    dict
+        ``efficiency`` (linear in the torque between the computed ones),
+        ``starting_torque`` ``T_r / (|i| eta)`` (N m, input) and ``backdriving_torque``
+        ``T_r / eta_b`` with ``eta_b = eta`` (N m, output; the module's first-order
+        relation).
+    """
+    ds = eff.data
+    out_t = np.asarray(ds["output_torque"].values, float)
+    eta_all = np.asarray(ds["efficiency"].values, float)
+    if not (out_t.min() * (1 - 1e-9) <= rated <= out_t.max() * (1 + 1e-9)):
+        raise ReducerlabError(
+            f"datasheet: the efficiency was computed at output torques {out_t.min():.4g} to "
+            f"{out_t.max():.4g} N m, not around the rated {rated:.4g} N m"
+        )
+    eta = float(np.interp(rated, out_t, eta_all))
+    ratio = float(ds.attrs["ratio"])
+    return {
+        "efficiency": eta,
+        "starting_torque": rated / (abs(ratio) * eta),
+        "backdriving_efficiency": eta,
+        "backdriving_torque": rated / eta,
+    }

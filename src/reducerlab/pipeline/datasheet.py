@@ -38,13 +38,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
+from ..analysis.datasheet import accuracy_rows, starting_torques
 from ..errors import ReducerlabError
 from .stages import ContactSettings, Stage, compliance_stage, design_inputs
 from .store import Store
 
-__all__ = ["Datasheet", "accuracy_rows", "datasheet", "starting_torques"]
+__all__ = ["Datasheet", "datasheet"]
 
 #: Fractions of the rated torque at which the datasheet computes the efficiency.
 EFFICIENCY_LOADS = (0.25, 0.5, 1.0)
@@ -109,55 +108,6 @@ class Datasheet:
         return "\n".join(lines)
 
 
-def accuracy_rows(res: Any) -> list[tuple[str, float, str]]:
-    """The datasheet rows of a transmission-accuracy result: peak to peak over one
-    output revolution (arcsec; under its load when it has one) and the mean wind-up."""
-    a = res.data.attrs
-    load = float(a.get("load_N_m", 0.0) or 0.0)
-    where = f"under {load:.4g} N m" if load else "rigid, unloaded"
-    rows = [(f"transmission error p-p, one output turn ({where})", res.peak_to_peak, "arcsec")]
-    if load:
-        rows.append(("mean wind-up under that load", float(a["wind_up_arcsec"]), "arcsec"))
-    return rows
-
-
-def starting_torques(eff: Any, rated: float) -> dict[str, float]:
-    """Efficiency, starting and back-driving torque at the rated output torque.
-
-    Parameters
-    ----------
-    eff : EfficiencyResult
-        Computed at output torques (its ``output_torque``) around ``rated``; its
-        ``ratio`` attribute is ``|i|``, input over output speed.
-    rated : float
-        Rated output torque ``T_r`` (N m).
-
-    Returns
-    -------
-    dict
-        ``efficiency`` (linear in the torque between the computed ones),
-        ``starting_torque`` ``T_r / (|i| eta)`` (N m, input) and ``backdriving_torque``
-        ``T_r / eta_b`` with ``eta_b = eta`` (N m, output; the module's first-order
-        relation).
-    """
-    ds = eff.data
-    out_t = np.asarray(ds["output_torque"].values, float)
-    eta_all = np.asarray(ds["efficiency"].values, float)
-    if not (out_t.min() * (1 - 1e-9) <= rated <= out_t.max() * (1 + 1e-9)):
-        raise ReducerlabError(
-            f"datasheet: the efficiency was computed at output torques {out_t.min():.4g} to "
-            f"{out_t.max():.4g} N m, not around the rated {rated:.4g} N m"
-        )
-    eta = float(np.interp(rated, out_t, eta_all))
-    ratio = float(ds.attrs["ratio"])
-    return {
-        "efficiency": eta,
-        "starting_torque": rated / (abs(ratio) * eta),
-        "backdriving_efficiency": eta,
-        "backdriving_torque": rated / eta,
-    }
-
-
 def _stored(store: Store | None, stage: str, inputs: dict[str, Any]) -> tuple[str, Any]:
     """``(key, result or None)`` of a stage in ``store`` (no store: no key, no hit)."""
     if store is None:
@@ -171,8 +121,21 @@ def _tooth_models(
     store: Store | None, design: Any, pairs: tuple[int, ...], settings: ContactSettings,
     report: Callable[[str, float], None],
 ) -> tuple[list[Any] | None, list[Stage]]:  # fmt: skip
-    """Every pair's tooth compliances from the compliance stage (None without a store:
-    each analysis then builds its own)."""
+    """Every pair's tooth compliances: from the compliance stage (the run's, cached) for
+    the drives the run takes (nutation, KHV); built here once for a gear pair, whose
+    efficiency and loaded TE then share them (not cached: the run takes no gear pair).
+    None without a store for the former (each analysis builds its own)."""
+    from ..drives.gear_pair import GearPairDesign
+
+    if isinstance(design, GearPairDesign):
+        from ..analysis.contact_setup import pair_setup
+
+        t0 = time.perf_counter()
+        setup = pair_setup(design, 1)
+        setup.compliance_estimate(settings.tooth_size).check()
+        report("tooth models", 0.0)
+        comp = setup.compliances(settings.tooth_size, lambda t: report(t, 0.0), None)
+        return [comp], [Stage("tooth models", "", "computed", time.perf_counter() - t0)]
     if store is None:
         return None, []
     comps, stages = [], []

@@ -135,7 +135,7 @@ def datasheet_section(ctx: Context) -> Section | None:
         rows += _starting_rows(eff[0], rated)
     acc, acc_note = _accuracy(ctx)
     if acc is not None:
-        from ...pipeline.datasheet import accuracy_rows
+        from ...analysis.datasheet import accuracy_rows
 
         rows += accuracy_rows(acc)
     s.values.update(
@@ -182,8 +182,8 @@ def _starting_rows(eff: Any, rated: float) -> list[tuple[str, float, str]]:
     """Starting and back-driving torque rows at the rated torque from a given
     efficiency (``pipeline.datasheet.starting_torques``), none when its torques do not
     reach the rated one or it predates the output torque it needs."""
+    from ...analysis.datasheet import starting_torques
     from ...errors import ReducerlabError
-    from ...pipeline.datasheet import starting_torques
 
     if "output_torque" not in eff.data or "ratio" not in eff.data.attrs:
         return []
