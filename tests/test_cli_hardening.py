@@ -55,7 +55,7 @@ WRITERS = {
     "khv closed-graph": ["khv", "closed-graph", KHV],
     "khv stiffness": ["khv", "stiffness", KHV, "--x1", "0.5"],
     "balls": ["balls", CYCLOID, "--points", "3", "--phases", "1"],
-    "datasheet": ["datasheet", GEAR, "--steps", "3"],
+    "datasheet": ["datasheet", GEAR, "--steps", "3", "--rigid", "--positions", "3"],
     "efficiency": ["efficiency", GEAR, "--rigid", "--positions", "3", "--loads", "1"],
     "accuracy": ["accuracy", KHV, "--samples", "256"],
     "khv clearances": ["khv", "clearances", KHV, "--teeth=-1:1", "--positions", "2"],

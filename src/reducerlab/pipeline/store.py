@@ -27,7 +27,7 @@ from typing import Any
 
 from .. import __version__
 from ..errors import ReducerlabError
-from ..io import digest
+from ..io import FILE_MODE, digest
 
 __all__ = ["SCHEMA", "Store", "canonical"]
 
@@ -89,6 +89,7 @@ class Store:
         os.close(fd)
         try:
             write(Path(tmp))
+            os.chmod(tmp, FILE_MODE)  # readable as a plain open() would leave it
             os.replace(tmp, path)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)
