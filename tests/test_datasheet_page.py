@@ -112,3 +112,33 @@ def test_cli_writes_the_page_and_reuses_its_cache(tmp_path):
     assert bad.exit_code == 2 and "--positions" in bad.output
     bad = CliRunner().invoke(app, ["datasheet", example, "--mu", "0.9", "--no-efficiency"])
     assert bad.exit_code != 0 and "friction coefficient" in bad.output
+
+
+def test_the_run_computes_the_datasheet_on_its_tooth_models(tmp_path):
+    """``run(datasheet=True)`` on the KHV example (ISO mesh stiffness: no contact in the
+    run, so the datasheet builds the pair's tooth models in the compliance stage): the
+    efficiency and the loaded accuracy enter the run's report and files, and
+    ``datasheet(..., cache=RUN/cache)`` with the run's contact settings then reads
+    every stage. Coarse teeth (0.35 m elements, no fillet stress, 0.2 mm cell) as
+    tests/test_run_sharing.py, to stay fast."""
+    from reducerlab.pipeline import ContactSettings, run
+
+    settings = ContactSettings(positions=15, order=7, cell=0.2e-3, tooth_size=0.35 * 3.5e-3,
+                               root_stress=False)  # fmt: skip
+    khv = example_dir() / "khv.toml"
+    out = tmp_path / "out"
+    res = run(khv, out, contact=settings, response={"periods": 60, "keep": 30, "history": 5},
+              datasheet=True)  # fmt: skip
+    names = [s.name for s in res.stages]
+    assert names[:3] == ["compliance planet V, ring K", "efficiency", "loaded transmission error"]
+    kinds = sorted(r.kind for r in res.datasheet)
+    assert kinds == ["efficiency", "transmission-accuracy"]
+    assert (out / "efficiency.nc").is_file() and (out / "accuracy.nc").is_file()
+    sec = res.built.section("datasheet")
+    assert sec.error is None and sec.values["efficiency_percent"] is not None
+    acc = next(r for r in res.datasheet if r.kind == "transmission-accuracy")
+    assert sec.values["te_peak_to_peak_arcsec"] == acc.peak_to_peak
+    sheet = datasheet(load_design(khv), cache=out / "cache", contact=settings)
+    assert {s.status for s in sheet.stages} == {"cached"}
+    eff = next(r for r in res.datasheet if r.kind == "efficiency")
+    assert sheet.efficiency.efficiency.tolist() == eff.efficiency.tolist()

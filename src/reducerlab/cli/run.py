@@ -107,6 +107,15 @@ def run_cmd(
             "under the ISO stiffness). Other drives refuse it.",
         ),
     ] = None,
+    datasheet: Annotated[
+        bool,
+        typer.Option(
+            "--datasheet",
+            help="Also the datasheet's efficiency with the starting and back-driving "
+            "torque (and a KHV drive's transmission accuracy under load) on the run's "
+            "tooth models: in the report's Datasheet section, efficiency.nc, accuracy.nc.",
+        ),
+    ] = False,
     pressure_limit: Annotated[
         str, typer.Option(help="--layout: largest contact pressure, e.g. '1500 MPa'.")
     ] = "1500 MPa",
@@ -161,6 +170,7 @@ def run_cmd(
                 te_sweep=te_sweep,
                 layout=lay,
                 sharing=sharing,
+                datasheet=datasheet,
                 scheduler=client,
                 progress=show,
             )

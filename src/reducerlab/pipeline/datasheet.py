@@ -43,10 +43,13 @@ from ..errors import ReducerlabError
 from .stages import ContactSettings, Stage, compliance_stage, design_inputs
 from .store import Store
 
-__all__ = ["Datasheet", "datasheet"]
+__all__ = ["Datasheet", "datasheet", "datasheet_stages"]
 
 #: Fractions of the rated torque at which the datasheet computes the efficiency.
 EFFICIENCY_LOADS = (0.25, 0.5, 1.0)
+#: Mesh positions a cycle of the datasheet's contact stages (the command's and the
+#: run's: one key, so each serves the other from the stage cache).
+POSITIONS = 12
 
 
 def _quiet(_d: str, _f: float) -> None:
@@ -242,7 +245,7 @@ def datasheet(
     efficiency: bool = True,
     loaded: bool = True,
     rigid: bool = False,
-    positions: int = 12,
+    positions: int = POSITIONS,
     cache: str | Path | None = None,
     contact: ContactSettings | None = None,
     progress: Callable[[str, float], None] = _quiet,
@@ -323,6 +326,46 @@ def datasheet(
         )  # fmt: skip
         sheet.stages.append(st)
     return sheet
+
+
+def datasheet_stages(
+    store: Store,
+    model_design: Any,
+    compliance: dict[int, Any],
+    settings: ContactSettings,
+    report: Callable[[str, float], None] = _quiet,
+) -> tuple[list[Any], list[Stage]]:
+    """The datasheet's contact stages inside ``reducerlab run`` (``run(datasheet=True)``):
+    the efficiency of every pair and, for a KHV drive, the transmission accuracy under
+    the design's output torque, on the run's tooth models (``compliance``: pair ->
+    both gears' compliances, the run's compliance stage), at :data:`POSITIONS`.
+    Computed on the run's model design (its contact's k(t) in the meshes, which neither
+    reads) so that its report takes them."""
+    from ..analysis.efficiency import gear_pairs
+
+    rated = float(model_design.operating_point().output_torque or 0.0)
+    if not rated > 0:
+        raise ReducerlabError("datasheet: the design has no output torque (the rated load)")
+    pairs = list(gear_pairs(model_design))
+    compliance, stages = dict(compliance), []
+    for p in pairs:  # a pair without contact in the run (a KHV mesh on ISO stiffness)
+        if p not in compliance:  # the compliance's key reads the teeth, not the meshes
+            compliance[p], sts = compliance_stage(store, model_design, p, settings, report)
+            stages += sts
+    eff, st = efficiency_stage(
+        store, model_design, rated, mu=None, positions=POSITIONS, rigid=False,
+        settings=settings, compliance=[compliance[p] for p in pairs], report=report,
+    )  # fmt: skip
+    results = [eff]
+    stages.append(st)
+    if getattr(model_design, "type", None) == "khv":
+        acc, st = accuracy_stage(
+            store, model_design, rated, positions=POSITIONS, rigid=False,
+            settings=settings, compliance=compliance[1], report=report,
+        )  # fmt: skip
+        results.append(acc)
+        stages.append(st)
+    return results, stages
 
 
 def _is_nutation(design: Any) -> bool:

@@ -37,7 +37,9 @@ __all__ = [
     "SHARING_STAGE",
     "SharingSettings",
     "check_optional",
+    "dask_context",
     "optional_settings",
+    "pair_torque",
     "partial_writer",
     "sharing_stage",
 ]
@@ -208,3 +210,30 @@ def sharing_stage(
     )  # fmt: skip
     store.put("sharing", key, inputs, res)
     return res, Stage(name, key, "computed", time.perf_counter() - t0)
+
+
+def dask_context(scheduler: Any) -> Any:
+    """The Dask client of ``scheduler`` (a context), or a context yielding None."""
+    import contextlib
+
+    if scheduler is None:
+        return contextlib.nullcontext(None)
+    from ..analysis.workers import dask_client
+
+    return dask_client(scheduler, "run")
+
+
+def pair_torque(flow: Any, pair: int) -> float:
+    """The torque (N m) on pair ``pair``'s external gear at the operating point (the
+    ``meshN`` of a nutation drive; a drive's only mesh, the KHV planet's); the loaded
+    contact needs one."""
+    mesh = flow.meshes.get(f"mesh{pair}")
+    if mesh is None and len(flow.meshes) == 1:
+        mesh = next(iter(flow.meshes.values()))
+    torque = None if mesh is None else mesh.external_torque
+    if not (torque is not None and torque > 0):
+        raise ReducerlabError(
+            "run: the design has no load at its operating point (give output_torque or "
+            "output_power): the loaded tooth contact of its gear pairs needs a torque"
+        )
+    return torque

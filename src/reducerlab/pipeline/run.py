@@ -27,11 +27,14 @@ from ..design import Design
 from ..errors import ReducerlabError
 from ..threads import with_compute_threads
 from .consistency import body_consistency, stiffness_consistency
+from .datasheet import datasheet_stages
 from .optional import (
     SHARING_STAGE,
     SharingSettings,
     check_optional,
+    dask_context,
     optional_settings,
+    pair_torque,
     partial_writer,
     sharing_stage,
 )
@@ -109,6 +112,8 @@ class RunResult:
     sharing : SharingResult or None
         A KHV drive's load sharing against torque (the optional stage; None when not
         asked for).
+    datasheet : list of Result
+        The datasheet's efficiency (and a KHV drive's accuracy under load), when asked.
     """
 
     design: Design
@@ -126,6 +131,7 @@ class RunResult:
     te_sweeps: dict[int, Any] = field(default_factory=dict)
     layouts: dict[int, Any] = field(default_factory=dict)
     sharing: Any = None
+    datasheet: list[Any] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -246,6 +252,7 @@ def run(
     te_sweep: int | SweepSettings | None = None,
     layout: bool | LayoutSettings = False,
     sharing: int | SharingSettings | None = None,
+    datasheet: bool = False,
     scheduler: Any = None,
     progress: Progress | None = None,
     write_report: bool = True,
@@ -294,6 +301,11 @@ def run(
         compliance stage's tooth models (computed for it under ``stiffness = "iso"``).
         Written as ``sharing-pair1.nc`` and ``.txt``; the positions so far as
         ``sharing-pair1.partial.txt`` while it runs. Another drive type is refused.
+    datasheet : bool
+        Also the datasheet's contact stages on the run's tooth models
+        (:func:`.datasheet.datasheet_stages`: the efficiency with the starting and
+        back-driving torque, a KHV drive's transmission accuracy under load), in the
+        report's Datasheet section and written as ``efficiency.nc``, ``accuracy.nc``.
     scheduler : str or dask.distributed.Client, optional
         Run the independent finite-element work (tooth compliance, gear bodies) on a
         Dask cluster; here, one after the other, without.
@@ -330,7 +342,7 @@ def run(
     flow = torque_flow(design)
     pairs = _pairs(design)
     check_optional(design, pairs, settings, sweep, lay, share)
-    share_torque = None if share is None else _pair_torque(flow, 1)  # no load: refused now
+    share_torque = None if share is None else pair_torque(flow, 1)  # no load: refused now
     plan = run_plan(design, bodies, sweep is not None, lay is not None, share is not None)
     track = _Tracker(plan, progress)
     stages: list[Stage] = []
@@ -342,7 +354,7 @@ def run(
         else:
             track.finish(st.name)
 
-    with _client(scheduler) as client:
+    with dask_context(scheduler) as client:
         submit = None if client is None else client.submit
         body_futures = {}
         gears = _body_gears(design) if bodies else []
@@ -361,7 +373,7 @@ def run(
         layouts: dict[int, Any] = {}
         comps: dict[int, Any] = {}
         for p in pairs:
-            torque = _pair_torque(flow, p)
+            torque = pair_torque(flow, p)
             comp, sts = compliance_stage(store, design, p, settings, track.report, submit)
             comps[p] = comp
             for st in sts:
@@ -399,6 +411,11 @@ def run(
             if out_dir is not None:
                 (out_dir / "sharing-pair1.partial.txt").unlink(missing_ok=True)
         model_design = design_with_contact(design, contacts.values())
+        sheet: list[Any] = []
+        if datasheet:  # on the run's tooth models; computed on the report's design
+            sheet, sts = datasheet_stages(store, model_design, comps, settings, track.report)
+            for st in sts:
+                record(st)
         responses: list[Any] = []
         if has_model(model_design):
             track.finish("modes and Campbell diagram")  # computed by the verdict below
@@ -429,7 +446,7 @@ def run(
         store.put("verdict", verdict_key, evidence, extra=verdict)
     result = RunResult(
         design, model_design, flow, contacts, body_results, responses, verdict, stages,
-        te_sweeps=sweeps, layouts=layouts, sharing=shared,
+        te_sweeps=sweeps, layouts=layouts, sharing=shared, datasheet=sheet,
     )  # fmt: skip
     if out_dir is not None:
         body_keys = [st.key for st in stages if st.name.startswith("body modes")]
@@ -438,33 +455,6 @@ def run(
     track.finish("report")
     result.seconds = time.perf_counter() - t0
     return result
-
-
-def _client(scheduler: Any) -> Any:
-    """The Dask client of ``scheduler`` (a context), or a context yielding None."""
-    import contextlib
-
-    if scheduler is None:
-        return contextlib.nullcontext(None)
-    from ..analysis.workers import dask_client
-
-    return dask_client(scheduler, "run")
-
-
-def _pair_torque(flow: Any, pair: int) -> float:
-    """The torque (N m) on pair ``pair``'s external gear at the operating point (the
-    ``meshN`` of a nutation drive; a drive's only mesh, the KHV planet's); the loaded
-    contact needs one."""
-    mesh = flow.meshes.get(f"mesh{pair}")
-    if mesh is None and len(flow.meshes) == 1:
-        mesh = next(iter(flow.meshes.values()))
-    torque = None if mesh is None else mesh.external_torque
-    if not (torque is not None and torque > 0):
-        raise ReducerlabError(
-            "run: the design has no load at its operating point (give output_torque or "
-            "output_power): the loaded tooth contact of its gear pairs needs a torque"
-        )
-    return torque
 
 
 def _verdict(
@@ -556,6 +546,9 @@ def _write(
         for j, r in enumerate(result.responses):
             names.append(f"response-line{j + 1}.nc")
             r.save(files.path(names[-1]))
+        for r in result.datasheet:
+            names.append(f"{'efficiency' if r.kind == 'efficiency' else 'accuracy'}.nc")
+            r.save(files.path(names[-1]))
         optional = (
             ("te_sweep", result.te_sweeps),
             ("layout", result.layouts),
@@ -578,7 +571,8 @@ def _write(
             report("report", 0.0)
             given = [*result.contacts.values(), *result.bodies.values(), *result.responses,
                      *result.te_sweeps.values(), *result.layouts.values(),
-                     *([] if result.sharing is None else [result.sharing])]  # fmt: skip
+                     *([] if result.sharing is None else [result.sharing]),
+                     *result.datasheet]  # fmt: skip
             rep = build_report(
                 result.model_design,
                 results=given,
