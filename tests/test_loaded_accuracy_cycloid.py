@@ -28,6 +28,12 @@ def _design(values=None):
     return d.with_values(values) if values else d
 
 
+@pytest.fixture(scope="module")
+def example_loaded():
+    """The example at its design load (50 N m), default phases: shared by two tests."""
+    return transmission_accuracy(_design(), load="design")
+
+
 def _amplitude(res, order):
     return float(res.data["amplitude"].sel(order=order))
 
@@ -58,7 +64,31 @@ def test_twist_is_the_power_law_of_the_loaded_lines():
         assert np.all(loaded >= 35)
 
 
-def test_mean_wind_up_is_the_torsion_tests_twist():
+def test_twist_is_the_integral_of_the_compliance():
+    """The other route, ``w(T) = int_0^T dT' / k_t(T')`` with the ball track's tangent
+    torsional stiffness: with no clearance the track's energy is homogeneous, every
+    approach grows like ``T^(2/3)`` and ``k_t`` like ``T^(1/3)`` (lines on or off for
+    good, the undercut set fixed by the phase), so the integral is ``1.5 T / k_t(T)``;
+    for ``y`` held and free, at phases on either side of the undercut jump."""
+    from reducerlab.contact.ball_track import ball_loads
+
+    d = _design()
+    track = d.ball_track()
+    T = 50.0
+    for y in ("held", "free"):
+        psi, twist, _ = track_wind_up(d, T, phases=8, y=y)
+        for p, w in zip(psi, twist, strict=True):
+            k_t = ball_loads(track, T, float(p), y).torsional_stiffness
+            assert w == pytest.approx(1.5 * T / k_t, rel=1e-8)
+        # the quadrature itself at one phase: T = T_max tau^3 takes out the root
+        tau, wt = np.polynomial.legendre.leggauss(12)
+        tau, wt = 0.5 * (tau + 1), 0.5 * wt
+        k = np.array([ball_loads(track, T * t**3, float(psi[3]), y).torsional_stiffness
+                      for t in tau])  # fmt: skip
+        assert float(np.sum(wt * 3 * T * tau**2 / k)) == pytest.approx(twist[3], rel=1e-8)
+
+
+def test_mean_wind_up_is_the_torsion_tests_twist(example_loaded):
     """Oracle: the torsion test (input held, output loaded, mu = 0) of the same drive on
     the ball track's own force law (``stiffness_source = "contact"``: Hertz's ``s^1.5``
     through the track's mean at the design torque, ``y`` held) with its other
@@ -78,7 +108,7 @@ def test_mean_wind_up_is_the_torsion_tests_twist():
     bench = torsion_test(_design(stiff), mu=0.0, steps=4).data
     at = (bench["branch"].values == 0) & np.isclose(bench["torque"].values, 50.0)
     twist = float(bench["twist"].values[at][0])
-    res = transmission_accuracy(_design(), load="design")
+    res = example_loaded
     wind_up = res.data.attrs["wind_up_arcsec"] * ARCSEC
     assert wind_up == pytest.approx(twist, rel=1e-3)
     assert res.data.attrs["load_N_m"] == 50.0
@@ -87,14 +117,14 @@ def test_mean_wind_up_is_the_torsion_tests_twist():
     assert free.mean() > 1.005 * twist
 
 
-def test_default_phases_converge():
+def test_default_phases_converge(example_loaded):
     """The default 256 phases a ball pitch deliver the stated accuracy against 768 (itself
     within 1e-5 and 1e-4 of 1024): mean wind-up within 1e-4, peak to peak within 0.5 %,
     the ball-pattern order's amplitude within 0.2 % (the wind-up jumps where a groove
     wall turns undercut, so the sampled statistics converge like 1 / N; measured: 3e-5,
     0 and 5e-4)."""
     d = _design()
-    coarse = transmission_accuracy(d, load="design")
+    coarse = example_loaded
     fine = transmission_accuracy(d, load="design", phases=768)
     a, b = coarse.data.attrs, fine.data.attrs
     assert a["wind_up_arcsec"] == pytest.approx(b["wind_up_arcsec"], rel=1e-4)
@@ -124,6 +154,10 @@ def test_variation_runs_at_the_ball_pattern_order():
         assert amp[~on].max() < 1e-9 * amp.max()
         assert [k % n for k, _ in res.largest_orders()] == [0] * 5
         assert res.data.attrs["ball_pattern_order"] == n
+        zc, zp = d.centre_disc.lobes, d.planetary_disc.lobes
+        assert res.data.attrs["track_torque_N_m"] == pytest.approx(
+            30.0 if output == "centre" else 30.0 * zc / zp, rel=1e-15
+        )
         assert res.data.sizes["output_angle"] % (16 * n) == 0
 
 
@@ -188,6 +222,9 @@ def test_bad_input_is_named():
         transmission_accuracy(_design({"cycloid_pair.ball_radius": None}), load=10.0)
     with pytest.raises(BudgetError, match=r"ball track under load.*phases"):
         track_estimate(10**5, 39).check()
+    odd = _design({"centre_disc.lobes": 37, "planetary_disc.lobes": 39})
+    with pytest.raises(ReducerlabError, match=r"centre_disc\.lobes: with 37 lobes.*721\.5"):
+        transmission_accuracy(odd, load=10.0)
     with pytest.raises(ReducerlabError, match="cycloid_ball design is needed"):
         ball_pattern_order(load_design(example_dir() / "gear_pair.toml"))
 
