@@ -22,7 +22,8 @@ added (``analysis.loaded_accuracy``: its variation as the source ``mesh under lo
 its mean as the separate elastic wind-up; gear pair and KHV). The gear pair and KHV
 drives, with their assembly errors (the KHV crank, the pair's centre distance:
 ``analysis.accuracy_drives``); the cycloid-ball and nutation drives through their own
-laws (``analysis.accuracy_drives.DRIVE_SOURCES``, rigid and unloaded only); the others
+laws (``analysis.accuracy_drives.DRIVE_SOURCES``; under load the cycloid-ball's ball
+track, ``analysis.loaded_accuracy_cycloid``, the nutation's rigid only); the others
 raise naming the design type.
 """
 
@@ -166,6 +167,8 @@ def _load_lines(d: dict[str, Any]) -> list[str]:
     """The table's rows of the load (none unloaded)."""
     if "load_N_m" not in d:
         return []
+    if "load_summary" in d:  # a drive's own loaded law (the cycloid's ball track)
+        return [str(d["load_summary"])]
     how = "reused, computed in" if d["contact_reused"] else "computed in"
     return [f"load: {d['load_N_m']:.4g} N m on the output ({d['mesh_torque_N_m']:.4g} N m on "
             f"gear A of the mesh; contact {how} {d['contact_seconds']:.3g} s); mean wind-up "
@@ -229,6 +232,7 @@ def transmission_accuracy(
     positions: int = 24,
     tooth_size: float | None = None,
     mesh_te: Any = None,
+    phases: int | None = None,
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> TransmissionAccuracyResult:
@@ -256,6 +260,10 @@ def transmission_accuracy(
         Finite-element tooth element size (m), as ``te_sweep``.
     mesh_te : TESweepResult, optional
         The contact's loaded TE at this load from an earlier run (a cache): reused.
+    phases : int, optional
+        Under load, a cycloid_ball design's ball-set phases over one ball pitch
+        (``analysis.loaded_accuracy_cycloid``; default 256); the gear contact's options
+        (``rigid``, ``positions``, ``tooth_size``, ``mesh_te``) do not apply to it.
     stage, progress : callable, optional
         The contact analysis's ``stage(text)`` and ``progress(done, total)``.
 
@@ -270,12 +278,26 @@ def transmission_accuracy(
     ReducerlabError
         A drive other than gear_pair, khv, cycloid_ball and nutation; ``samples``,
         ``load`` or an option out of range; contact options without a load; a load on
-        a cycloid-ball or nutation design (rigid kinematics only).
+        a nutation design (rigid kinematics only); ``phases`` but for a loaded
+        cycloid-ball design.
     """
     drive = DRIVE_SOURCES.get(getattr(design, "type", None))
     if load is None and (rigid or mesh_te is not None or tooth_size is not None):
         raise ReducerlabError("rigid, tooth_size, mesh_te: apply under load only; give load")
+    if phases is not None and (load is None or getattr(design, "type", None) != "cycloid_ball"):
+        raise ReducerlabError("phases: applies to a cycloid_ball design under load only")
     if drive is not None:  # cycloid_ball, nutation: their own laws (accuracy_drives)
+        if load is not None and design.type == "cycloid_ball":  # the ball track under load
+            from .loaded_accuracy_cycloid import cycloid_loaded
+
+            u, names, parts, attrs, under = cycloid_loaded(
+                design, samples, load, rigid=rigid, positions=positions, tooth_size=tooth_size,
+                mesh_te=mesh_te, phases=phases, progress=progress)  # fmt: skip
+            ratio = float(design.kinematics().ratio)
+            res = TransmissionAccuracyResult.from_contributions(
+                design, u, names, np.array(parts), ratio, **attrs)  # fmt: skip
+            under.annotate(res.data)
+            return res
         if load is not None:
             raise ReducerlabError(
                 f"load: the transmission accuracy under load is computed for gear_pair and "

@@ -1,6 +1,7 @@
 """``reducerlab accuracy``: output angle error over one output revolution from the
 gears' eccentricities and pitch deviations (``analysis.transmission_accuracy``), and
-under ``--load`` the mesh's loaded transmission error (``analysis.loaded_accuracy``)."""
+under ``--load`` the mesh's loaded transmission error (``analysis.loaded_accuracy``; a
+cycloid_ball design's ball track, ``analysis.loaded_accuracy_cycloid``)."""
 
 from __future__ import annotations
 
@@ -54,7 +55,8 @@ def accuracy(
         int | None,
         typer.Option(
             help="Even steps over one output revolution; default 4096, under --load the "
-            "least multiple of the tooth-mesh order times --positions from 4096.",
+            "least multiple of the tooth-mesh order times --positions from 4096 (a "
+            "cycloid_ball design: the ball-pattern order times --phases).",
             min=64,
             max=2**20,
         ),
@@ -81,6 +83,15 @@ def accuracy(
         str | None,
         typer.Option(help="Under --load: finite-element tooth elements, e.g. '0.9 mm'."),
     ] = None,
+    phases: Annotated[
+        int | None,
+        typer.Option(
+            help="Under --load, a cycloid_ball design: ball-set positions over one ball "
+            "pitch, each a static solve of the ball track (default 256).",
+            min=8,
+            max=4096,
+        ),
+    ] = None,
     cache: Annotated[
         Path | None,
         typer.Option(
@@ -106,6 +117,15 @@ def accuracy(
         d = load_design(design, sets or ())
         if load is None and (rigid or cache is not None or tooth_size is not None):
             raise ReducerlabError("--rigid, --tooth-size, --cache: apply with --load only")
+        if getattr(d, "type", None) == "cycloid_ball" and (
+            rigid or cache is not None or tooth_size is not None or positions != 24
+        ):
+            raise ReducerlabError(
+                "--rigid, --tooth-size, --cache, --positions: options of the gear contact; a "
+                "cycloid_ball design under --load solves its ball track (--phases)"
+            )
+        if phases is not None and (load is None or getattr(d, "type", None) != "cycloid_ball"):
+            raise ReducerlabError("--phases: applies to a cycloid_ball design with --load only")
         target = None
         if load is not None and load.strip().lower() != "design":
             target = quantity_option(load, "--load", "torque")
@@ -121,6 +141,9 @@ def accuracy(
             if target is not None and cache is not None:
                 mesh_te = _cached_mesh_te(cache, d, target, kw)
             contact = {} if target is None else kw
+            if getattr(d, "type", None) == "cycloid_ball":  # the ball track under load
+                bar = position_callbacks(progress, task, "ball track, phase {done}/{total}")
+                contact = {} if target is None else {"phases": phases, "progress": bar["progress"]}
             res = transmission_accuracy(d, samples=samples, load=target, mesh_te=mesh_te,
                                         **contact)  # fmt: skip
             progress.update(task, description="writing results")

@@ -3,7 +3,8 @@
 the output angle error (arcsec) over one output revolution, each source dashed (under
 load the loaded mesh's variation among them); middle, its amplitude spectrum in orders
 of the output revolution, up to twice the highest order above 5 % of the largest line;
-under load, right, three tooth-mesh cycles. Plain
+under load, right, three cycles of the loaded source (tooth-mesh cycles, or the
+cycloid-ball track's ball-pattern periods). Plain
 :class:`matplotlib.figure.Figure` (no pyplot, Agg-safe)."""
 
 from __future__ import annotations
@@ -55,16 +56,24 @@ def plot_transmission_accuracy(result: Any) -> Figure:
 
 def _loaded_zoom(fig: Figure, ax: Any, ds: Any, deg: Any) -> None:
     """Under load: the figure's title names the load and the mean wind-up (not in the
-    trace), and ``ax`` shows the first three tooth-mesh cycles of the trace."""
+    trace), and ``ax`` shows the first three cycles of the loaded source (tooth-mesh
+    cycles; ball-pattern periods of a cycloid-ball drive's ball track)."""
     a = ds.attrs
-    fig.suptitle(f"under {a['load_N_m']:.4g} N m on the output: mean wind-up of the mesh "
+    gear = "mesh_order" in a
+    what, source, cycle = (
+        ("mesh", "mesh under load", "tooth-mesh cycles")
+        if gear
+        else ("ball track", "ball track under load", "ball-pattern periods")
+    )
+    order = a["mesh_order"] if gear else a["ball_pattern_order"]
+    fig.suptitle(f"under {a['load_N_m']:.4g} N m on the output: mean wind-up of the {what} "
                  f"{a['wind_up_arcsec']:.3g} arcsec (output behind; not in the trace)",
                  fontsize="medium")  # fmt: skip
-    span = deg <= 3 * 360.0 / a["mesh_order"]
-    loaded = ds["contribution"].sel(source="mesh under load").values
-    ax.plot(deg[span], loaded[span] / ARCSEC, "--", lw=0.8, label="mesh under load")
+    span = deg <= 3 * 360.0 / order
+    loaded = ds["contribution"].sel(source=source).values
+    ax.plot(deg[span], loaded[span] / ARCSEC, "--", lw=0.8, label=source)
     ax.plot(deg[span], ds["error"].values[span] / ARCSEC, "k-", lw=1.2, label="total")
     ax.set_xlabel("output angle (deg)")
     ax.set_ylabel("output angle error (arcsec)")
-    ax.set_title(f"three tooth-mesh cycles (order {a['mesh_order']})")
+    ax.set_title(f"three {cycle} (order {order})")
     ax.legend(fontsize="small")
