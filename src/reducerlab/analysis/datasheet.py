@@ -194,7 +194,13 @@ def accuracy_rows(res: Any) -> list[tuple[str, float, str]]:
     where = f"under {load:.4g} N m" if load else "rigid, unloaded"
     rows = [(f"transmission error p-p, one output turn ({where})", res.peak_to_peak, "arcsec")]
     if load:
-        rows.append(("mean wind-up under that load", float(a["wind_up_arcsec"]), "arcsec"))
+        rows.append(
+            (
+                "mean wind-up of the contacts alone under that load",
+                float(a["wind_up_arcsec"]),
+                "arcsec",
+            )
+        )
     return rows
 
 

@@ -266,7 +266,8 @@ def datasheet(
         with tooth surfaces: gear pair, KHV, nutation with ``[surface]``).
     loaded : bool
         The transmission accuracy under the rated torque (gear pair, KHV: the mesh's
-        loaded TE added to the rigid kinematics' error); else the rigid error alone.
+        loaded TE added to the rigid kinematics' error; cycloid ball: its ball track's
+        wind-up over a ball pitch); else the rigid error alone.
     rigid : bool
         Teeth rigid beyond the contact half-space in the contact analyses (fast, for
         checks).
@@ -309,7 +310,10 @@ def datasheet(
             )  # fmt: skip
             sheet.stages.append(st)
         else:
-            sheet.accuracy = transmission_accuracy(design)
+            # the cycloid-ball drive under load: its ball track's static wind-up
+            # (no contact stage; analysis.loaded_accuracy_cycloid, seconds)
+            cycloid = loaded and getattr(design, "type", None) == "cycloid_ball"
+            sheet.accuracy = transmission_accuracy(design, load=rated_T if cycloid else None)
     except ReducerlabError as exc:
         sheet.notes["accuracy"] = str(exc)
     if not efficiency:
