@@ -125,20 +125,14 @@ def _tooth_models(
     report: Callable[[str, float], None],
 ) -> tuple[list[Any] | None, list[Stage]]:  # fmt: skip
     """Every pair's tooth compliances: from the compliance stage (the run's, cached) for
-    the drives the run takes (nutation, KHV); built here once for a gear pair, whose
-    efficiency and loaded TE then share them (not cached: the run takes no gear pair).
-    None without a store for the former (each analysis builds its own)."""
+    the drives the run takes (nutation, KHV); for a gear pair built here once (its
+    efficiency and loaded TE share them) and cached as a stage of its own
+    (``"compliance pair"``: the run takes no gear pair). None without a store for the
+    former (each analysis builds its own)."""
     from ..drives.gear_pair import GearPairDesign
 
     if isinstance(design, GearPairDesign):
-        from ..analysis.contact_setup import pair_setup
-
-        t0 = time.perf_counter()
-        setup = pair_setup(design, 1)
-        setup.compliance_estimate(settings.tooth_size).check()
-        report("tooth models", 0.0)
-        comp = setup.compliances(settings.tooth_size, lambda t: report(t, 0.0), None)
-        return [comp], [Stage("tooth models", "", "computed", time.perf_counter() - t0)]
+        return _pair_models(store, design, settings, report)
     if store is None:
         return None, []
     comps, stages = [], []
@@ -147,6 +141,33 @@ def _tooth_models(
         comps.append(comp)
         stages += sts
     return comps, stages
+
+
+def _pair_models(
+    store: Store | None, design: Any, settings: ContactSettings,
+    report: Callable[[str, float], None],
+) -> tuple[list[Any], list[Stage]]:  # fmt: skip
+    """A gear pair's tooth compliances (pinion, gear), read from ``store`` or built
+    (``PairSetup.compliances``, the unmodified teeth, as ``te_sweep`` builds them) and
+    stored; keyed on the pair's fields without its load and flank modifications."""
+    from ..analysis.contact_setup import pair_setup
+
+    base = {k: v for k, v in design_inputs("contact", design, {"pair": 1}).items()
+            if "modifications" not in k and "errors" not in k
+            and not k.startswith("operating")}  # fmt: skip
+    inputs = {"design": base, "tooth_size": settings.tooth_size}
+    key = store.key("compliance_pair", inputs) if store is not None else ""
+    hit = store.get("compliance_pair", key, extra=True) if store is not None else None
+    if hit is not None:
+        return [hit[1]], [Stage("tooth models", key, "cached")]
+    t0 = time.perf_counter()
+    setup = pair_setup(design, 1)
+    setup.compliance_estimate(settings.tooth_size).check()
+    report("tooth models", 0.0)
+    comp = setup.compliances(settings.tooth_size, lambda t: report(t, 0.0), None)
+    if store is not None:
+        store.put("compliance_pair", key, inputs, extra=comp)
+    return [comp], [Stage("tooth models", key, "computed", time.perf_counter() - t0)]
 
 
 def efficiency_stage(
