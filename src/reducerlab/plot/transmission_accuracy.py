@@ -57,14 +57,20 @@ def _loaded_zoom(fig: Figure, ax: Any, ds: Any, deg: Any) -> None:
     """Under load: the figure's title names the load and the mean wind-up (not in the
     trace), and ``ax`` shows the first three tooth-mesh cycles of the trace."""
     a = ds.attrs
-    fig.suptitle(f"under {a['load_N_m']:.4g} N m on the output: mean wind-up of the mesh "
+    which = "meshes" if "mesh_count" in a else "mesh"
+    fig.suptitle(f"under {a['load_N_m']:.4g} N m on the output: mean wind-up of the {which} "
                  f"{a['wind_up_arcsec']:.3g} arcsec (output behind; not in the trace)",
                  fontsize="medium")  # fmt: skip
-    span = deg <= 3 * 360.0 / a["mesh_order"]
-    loaded = ds["contribution"].sel(source="mesh under load").values
-    ax.plot(deg[span], loaded[span] / ARCSEC, "--", lw=0.8, label="mesh under load")
+    # a nutation drive's meshes (mesh{j}_order, "mesh j under load"): the lowest order's
+    orders = [a[f"mesh{j}_order"] for j in range(1, int(a.get("mesh_count", 0)) + 1)]
+    order = min(orders) if orders else a["mesh_order"]
+    span = deg <= 3 * 360.0 / order
+    for s in ds["source"].values:
+        if str(s).endswith("under load"):
+            loaded = ds["contribution"].sel(source=s).values
+            ax.plot(deg[span], loaded[span] / ARCSEC, "--", lw=0.8, label=str(s))
     ax.plot(deg[span], ds["error"].values[span] / ARCSEC, "k-", lw=1.2, label="total")
     ax.set_xlabel("output angle (deg)")
     ax.set_ylabel("output angle error (arcsec)")
-    ax.set_title(f"three tooth-mesh cycles (order {a['mesh_order']})")
+    ax.set_title(f"three tooth-mesh cycles (order {order})")
     ax.legend(fontsize="small")
