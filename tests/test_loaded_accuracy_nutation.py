@@ -284,6 +284,28 @@ def test_work_is_checked_before_the_contact(monkeypatch):
         transmission_accuracy(load_design(SINGLE), load="design", positions=N)
 
 
+def test_every_pair_is_checked_before_the_first_contact(monkeypatch):
+    """Pair 2's tooth models over the memory: refused before pair 1's contact runs."""
+    from reducerlab.analysis import contact_setup
+    from reducerlab.budget import Estimate
+    from reducerlab.errors import BudgetError
+
+    own = contact_setup.PairSetup.compliance_estimate
+
+    def estimate(self, *a, **k):
+        if self.gears == ("gear4", "gear3"):
+            return Estimate("tooth compliance of pair 2 (test)", 1e18, control="--tooth-size")
+        return own(self, *a, **k)
+
+    def never(*_a, **_k):
+        raise AssertionError("pair 1's contact ran before pair 2's estimate was refused")
+
+    monkeypatch.setattr(contact_setup.PairSetup, "compliance_estimate", estimate)
+    monkeypatch.setattr(te_module, "te_sweep", never)
+    with pytest.raises(BudgetError, match="pair 2"):
+        transmission_accuracy(load_design(DOUBLE), load="design", positions=N)
+
+
 def test_cli_load_rigid_and_cache(tmp_path, monkeypatch, single):
     _, sweeps, res = single
     args = ["accuracy", str(SINGLE), "--load", "design", "--rigid", "--positions", str(N),

@@ -251,12 +251,26 @@ def nutation_mesh_te(
 ) -> list[Any]:
     """Each pair's loaded TE over one mesh cycle at its torque ``torques[j]`` on gear A
     (N m; :func:`pair_torques`): ``analysis.loaded_accuracy.mesh_te`` of pair ``j``
-    (its work and memory checked first; half-space teeth with ``rigid``; ``cell``: the
-    contact cell, m, default the contact's own choice at the load)."""
+    (half-space teeth with ``rigid``; ``cell``: the contact cell, m, default the
+    contact's own choice at the load). Every pair's work and memory (the sweep's solves,
+    the finite-element tooth models) is checked before the first contact runs.
+
+    Raises
+    ------
+    ReducerlabError, BudgetError
+        Bad options; a pair's work or memory over the bounds.
+    """
+    from .contact_setup import pair_setup
+    from .te_sweep import sweep_estimate
+
     n = _pairs(design)
     if len(torques) != n:
         raise ReducerlabError(f"torques: one per pair ({n}); got {len(torques)}")
     check_options(positions, rigid)
+    sweep_estimate(positions, n).check()
+    for j in range(1, n + 1):
+        if not rigid:
+            pair_setup(design, j).compliance_estimate(tooth_size).check()
     return [mesh_te(design, float(t), pair=j, positions=positions, rigid=rigid, cell=cell,
                     tooth_size=tooth_size, stage=stage, progress=progress)
             for j, t in enumerate(torques, start=1)]  # fmt: skip
