@@ -88,6 +88,7 @@ from .loaded_accuracy import (
 
 __all__ = [
     "LoadedNutationError",
+    "MeshGain",
     "mesh_gains",
     "mesh_orders",
     "nutation_loaded_error",
