@@ -230,6 +230,10 @@ def test_round_trip(double, tmp_path):
     back = Result.load(tmp_path / "a.nc")
     assert back.to_dict()["mesh2_order"] == 3120
     assert "tooth-mesh orders 2730, 3120" in back.table()
+    fig = back.figure()  # the third panel: three cycles of order 2730, both meshes
+    labels = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
+    assert labels == ["mesh 1 under load", "mesh 2 under load", "total"]
+    assert "order 2730" in fig.axes[2].get_title()
 
 
 @pytest.mark.parametrize(

@@ -321,14 +321,16 @@ class LoadedNutationError:
     def annotate(self, ds: xr.Dataset) -> None:
         """Put each contact cycle (``mesh{j}_te`` over ``mesh{j}_position``, m) and the
         load's attributes (``wind_up_arcsec``: the meshes' sum; ``mesh{j}_torque_N_m``,
-        ``mesh{j}_order``, ``mesh{j}_wind_up_arcsec``, ...) into the accuracy result's
-        dataset ``ds``."""
+        ``mesh{j}_order``, ``mesh{j}_wind_up_arcsec``, ...; ``load_summary``, the table's
+        line) into the accuracy result's dataset ``ds``."""
         for j, s in enumerate(self.sweeps, start=1):
             ds[f"mesh{j}_te"] = (f"mesh{j}_position", np.asarray(s.data["te"].values[0], float),
                                  {"units": "m"})  # fmt: skip
             ds[f"mesh{j}_angle"] = (f"mesh{j}_position", np.asarray(s.data["angle"].values, float),
                                     {"units": "rad"})  # fmt: skip
         wind = float(sum(self.wind_ups))
+        how = "reused, computed in" if self.reused else "computed in"
+        on = ", ".join(f"{t:.4g}" for t in self.torques)
         ds.attrs.update(
             title=f"Transmission accuracy under {self.load:.4g} N m",
             basis="rigid kinematics + loaded mesh TE"
@@ -337,6 +339,10 @@ class LoadedNutationError:
             loaded_peak_to_peak_arcsec=float(np.ptp(sum(self.variations)) / ARCSEC),
             rigid_teeth=int(self.rigid), contact_seconds=self.seconds,
             contact_reused=int(self.reused),
+            load_summary=f"load: {self.load:.4g} N m on the output ({on} N m on gear A of the "
+            f"meshes; contacts {how} {self.seconds:.3g} s); mean wind-up of the meshes "
+            f"{wind / ARCSEC:.4g} arcsec (output behind, not in the trace); tooth-mesh orders "
+            f"{', '.join(str(n) for n in self.orders)}",
         )  # fmt: skip
         for j, s in enumerate(self.sweeps, start=1):
             te = np.asarray(s.data["te"].values[0], float)

@@ -167,15 +167,9 @@ def _load_lines(d: dict[str, Any]) -> list[str]:
     """The table's rows of the load (none unloaded)."""
     if "load_N_m" not in d:
         return []
+    if "load_summary" in d:  # a drive's own loaded law (the cycloid's ball track)
+        return [str(d["load_summary"])]
     how = "reused, computed in" if d["contact_reused"] else "computed in"
-    if "mesh_count" in d:  # a nutation drive's meshes (analysis.loaded_accuracy_nutation)
-        js = range(1, int(d["mesh_count"]) + 1)
-        on = ", ".join(f"{d[f'mesh{j}_torque_N_m']:.4g}" for j in js)
-        orders = ", ".join(str(d[f"mesh{j}_order"]) for j in js)
-        return [f"load: {d['load_N_m']:.4g} N m on the output ({on} N m on gear A of the "
-                f"meshes; contacts {how} {d['contact_seconds']:.3g} s); mean wind-up of the "
-                f"meshes {d['wind_up_arcsec']:.4g} arcsec (output behind, not in the trace); "
-                f"tooth-mesh orders {orders}"]  # fmt: skip
     return [f"load: {d['load_N_m']:.4g} N m on the output ({d['mesh_torque_N_m']:.4g} N m on "
             f"gear A of the mesh; contact {how} {d['contact_seconds']:.3g} s); mean wind-up "
             f"of the mesh {d['wind_up_arcsec']:.4g} arcsec (output behind, not in the "
