@@ -26,8 +26,8 @@ sign of the model's ``lambda_j`` under the drive's load. Hence
 passed through the two stages exactly as the law passes a gear error (``output_rotation``:
 ``d theta_13 = (r_m2 / r_m1) eps_2 - eps_1``, ``d theta_4 = (r_m3 / r_m4)(d theta_13 +
 eps_3) - eps_4``; the output's error is ``sgn(i)`` times it). The sign ``s_j`` follows
-from statics: each stage carries the whole output torque (a statically determinate
-train), so by virtual work a mesh's elastic approach under the load moves the output
+from statics: the train is statically determinate (the output torque fixes each
+mesh's force), so by virtual work a mesh's elastic approach under the load moves the output
 with the load torque, against its turning sense: the output lags. With ``c_j`` the
 law's gain of ``epsilon_Bj`` (``-1``, ``-r_m3 / r_m4`` for gear 1 of the single- and
 double-sided drive, ``r_m3 / r_m4`` for gear 3) that gives ``s_j = sgn(i) sgn(c_j)``
@@ -35,7 +35,7 @@ and the output error ``-|c_j| TE_j / r_mB``: mesh 1 of the double-sided drive tu
 body back by ``TE_1 / r_m1``, carried to gear 4 by ``r_m3 / r_m4``; mesh 2 turns gear 4
 back by ``TE_2 / r_m4``. ``s_j`` is checked against the model's own mesh forces in
 ``tests/test_loaded_accuracy_nutation.py`` (its output load and reaction through the
-mesh levers: ``s_1 = -1``, ``s_2 = +1`` for both examples, ``i > 0``).
+mesh levers: ``s_1 = -1`` for both examples, ``s_2 = +1`` double-sided, ``i > 0``).
 
 **Periodicity.** ``TE_j`` repeats every tooth of gear A in the crank frame, the mesh
 cycle: ``n_j = 2 pi |i| f_z,j(omega_in = 1)`` cycles per output revolution (the
