@@ -68,6 +68,8 @@ from ..units import parse_quantity
 
 __all__ = [
     "LoadedMeshError",
+    "check_options",
+    "check_sweep",
     "cycle_to_output",
     "loaded_error",
     "loaded_samples",
@@ -155,14 +157,16 @@ def loaded_samples(design: Any, positions: int, sweep: Any = None, least: int = 
     """The default output samples under load: the least whole multiple of ``n_z N``
     (every contact position a sample; ``N`` the positions of ``sweep`` where given)
     not below ``least``."""
-    _check_options(positions, False)
+    check_options(positions, False)
     if sweep is not None:
         positions = int(sweep.data.sizes["position"])
     step = mesh_cycles(design) * positions
     return step * max(1, math.ceil(least / step))
 
 
-def _check_options(positions: Any, rigid: Any) -> None:
+def check_options(positions: Any, rigid: Any) -> None:
+    """Refuse a ``rigid`` other than a bool and ``positions`` other than an integer in
+    3..:data:`MAX_POSITIONS` (``ReducerlabError`` naming the field and the rule)."""
     if not isinstance(rigid, bool):
         raise ReducerlabError(f"rigid: must be true or false; got {rigid!r}")
     if (
@@ -180,6 +184,7 @@ def mesh_te(
     design: Any,
     torque: float,
     *,
+    pair: int = 1,
     positions: int = 24,
     rigid: bool = False,
     cell: float | None = None,
@@ -188,7 +193,8 @@ def mesh_te(
     stage: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Any:
-    """The loaded TE of the design's mesh over one cycle at ``torque`` on gear A (N m):
+    """The loaded TE of the design's mesh ``pair`` (1; a double-sided nutation drive's 1
+    or 2) over one cycle at ``torque`` on gear A (N m):
     ``te_sweep`` at that one torque, its work and memory checked first (the sweep's
     position-torque solves; the finite-element tooth models unless ``rigid``: teeth
     rigid beyond the contact half-space, no finite-element build, for checks, or
@@ -207,11 +213,11 @@ def mesh_te(
     from .contact_setup import pair_setup
     from .te_sweep import sweep_estimate, te_sweep
 
-    _check_options(positions, rigid)
+    check_options(positions, rigid)
     sweep_estimate(positions, 1).check()
     if not rigid and compliance is None:
-        pair_setup(design).compliance_estimate(tooth_size).check()
-    return te_sweep(design, 1, torques=[torque], torque=torque, positions=positions,
+        pair_setup(design, pair).compliance_estimate(tooth_size).check()
+    return te_sweep(design, pair, torques=[torque], torque=torque, positions=positions,
                     harmonics=1, cell=cell, tooth_size=tooth_size,
                     compliance=(None, None) if rigid else compliance, stage=stage,
                     progress=progress)  # fmt: skip
@@ -275,12 +281,18 @@ class LoadedMeshError:
         )  # fmt: skip
 
 
-def _check_sweep(sweep: Any, torque: float) -> None:
-    """A given ``sweep`` must be one torque row at ``torque`` (N m on gear A)."""
-    T = np.asarray(sweep.data["torque"].values, float)
+def check_sweep(sweep: Any, torque: float, field: str = "mesh_te") -> None:
+    """A given ``sweep`` (``TESweepResult``) must be one torque row at ``torque`` (N m on
+    gear A); ``field`` names it in the error."""
+    data = getattr(sweep, "data", None)
+    if data is None or "torque" not in getattr(data, "coords", {}) or "te" not in data:
+        raise ReducerlabError(
+            f"{field}: must be a te_sweep result (TESweepResult); got {type(sweep).__name__}"
+        )
+    T = np.asarray(data["torque"].values, float)
     if T.size != 1 or not math.isclose(float(T[0]), torque, rel_tol=1e-9):
         raise ReducerlabError(
-            f"mesh_te: must be the loaded TE at the one torque {torque:.6g} N m on gear A of "
+            f"{field}: must be the loaded TE at the one torque {torque:.6g} N m on gear A of "
             f"the pair; got torques {[float(t) for t in T]}"
         )
 
@@ -330,7 +342,7 @@ def loaded_error(
         A bad load or option; too few samples for the tooth-mesh order.
     """
     t_out = output_load(design, load)
-    _check_options(positions, rigid)
+    check_options(positions, rigid)
     cycles = mesh_cycles(design)
     if 2 * cycles >= len(u):
         raise ReducerlabError(
@@ -343,7 +355,7 @@ def loaded_error(
         sweep = mesh_te(design, torque, positions=positions, rigid=rigid,
                         tooth_size=tooth_size, stage=stage, progress=progress)  # fmt: skip
     else:
-        _check_sweep(sweep, torque)
+        check_sweep(sweep, torque)
     te = np.asarray(sweep.data["te"].values[0], float)
     values = cycle_to_output(te, cycles, u)
     return LoadedMeshError(

@@ -19,12 +19,13 @@ with its peak to peak and its amplitude spectrum in orders of the output revolut
 Rigid (unloaded) kinematics, one tooth pair in contact, first order in ``e / r_b``.
 Under a stated ``load`` the mesh's loaded transmission error of the contact analysis is
 added (``analysis.loaded_accuracy``: its variation as the source ``mesh under load``,
-its mean as the separate elastic wind-up; gear pair and KHV). The gear pair and KHV
+its mean as the separate elastic wind-up; gear pair and KHV; a nutation drive's meshes
+through its two stages: ``analysis.loaded_accuracy_nutation``). The gear pair and KHV
 drives, with their assembly errors (the KHV crank, the pair's centre distance:
 ``analysis.accuracy_drives``); the cycloid-ball and nutation drives through their own
 laws (``analysis.accuracy_drives.DRIVE_SOURCES``; under load the cycloid-ball's ball
-track, ``analysis.loaded_accuracy_cycloid``, the nutation's rigid only); the others
-raise naming the design type.
+track, ``analysis.loaded_accuracy_cycloid``, and the nutation's two meshes,
+``analysis.loaded_accuracy_nutation``); the others raise naming the design type.
 """
 
 from __future__ import annotations
@@ -247,7 +248,8 @@ def transmission_accuracy(
         Even steps over one output revolution, 64 .. 2**20 (resolve the pitch steps:
         at least a few per tooth passing the mesh); under load more than twice the
         tooth-mesh order. Default 4096; under load the least multiple of the
-        tooth-mesh order times ``positions`` from 4096 (each contact position a sample).
+        tooth-mesh order times ``positions`` from 4096 (each contact position a sample;
+        a nutation drive's: of the least common multiple of its meshes', at most 2**20).
     load : float or str, optional
         Output torque (N m, or a string with units), or ``"design"`` for the design's
         operating output torque; None: unloaded (rigid kinematics only).
@@ -259,7 +261,9 @@ def transmission_accuracy(
     tooth_size : float, optional
         Finite-element tooth element size (m), as ``te_sweep``.
     mesh_te : TESweepResult, optional
-        The contact's loaded TE at this load from an earlier run (a cache): reused.
+        The contact's loaded TE at this load from an earlier run (a cache): reused. A
+        nutation design's: one per pair (a list in pair order, a mapping by pair number;
+        a lone result for the single-sided drive).
     phases : int, optional
         Under load, a cycloid_ball design's ball-set phases over one ball pitch
         (``analysis.loaded_accuracy_cycloid``; default 256); the gear contact's options
@@ -277,9 +281,8 @@ def transmission_accuracy(
     ------
     ReducerlabError
         A drive other than gear_pair, khv, cycloid_ball and nutation; ``samples``,
-        ``load`` or an option out of range; contact options without a load; a load on
-        a nutation design (rigid kinematics only); ``phases`` but for a loaded
-        cycloid-ball design.
+        ``load`` or an option out of range; contact options without a load;
+        ``phases`` but for a loaded cycloid-ball design.
     """
     drive = DRIVE_SOURCES.get(getattr(design, "type", None))
     if load is None and (rigid or mesh_te is not None or tooth_size is not None):
@@ -298,12 +301,14 @@ def transmission_accuracy(
                 design, u, names, np.array(parts), ratio, **attrs)  # fmt: skip
             under.annotate(res.data)
             return res
-        if load is not None:
+        if load is not None and design.type != "nutation":
             raise ReducerlabError(
-                f"load: the transmission accuracy under load is computed for gear_pair and "
-                f"khv designs; a {design.type} design's is rigid kinematics only"
+                f"load: the transmission accuracy under load is computed for gear_pair, khv "
+                f"and nutation designs; a {design.type} design's is rigid kinematics only"
             )
-        return _drive_accuracy(design, samples, drive)
+        contact = {"positions": positions, "rigid": rigid, "tooth_size": tooth_size,
+                   "sweeps": mesh_te, "stage": stage, "progress": progress}  # fmt: skip
+        return _drive_accuracy(design, samples, drive, load, contact)
     m = _mesh(design)
     if samples is None:
         from .loaded_accuracy import loaded_samples
@@ -371,14 +376,35 @@ def transmission_accuracy(
     return TransmissionAccuracyResult(ds)
 
 
-def _drive_accuracy(design: Any, samples: int | None, drive: Any) -> TransmissionAccuracyResult:
+def _drive_accuracy(
+    design: Any,
+    samples: int | None,
+    drive: Any,
+    load: Any = None,
+    contact: dict[str, Any] | None = None,
+) -> TransmissionAccuracyResult:
     """A drive with its own law (``analysis.accuracy_drives.DRIVE_SOURCES``): its
-    sources over one output revolution of ``samples`` (default 4096) even steps."""
+    sources over one output revolution of ``samples`` (default 4096) even steps; under
+    ``load`` (nutation) each mesh's loaded TE (``analysis.loaded_accuracy_nutation``,
+    with the ``contact`` options)."""
+    under = None
+    if load is not None:
+        from .loaded_accuracy_nutation import nutation_loaded_error, nutation_loaded_samples
+
+        contact = contact or {}
+        if samples is None:
+            samples = nutation_loaded_samples(design, contact["positions"], contact["sweeps"])
     samples = 4096 if samples is None else samples
     if isinstance(samples, bool) or not isinstance(samples, int) or not 64 <= samples <= 2**20:
         raise ReducerlabError(f"samples: must be an integer in 64 .. 2**20; got {samples!r}")
     u = 2 * math.pi * np.arange(samples) / samples  # output angle, its own sense
     sources, parts, attrs = drive(design, u)
+    if load is not None:
+        under = nutation_loaded_error(design, load, u, **(contact or {}))
+        sources, parts = sources + under.sources, list(parts) + under.variations
     ratio = float(design.kinematics().ratio)
-    return TransmissionAccuracyResult.from_contributions(design, u, sources, np.array(parts),
-                                                         ratio, **attrs)  # fmt: skip
+    res = TransmissionAccuracyResult.from_contributions(design, u, sources, np.array(parts),
+                                                        ratio, **attrs)  # fmt: skip
+    if under is not None:
+        under.annotate(res.data)
+    return res

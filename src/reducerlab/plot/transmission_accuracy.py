@@ -21,6 +21,28 @@ __all__ = ["plot_transmission_accuracy"]
 ARCSEC = np.pi / (180.0 * 3600.0)
 
 
+def _meshes_zoom(fig: Figure, ax: Any, ds: Any, deg: Any) -> None:
+    """Under load, a nutation drive (``mesh_count`` meshes,
+    ``analysis.loaded_accuracy_nutation``): the title names the load and the meshes'
+    summed mean wind-up; ``ax`` shows three cycles of the lowest tooth-mesh order, each
+    mesh's loaded variation and the total."""
+    a = ds.attrs
+    fig.suptitle(f"under {a['load_N_m']:.4g} N m on the output: mean wind-up of the meshes "
+                 f"{a['wind_up_arcsec']:.3g} arcsec (output behind; not in the trace)",
+                 fontsize="medium")  # fmt: skip
+    meshes = range(1, int(a["mesh_count"]) + 1)
+    order = min(int(a[f"mesh{j}_order"]) for j in meshes)
+    span = deg <= 3 * 360.0 / order
+    for j in meshes:
+        loaded = ds["contribution"].sel(source=f"mesh {j} under load").values
+        ax.plot(deg[span], loaded[span] / ARCSEC, "--", lw=0.8, label=f"mesh {j} under load")
+    ax.plot(deg[span], ds["error"].values[span] / ARCSEC, "k-", lw=1.2, label="total")
+    ax.set_xlabel("output angle (deg)")
+    ax.set_ylabel("output angle error (arcsec)")
+    ax.set_title(f"three tooth-mesh cycles of mesh order {order}")
+    ax.legend(fontsize="small")
+
+
 def plot_transmission_accuracy(result: Any) -> Figure:
     """Error over the output revolution and its spectrum in orders."""
     from matplotlib.figure import Figure
@@ -39,7 +61,7 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     ax.set_ylabel("output angle error (arcsec)")
     ax.set_title(f"peak to peak {ds.attrs['peak_to_peak_arcsec']:.4g} arcsec")
     if loaded:
-        _loaded_zoom(fig, zx[0], ds, deg)
+        (_meshes_zoom if "mesh_count" in ds.attrs else _loaded_zoom)(fig, zx[0], ds, deg)
     ax.legend(fontsize="small")
     order = ds["order"].values
     amp = ds["amplitude"].values
