@@ -112,8 +112,9 @@ def run_cmd(
         typer.Option(
             "--datasheet",
             help="Also the datasheet's efficiency with the starting and back-driving "
-            "torque (and a KHV drive's transmission accuracy under load) on the run's "
-            "tooth models: in the report's Datasheet section, efficiency.nc, accuracy.nc.",
+            "torque (and a KHV or nutation drive's transmission accuracy under load) on "
+            "the run's tooth models: in the report's Datasheet section, efficiency.nc, "
+            "accuracy.nc.",
         ),
     ] = False,
     pressure_limit: Annotated[

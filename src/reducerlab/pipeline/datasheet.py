@@ -6,17 +6,18 @@ One call gathers what a precision-reducer catalogue prints, each from its own an
   at the sliding tooth contacts): backlash, lost motion, hysteresis loss and loop area,
   K1/K2/K3 with T1/T2, RV torsional rigidity;
 * the **transmission accuracy** over one output revolution (``analysis.
-  transmission_accuracy``: the design's manufacturing errors through the kinematics),
-  where the drive type has it;
+  transmission_accuracy``: the design's manufacturing errors through the kinematics,
+  and under the rated torque every mesh's loaded TE, or the cycloid-ball track's
+  wind-up);
 * the **efficiency** from Coulomb friction at the loaded tooth contacts
   (``analysis.efficiency``) at 1/4, 1/2 and 1 times the rated torque, with the
   **starting torque** (the input torque that starts the drive against the rated output
   torque) and the **back-driving torque** (the output torque that starts turning the
   input against the input torque equivalent to rated), from it.
 
-The finite-element tooth models of the efficiency's contact analysis are the run's
-compliance stage (:func:`.stages.compliance_stage`) in the same stage cache, and the
-efficiency itself is cached by its inputs (:class:`.store.Store`): a datasheet after a
+The finite-element tooth models of the contact analyses (efficiency, loaded TE) are
+the run's compliance stage (:func:`.stages.compliance_stage`) in the same stage cache,
+and the efficiency and loaded TE are cached by their inputs (:class:`.store.Store`): a datasheet after a
 ``reducerlab run`` of the same design with the same cache builds no tooth model, and a
 second datasheet reads everything.
 
@@ -222,37 +223,53 @@ def accuracy_stage(
     positions: int,
     rigid: bool,
     settings: ContactSettings,
-    compliance: tuple[Any, Any] | None = None,
+    compliance: list[Any] | None = None,
     report: Callable[[str, float], None] = _quiet,
 ) -> tuple[Any, Stage]:
     """The transmission accuracy at the rated output torque ``rated`` (N m): the rigid
-    kinematics' error of the design's manufacturing errors plus the mesh's loaded TE
-    (``analysis.loaded_accuracy``), its contact cached in ``store`` (without the gears'
+    kinematics' error of the design's manufacturing errors plus every mesh's loaded TE
+    (``analysis.loaded_accuracy``; a nutation drive's two meshes,
+    ``analysis.loaded_accuracy_nutation``), each pair's contact on its given tooth
+    models (``compliance``, in pair order) and cached in ``store`` (without the gears'
     ``errors`` tables, which the contact of perfect teeth does not read)."""
+    from ..analysis.efficiency import gear_pairs
     from ..analysis.loaded_accuracy import mesh_te, mesh_torque
     from ..analysis.transmission_accuracy import transmission_accuracy
 
-    torque = mesh_torque(design, rated)
-    fields = {k: v for k, v in design_inputs("te-sweep", design, {"pair": 1}).items()
-              if "errors" not in k}  # fmt: skip
-    inputs = {"design": fields, "torque": torque, "positions": positions,
-              "rigid": bool(rigid), "tooth_size": settings.tooth_size}  # fmt: skip
-    key, te = _stored(store, "accuracy_mesh_te", inputs)
+    pairs = gear_pairs(design)
+    if _is_nutation(design):
+        from ..analysis.loaded_accuracy_nutation import pair_torques
+
+        torques = pair_torques(design, rated)
+    else:
+        torques = [mesh_torque(design, rated)]
     t0 = time.perf_counter()
-    status = "cached" if te is not None else "computed"
-    if te is None:
-        report("loaded transmission error", 0.0)
-        te = mesh_te(
-            design, torque, positions=positions, rigid=rigid, tooth_size=settings.tooth_size,
-            compliance=compliance,
-            progress=lambda d, t: report(f"loaded TE: {d}/{t} positions", d / t),
-        )  # fmt: skip
-        te.compliance = None
-        if store is not None:
-            store.put("accuracy_mesh_te", key, inputs, te)
+    sweeps, keys, status = [], [], "cached"
+    for k, (p, torque) in enumerate(zip(pairs, torques, strict=True)):
+        fields = {f: v for f, v in design_inputs("te-sweep", design, {"pair": p}).items()
+                  if "errors" not in f}  # fmt: skip
+        inputs = {"design": fields, "pair": p, "torque": torque, "positions": positions,
+                  "rigid": bool(rigid), "tooth_size": settings.tooth_size}  # fmt: skip
+        key, te = _stored(store, "accuracy_mesh_te", inputs)
+        if te is None:
+            status = "computed"
+            report(f"loaded transmission error pair {p}", 0.0)
+            te = mesh_te(
+                design, torque, pair=p, positions=positions, rigid=rigid,
+                tooth_size=settings.tooth_size,
+                compliance=None if compliance is None else compliance[k],
+                progress=lambda d, t: report(f"loaded TE: {d}/{t} positions", d / t),
+            )  # fmt: skip
+            te.compliance = None
+            if store is not None:
+                store.put("accuracy_mesh_te", key, inputs, te)
+        sweeps.append(te)
+        keys.append(key)
     res = transmission_accuracy(design, load=rated, rigid=rigid, positions=positions,
-                                tooth_size=settings.tooth_size, mesh_te=te)  # fmt: skip
-    return res, Stage("loaded transmission error", key, status, time.perf_counter() - t0)
+                                tooth_size=settings.tooth_size,
+                                mesh_te=sweeps if len(sweeps) > 1 else sweeps[0])  # fmt: skip
+    return res, Stage("loaded transmission error", ",".join(keys), status,
+                      time.perf_counter() - t0)  # fmt: skip
 
 
 def datasheet(
@@ -286,9 +303,10 @@ def datasheet(
         Compute the efficiency (a loaded contact analysis of every gear pair; designs
         with tooth surfaces: gear pair, KHV, nutation with ``[surface]``).
     loaded : bool
-        The transmission accuracy under the rated torque (gear pair, KHV: the mesh's
-        loaded TE added to the rigid kinematics' error; cycloid ball: its ball track's
-        wind-up over a ball pitch); else the rigid error alone.
+        The transmission accuracy under the rated torque (gear pair, KHV, nutation with
+        ``[surface]``: every mesh's loaded TE added to the rigid kinematics' error;
+        cycloid ball: its ball track's wind-up over a ball pitch); else the rigid error
+        alone.
     rigid : bool
         Teeth rigid beyond the contact half-space in the contact analyses (fast, for
         checks).
@@ -314,20 +332,19 @@ def datasheet(
     sheet = Datasheet(torsion_test(design, rated=rated, steps=steps, t1=t1, t2=t2, mu=mu))
     rated_T = float(sheet.torsion.data.attrs["rated_torque"])
     surfaces = _has_surfaces(design)
-    with_load = loaded and surfaces and gear_pairs(design) == (1,) and not _is_nutation(design)
+    with_load = loaded and surfaces
     want_eff = efficiency and surfaces
     settings = contact or ContactSettings()
     store = Store(cache) if cache is not None else None
     comps, sheet.stages = (None, [])
     if (want_eff or with_load) and not rigid:
-        pairs = gear_pairs(design) if want_eff else (1,)
-        comps, sheet.stages = _tooth_models(store, design, pairs, settings, progress)
+        comps, sheet.stages = _tooth_models(store, design, gear_pairs(design), settings,
+                                            progress)  # fmt: skip
     try:
         if with_load:
             sheet.accuracy, st = accuracy_stage(
                 store, design, rated_T, positions=positions, rigid=rigid,
-                settings=settings, compliance=None if comps is None else comps[0],
-                report=progress,
+                settings=settings, compliance=comps, report=progress,
             )  # fmt: skip
             sheet.stages.append(st)
         else:
@@ -361,8 +378,8 @@ def datasheet_stages(
     report: Callable[[str, float], None] = _quiet,
 ) -> tuple[list[Any], list[Stage]]:
     """The datasheet's contact stages inside ``reducerlab run`` (``run(datasheet=True)``):
-    the efficiency of every pair and, for a KHV drive, the transmission accuracy under
-    the design's output torque, on the run's tooth models (``compliance``: pair ->
+    the efficiency of every pair and, for a KHV or nutation drive, the transmission
+    accuracy under the design's output torque, on the run's tooth models (``compliance``: pair ->
     both gears' compliances, the run's compliance stage), at :data:`POSITIONS`.
     Computed on the run's model design (its contact's k(t) in the meshes, which neither
     reads) so that its report takes them."""
@@ -383,10 +400,10 @@ def datasheet_stages(
     )  # fmt: skip
     results = [eff]
     stages.append(st)
-    if getattr(model_design, "type", None) == "khv":
+    if getattr(model_design, "type", None) in ("khv", "nutation"):
         acc, st = accuracy_stage(
             store, model_design, rated, positions=POSITIONS, rigid=False,
-            settings=settings, compliance=compliance[1], report=report,
+            settings=settings, compliance=[compliance[p] for p in pairs], report=report,
         )  # fmt: skip
         results.append(acc)
         stages.append(st)

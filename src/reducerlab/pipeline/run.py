@@ -304,8 +304,9 @@ def run(
     datasheet : bool
         Also the datasheet's contact stages on the run's tooth models
         (:func:`.datasheet.datasheet_stages`: the efficiency with the starting and
-        back-driving torque, a KHV drive's transmission accuracy under load), in the
-        report's Datasheet section and written as ``efficiency.nc``, ``accuracy.nc``.
+        back-driving torque, a KHV or nutation drive's transmission accuracy under
+        load), in the report's Datasheet section, written as ``efficiency.nc`` and
+        ``accuracy.nc``.
     scheduler : str or dask.distributed.Client, optional
         Run the independent finite-element work (tooth compliance, gear bodies) on a
         Dask cluster; here, one after the other, without.
