@@ -17,9 +17,9 @@ One call gathers what a precision-reducer catalogue prints, each from its own an
 
 The finite-element tooth models of the contact analyses (efficiency, loaded TE) are
 the run's compliance stage (:func:`.stages.compliance_stage`) in the same stage cache,
-and the efficiency and loaded TE are cached by their inputs (:class:`.store.Store`): a datasheet after a
-``reducerlab run`` of the same design with the same cache builds no tooth model, and a
-second datasheet reads everything.
+and the efficiency and loaded TE are cached by their inputs (:class:`.store.Store`): a
+datasheet after a ``reducerlab run`` of the same design with the same cache builds no
+tooth model, and a second datasheet reads everything.
 
 **Starting and back-driving torque.** With static and sliding coefficients equal
 (``mu``), the drive starts when the input torque reaches the running one:
