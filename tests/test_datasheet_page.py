@@ -142,3 +142,17 @@ def test_the_run_computes_the_datasheet_on_its_tooth_models(tmp_path):
     assert {s.status for s in sheet.stages} == {"cached"}
     eff = next(r for r in res.datasheet if r.kind == "efficiency")
     assert sheet.efficiency.efficiency.tolist() == eff.efficiency.tolist()
+
+
+def test_a_nutation_sheet_loads_its_meshes(tmp_path):
+    """The single-sided nutation drive: its accuracy under the rated torque carries the
+    mesh's loaded TE (tests/test_loaded_accuracy_nutation.py checks the mapping), and
+    a second sheet reads the loaded TE and the efficiency from the cache."""
+    d = load_design(example_dir() / "nutation_surface.toml")
+    first = datasheet(d, rigid=True, positions=4, cache=tmp_path)
+    acc = first.accuracy.data
+    assert "mesh 1 under load" in list(acc["source"].values)
+    assert acc.attrs["load_N_m"] == pytest.approx(d.operating_point().output_torque)
+    again = datasheet(d, rigid=True, positions=4, cache=tmp_path)
+    assert {s.status for s in again.stages} == {"cached"}
+    assert again.accuracy.peak_to_peak == first.accuracy.peak_to_peak
