@@ -196,3 +196,15 @@ def test_a_gear_design_is_refused():
         spin_moment(1e-3, 1e-3, 1e9, 0.1, nodes=2)
     with pytest.raises(ReducerlabError, match="semi-axes"):
         spin_moment(0.0, 1e-3, 1e9, 0.1)
+
+
+@pytest.mark.parametrize("phase", [0.0, 0.05])
+def test_the_sliding_residual_with_the_planetary_disc_as_output(phase):
+    """Centre disc held, planetary disc out: the same hand path, other disc speeds."""
+    d = load_design(EXAMPLE, ['output="planetary"'])
+    slip, spin = ball_track_motion(d, phase, d.operating_speed)
+    hand = _hand_slip(d, phase, d.operating_speed)
+    assert np.abs(slip - hand).max() < 1e-6 * np.abs(hand).max()
+    s = d.kinematics().speeds(d.operating_speed)
+    beta = d.ball_track().contact_angle
+    assert spin == pytest.approx((s["centre disc"] - s["planetary disc"]) * math.sin(beta))
