@@ -66,10 +66,13 @@ def test_a_second_sheet_reads_every_stage_from_the_cache(khv_sheet):
 
 
 def test_what_a_drive_lacks_is_said():
-    """The cycloid-ball drive: torsion test only (no tooth surfaces for the efficiency;
-    its accuracy named as missing or given, whichever the drive type has)."""
+    """The cycloid-ball drive: no tooth surfaces, its efficiency from the balls' spin and
+    sliding (its accuracy named as missing or given, whichever the drive type has)."""
     sheet = datasheet(load_design(example_dir() / "cycloid_ball.toml"))
-    assert sheet.efficiency is None and "tooth surfaces" in sheet.notes["efficiency"]
+    assert sheet.efficiency is not None and "efficiency" not in sheet.notes
+    st = sheet.starting()
+    assert 0.9 < st["efficiency"] < 1 and st["starting_torque"] > 0
+    assert "back-driving torque" in sheet.table()
     assert (sheet.accuracy is None) == ("accuracy" in sheet.notes)
     off = datasheet(load_design(example_dir() / "gear_pair.toml"), efficiency=False,
                     loaded=False)  # fmt: skip

@@ -27,8 +27,12 @@ speed at constant ``mu``, so the efficiencies do not depend on it):
   ``P_W / P_0 = z_ring / (z_ring - z_planet)``: the high ratio multiplies the mesh
   loss. First order in the loss: the torques are the frictionless torque flow's.
 
+A cycloid-ball design has its own model, ``analysis.cycloid_efficiency`` (the spin and
+the differential sliding of its rolling balls; the same result kind), to which
+``reducerlab efficiency`` sends it.
+
 Out of scope: rolling (EHL film) loss, bearing and seal losses, churning and windage,
-the ball-track friction of the cycloid-ball drive, starting and back-driving torque.
+starting and back-driving torque.
 """
 
 from __future__ import annotations
@@ -105,7 +109,8 @@ class EfficiencyResult(Result):
         n = self.data.sizes["pair"]
         head = "".join(f"  P_V{p}(W)  eta0_{p}" for p in range(1, n + 1))
         lines = [
-            f"Mesh friction loss, mu = {a['mu']:.4g} (Coulomb, sliding only), "
+            f"Mesh friction loss, mu = {a['mu']:.4g} "
+            f"({a.get('model', 'Coulomb, sliding only')}), "
             f"{self.data.sizes['position']} positions a mesh cycle, input "
             f"{a['input_speed_rad_s'] * 30 / math.pi:.5g} rpm; drive efficiency "
             f"1 - sum P_V / P_0",
@@ -174,6 +179,8 @@ def efficiency(
     Parameters
     ----------
     design : GearPairDesign, KHV design or NutationDesign (with ``[surface]``)
+        A cycloid-ball design is refused, naming
+        :func:`~reducerlab.analysis.cycloid_efficiency.cycloid_efficiency`.
     mu : float, optional
         Coulomb coefficient in ``[0, 0.3]``; default the design's
         ``material.friction_coefficient``, else :data:`DEFAULT_MU`.
@@ -212,6 +219,12 @@ def efficiency(
     from .contact_setup import pair_setup
     from .te_sweep import design_load, sweep_estimate, te_sweep
 
+    if getattr(design, "type", None) == "cycloid_ball":  # rolling balls: their own model
+        raise ReducerlabError(
+            "design: a cycloid_ball design has no tooth contacts; its balls' spin and "
+            "sliding are analysis.cycloid_efficiency.cycloid_efficiency (`reducerlab "
+            "efficiency` takes it there)"
+        )
     t0 = time.perf_counter()
     mu = friction_coefficient(design, mu)
     if isinstance(positions, bool) or not isinstance(positions, int) or positions < 3:

@@ -16,8 +16,9 @@ def efficiency(
     design: Annotated[
         Path,
         typer.Argument(
-            help="A gear_pair design with mesh.face_width, a khv design, or a nutation "
-            "design with [surface] (every pair)"
+            help="A gear_pair design with mesh.face_width, a khv design, a nutation "
+            "design with [surface] (every pair), or a cycloid_ball design (the spin and "
+            "sliding of its balls)"
         ),
     ],
     mu: Annotated[
@@ -44,7 +45,13 @@ def efficiency(
         typer.Option("--speeds", help="Input speeds of the loss table (repeat), e.g. '1000 rpm'."),
     ] = None,
     positions: Annotated[
-        int, typer.Option(help="Mesh positions over one mesh cycle.", min=3, max=400)
+        int,
+        typer.Option(
+            help="Mesh positions over one mesh cycle (cycloid_ball: ball-set phases over "
+            "one ball pitch, at most 360).",
+            min=3,
+            max=400,
+        ),
     ] = 24,
     cell: Annotated[str | None, typer.Option(help="Contact cell, e.g. '0.1 mm'.")] = None,
     tooth_size: Annotated[
@@ -64,7 +71,8 @@ def efficiency(
 ) -> None:
     """Mesh power loss and efficiency from Coulomb friction at the loaded tooth contacts
     (sliding velocities from the kinematics, forces from the loaded contact analysis;
-    no rolling, bearing or churning loss): efficiency.nc/.json/.txt/.png."""
+    no rolling, bearing or churning loss); for a cycloid_ball design the spin and
+    sliding of its balls: efficiency.nc/.json/.txt/.png."""
     from ..analysis.efficiency import efficiency as run_efficiency
     from ..drives import load_design
 
@@ -78,11 +86,18 @@ def efficiency(
         ts = quantity_option(tooth_size, "--tooth-size", "length")
         with progress_bar() as progress:
             task = progress.add_task("efficiency", total=None)
-            res = run_efficiency(
-                d, mu=mu, torques=T, loads=loads, top=top, speeds=W, positions=positions,
-                cell=h, tooth_size=ts, rigid=rigid,
-                **position_callbacks(progress, task, "loaded contact, position {done}/{total}"),
-            )  # fmt: skip
+            if getattr(d, "type", None) == "cycloid_ball":  # the balls' spin and sliding
+                from ..analysis.cycloid_efficiency import cycloid_efficiency
+
+                res = cycloid_efficiency(d, mu=mu, torques=T, loads=loads, top=top,
+                                         speeds=W, phases=positions)  # fmt: skip
+            else:
+                res = run_efficiency(
+                    d, mu=mu, torques=T, loads=loads, top=top, speeds=W,
+                    positions=positions, cell=h, tooth_size=ts, rigid=rigid,
+                    **position_callbacks(progress, task,
+                                         "loaded contact, position {done}/{total}"),
+                )  # fmt: skip
             progress.update(task, description="writing results")
             with files:
                 add_result(res, files, "efficiency")

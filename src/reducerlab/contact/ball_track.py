@@ -236,6 +236,28 @@ class BallTrack:
         return 1.0 / one.delta**1.5
 
     @property
+    def contact_modulus(self) -> float:
+        """``E* = E / (2 (1 - nu^2))`` (Pa) of a ball-groove contact (equal materials)."""
+        return self.youngs_modulus / (2 * (1 - self.poisson_ratio**2))
+
+    def contact_curvatures(self, phase: float = 0.0) -> Array:
+        """Relative curvature constants ``(A, B)`` (1/m) of every ball-groove contact:
+        ``A = (1/r_b + k_g) / 2`` along the groove, ``B = (1/r_b - 1/r_g) / 2`` across it
+        (module docstring), shape ``(Z, 2, 2, 2)``: ball, line (``+``, ``-``), wall
+        (centre disc, planetary disc), ``(A, B)``; NaN where the wall is undercut."""
+        rb, cb = self.ball_radius, math.cos(self.contact_angle)
+        rg = 2 * self.conformity * rb
+        if self.groove_curvature:
+            k2, k3 = self.path_curvatures(phase)
+        else:
+            k2 = k3 = np.zeros(self.balls)
+        kw = np.stack([np.stack([k2, -k3], 1), np.stack([-k2, k3], 1)], 1)  # (Z, line, wall)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            k_g = kw * cb / (1.0 - kw * rb * cb)
+        A = np.where(kw * rb * cb >= 1.0, np.nan, 0.5 * (1 / rb + k_g))
+        return np.stack([A, np.full_like(A, 0.5 * (1 / rb - 1 / rg))], axis=-1)
+
+    @property
     def straight_constant(self) -> float:
         """``K_h`` (N/m^1.5) of a line of straight grooves: two equal contacts in series,
         ``K_1 / 2^(3/2)``."""

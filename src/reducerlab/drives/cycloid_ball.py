@@ -286,7 +286,9 @@ class CycloidBallPair(Spec):
     ball's normal (negative: a preload; one value for every ball) and the elastic
     constants of balls and discs. ``stiffness_source = "contact"`` takes the model's
     ``K_mx(t)`` from the ball track at the operating torque
-    (:func:`contact_force_law`) instead of Eq. 1/10 with ``ball_stiffness``."""
+    (:func:`contact_force_law`) instead of Eq. 1/10 with ``ball_stiffness``.
+    ``friction_coefficient``: Coulomb coefficient of the ball contacts (spin and
+    sliding) for the efficiency (``analysis.cycloid_efficiency``; default 0.05)."""
 
     ball_stiffness: Stiffness
     deformation_coefficient: Annotated[Real, Field(gt=0, le=1)]
@@ -300,6 +302,7 @@ class CycloidBallPair(Spec):
     youngs_modulus: quantity("pressure", gt=0) = 206e9  # type: ignore[valid-type]
     poisson_ratio: Annotated[Real, Field(gt=-1, lt=0.5)] = 0.3
     stiffness_source: Literal["lumped", "contact"] = "lumped"
+    friction_coefficient: Annotated[Real, Field(ge=0, le=0.3)] | None = None
 
 
 class CrossBall(Spec):

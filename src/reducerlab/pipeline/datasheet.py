@@ -13,7 +13,9 @@ One call gathers what a precision-reducer catalogue prints, each from its own an
   (``analysis.efficiency``) at 1/4, 1/2 and 1 times the rated torque, with the
   **starting torque** (the input torque that starts the drive against the rated output
   torque) and the **back-driving torque** (the output torque that starts turning the
-  input against the input torque equivalent to rated), from it.
+  input against the input torque equivalent to rated), from it; for the cycloid-ball
+  drive from the spin and differential sliding of its balls
+  (``analysis.cycloid_efficiency``, no contact stage).
 
 The finite-element tooth models of the contact analyses (efficiency, loaded TE) are
 the run's compliance stage (:func:`.stages.compliance_stage`) in the same stage cache,
@@ -356,10 +358,21 @@ def datasheet(
         sheet.notes["accuracy"] = str(exc)
     if not efficiency:
         sheet.notes["efficiency"] = "not asked for (--no-efficiency)"
+    elif getattr(design, "type", None) == "cycloid_ball":
+        # the balls' spin and sliding (analysis.cycloid_efficiency, no contact stage)
+        from ..analysis.cycloid_efficiency import cycloid_efficiency
+        from ..drives.cycloid_ball import centre_disc_torque
+
+        per_out = centre_disc_torque(design) / abs(design.operating_point().output_torque)
+        try:
+            sheet.efficiency = cycloid_efficiency(
+                design, mu=mu, torques=[f * rated_T * per_out for f in EFFICIENCY_LOADS]
+            )
+        except ReducerlabError as exc:
+            sheet.notes["efficiency"] = str(exc)
     elif not surfaces:
         sheet.notes["efficiency"] = (
-            "needs tooth surfaces (a gear pair, a KHV drive, a nutation drive with "
-            "[surface]); the cycloid-ball drive's rolling balls are out of its scope"
+            "needs tooth surfaces (a gear pair, a KHV drive, a nutation drive with [surface])"
         )
     else:
         sheet.efficiency, st = efficiency_stage(
