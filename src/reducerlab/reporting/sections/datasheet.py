@@ -22,7 +22,7 @@ from ..context import Context
 
 __all__ = ["datasheet_section", "efficiency_row"]
 
-#: What the datasheet does not compute yet (the later parts of issue 31).
+#: What the datasheet does not compute (named on the page, with why: docs/datasheet.md).
 NOT_YET = (
     "the distribution over manufacturing tolerances (reducerlab tolerances, a "
     "Monte-Carlo run of its own)",
