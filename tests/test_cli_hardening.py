@@ -386,6 +386,7 @@ def _result_classes() -> dict[str, type[Result]]:
     import reducerlab.analysis.response
     import reducerlab.analysis.sweep
     import reducerlab.analysis.te_sweep
+    import reducerlab.analysis.tolerances
     import reducerlab.analysis.torsion_test
     import reducerlab.analysis.transmission_accuracy  # noqa: F401
 

@@ -93,7 +93,7 @@ def datasheet(
     from ..analysis.torsion_test import torsion_estimate
     from ..drives import build_model, load_design
     from ..pipeline.datasheet import datasheet as compute
-    from ..reporting import report
+    from ..reporting import PLOTLY_FILE, report
 
     with user_errors():
         files = output_set(output) if output is not None else None
@@ -126,7 +126,8 @@ def datasheet(
                     if res is not None:
                         add_result(res, files, stem)
                 page = report(d, results=sheet.results, only=["datasheet"])
-                page.write(files.path("datasheet.html"))
+                shared = files.path(PLOTLY_FILE) if page.plotly_js else None
+                page.write(files.path("datasheet.html"), plotly=shared)
     if fmt is Format.json:
         out = sheet.torsion.to_dict()
         out["starting"] = sheet.starting()

@@ -43,8 +43,10 @@ def report_cmd(
     ] = None,
     sets: SetOption = None,
 ) -> None:
-    """One self-contained HTML report of everything reducerlab can say about a design
-    (exit 1 when a section failed: its error is shown in its place in the report)."""
+    """One HTML report of everything reducerlab can say about a design, its plotly.js
+    beside it (shared by the reports of the folder; opens offline); exit 1 when a
+    section failed: its error is shown in its place in the report."""
+    from ..reporting import PLOTLY_FILE
     from ..reporting import report as build_report
 
     with user_errors():
@@ -58,7 +60,7 @@ def report_cmd(
 
             rep = build_report(design, overrides=sets or (), results=given or (),
                                only=section, progress=step)  # fmt: skip
-        write_file(path, rep.write)
+        write_file(path, lambda tmp: rep.write(tmp, plotly=path.parent / PLOTLY_FILE))
     for s in rep.sections:
         status = f"FAILED: {s.error}" if s.error else "ok"
         typer.echo(f"  {s.title:<45} {s.seconds:7.2f} s  {status}")
@@ -92,8 +94,8 @@ def demo(
     other bundled example; an index.html linking them."""
     from ..examples import example_files
     from ..pipeline import run
+    from ..reporting import PLOTLY_FILE, write_index
     from ..reporting import report as build_report
-    from ..reporting import write_index
 
     with user_errors():
         prepare_output_dir(output)
@@ -115,7 +117,7 @@ def demo(
             progress.update(task, description=path.name)
             with user_errors():
                 rep = build_report(path)
-                file = rep.write(output / f"{path.stem}.html")
+                file = rep.write(output / f"{path.stem}.html", plotly=output / PLOTLY_FILE)
             done.append((file, rep))
             progress.advance(task)
     with user_errors():

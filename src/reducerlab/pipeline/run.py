@@ -582,7 +582,13 @@ def _write(
                 memo=memo,
             )
             names.append("report.html")
-            rep.write(files.path("report.html"))
+            shared = None
+            if rep.plotly_js:  # the folder's shared plotly.js (reporting.PLOTLY_FILE)
+                from ..reporting import PLOTLY_FILE
+
+                names.append(PLOTLY_FILE)
+                shared = files.path(PLOTLY_FILE)
+            rep.write(files.path("report.html"), plotly=shared)
             result.built = rep
         result.seconds = time.perf_counter() - t0  # the whole run, its files but this one
         names.append("run.json")

@@ -33,7 +33,7 @@ from .blocks import Section, table
 from .context import Context, repo_assumptions
 from .sections import SECTIONS
 
-__all__ = ["Report", "SectionMemo", "report", "write_index"]
+__all__ = ["PLOTLY_FILE", "Report", "SectionMemo", "report", "write_index"]
 
 TEMPLATES = Path(__file__).with_name("templates")
 
@@ -74,6 +74,8 @@ class Report:
     design: Design
     sections: list[Section] = field(default_factory=list)
     seconds: float = 0.0
+    #: the plotly.js the HTML inlines ("" without an interactive figure)
+    plotly_js: str = ""
 
     def section(self, id: str) -> Section | None:
         """The section with this id, or None when the design has none."""
@@ -83,13 +85,34 @@ class Report:
     def failed(self) -> list[Section]:
         return [s for s in self.sections if s.error]
 
-    def write(self, path: str | Path) -> Path:
-        """Write the HTML to ``path`` (atomically) and return it."""
+    def write(self, path: str | Path, plotly: str | Path | None = None) -> Path:
+        """Write the HTML to ``path`` (atomically) and return it.
+
+        Parameters
+        ----------
+        path : path
+            The report file.
+        plotly : path, optional
+            Where the reports of one folder share plotly.js (:data:`PLOTLY_FILE` in
+            that folder, beside ``path``): the file is written there (unless it already
+            holds the same script) and the report loads it by its name instead of
+            inlining 4.6 MB of it, so it still opens offline. Default: inlined (one
+            self-contained file). Without an interactive figure nothing is written.
+        """
         from ..io import atomic_path
 
         p = Path(path)
+        html = self.html
+        if plotly is not None and self.plotly_js:
+            js = Path(plotly)
+            data = self.plotly_js.encode("utf-8")
+            if not (js.is_file() and js.stat().st_size == len(data) and js.read_bytes() == data):
+                with atomic_path(js) as tmp:
+                    Path(tmp).write_bytes(data)
+            inline = f'<script type="text/javascript">{self.plotly_js}</script>'
+            html = html.replace(inline, f'<script src="{js.name}"></script>', 1)
         with atomic_path(p) as tmp:
-            Path(tmp).write_text(self.html, encoding="utf-8")
+            Path(tmp).write_text(html, encoding="utf-8")
         return p
 
 
@@ -225,7 +248,7 @@ def report(
             plotly_js=plotly_js,
         )
     )
-    return Report(html, design, sections, time.perf_counter() - start)
+    return Report(html, design, sections, time.perf_counter() - start, plotly_js)
 
 
 def _context_digest(ctx: Context) -> str:
@@ -238,6 +261,17 @@ def _context_digest(ctx: Context) -> str:
         )
     )
 
+
+def _plotly_file() -> str:
+    from importlib.metadata import version
+
+    return f"plotly-{version('plotly')}.min.js"
+
+
+#: The file name of the plotly.js that the reports of one folder share
+#: (:meth:`Report.write` with ``plotly=``): versioned, so reports written with another
+#: plotly never load a script they were not written for.
+PLOTLY_FILE = _plotly_file()
 
 #: Kinds of results the report can take from a file.
 GIVEN_KINDS = (
