@@ -370,3 +370,13 @@ def test_regime_map_asked_by_the_design(tmp_path):
     assert r.section("regime-map").values["classes"] == [
         sorted(set(np.asarray(api.labels()).ravel().tolist()))
     ]
+
+
+def test_every_report_is_under_1_5_mb_beside_its_shared_plotly(reports, tmp_path):
+    """Issue 32: a drive's report under 1.5 MB (plotly.js shared in the folder, the
+    figures as palette PNGs: tests/test_report_size.py), every bundled example's."""
+    from reducerlab.reporting import PLOTLY_FILE
+
+    for name, r in reports.items():
+        page = r.write(tmp_path / f"{name}.html", plotly=tmp_path / PLOTLY_FILE)
+        assert page.stat().st_size < 1.5e6, (name, page.stat().st_size)
