@@ -47,7 +47,7 @@ from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
 from ..results import provenance
-from .efficiency import DEFAULT_MU, EfficiencyResult
+from .efficiency import DEFAULT_MU, EfficiencyResult, load_grid
 
 __all__ = ["ball_track_motion", "cycloid_efficiency", "cycloid_friction_coefficient"]
 
@@ -208,19 +208,7 @@ def cycloid_efficiency(
         raise ReducerlabError("output_torque: the design gives no load (output torque or power)")
     track = design.ball_track()
     ref = centre_disc_torque(design)
-    if torques is None:
-        if isinstance(loads, bool) or not isinstance(loads, int) or not 1 <= loads <= 41:
-            raise ReducerlabError(f"loads: must be an integer in 1..41; got {loads!r}")
-        if not (isinstance(top, int | float) and math.isfinite(top) and 0 < top <= 3):
-            raise ReducerlabError(f"top: must be a factor in (0, 3]; got {top!r}")
-        T = ref * top * np.arange(1, loads + 1) / loads
-    else:
-        T = np.sort(np.atleast_1d(np.asarray(torques, float)))
-        if T.ndim != 1 or not 1 <= T.size <= 41 or not np.all(np.isfinite(T) & (T > 0)):
-            raise ReducerlabError("torques: must be 1..41 finite torques > 0 (N m)")
-    W = np.atleast_1d(np.asarray([speed0] if speeds is None else speeds, float))
-    if W.ndim != 1 or not W.size or not np.all(np.isfinite(W) & (W > 0)):
-        raise ReducerlabError("speeds: must be input speeds > 0 (rad/s)")
+    T, W = load_grid(ref, torques, loads, top, speeds, speed0)
     scale = T / ref
     ph = 2 * math.pi / track.balls * np.arange(phases) / phases
     loss = np.zeros((T.size, phases))

@@ -53,7 +53,14 @@ from ..threads import with_compute_threads
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["DEFAULT_MU", "EfficiencyResult", "efficiency", "friction_coefficient", "gear_pairs"]
+__all__ = [
+    "DEFAULT_MU",
+    "EfficiencyResult",
+    "efficiency",
+    "friction_coefficient",
+    "gear_pairs",
+    "load_grid",
+]
 
 Array = NDArray[np.float64]
 
@@ -156,6 +163,39 @@ def gear_pairs(design: Any) -> tuple[int, ...]:
     return tuple(range(1, len(design.kinematics().mesh_frequencies(1.0)) + 1))
 
 
+def load_grid(
+    ref: float,
+    torques: Sequence[float] | None,
+    loads: int,
+    top: float,
+    speeds: Sequence[float] | None,
+    speed0: float,
+) -> tuple[Array, Array]:
+    """The torques (N m, ascending) and input speeds (rad/s) of an efficiency: the
+    given ``torques`` (1..41, > 0), else ``loads`` torques from ``top / loads`` to
+    ``top`` times ``ref`` (the design's); the given ``speeds``, else ``speed0``.
+
+    Raises
+    ------
+    ReducerlabError
+        Naming ``loads``, ``top``, ``torques`` or ``speeds`` and the rule.
+    """
+    if torques is None:
+        if isinstance(loads, bool) or not isinstance(loads, int) or not 1 <= loads <= 41:
+            raise ReducerlabError(f"loads: must be an integer in 1..41; got {loads!r}")
+        if not (isinstance(top, int | float) and math.isfinite(top) and 0 < top <= 3):
+            raise ReducerlabError(f"top: must be a factor in (0, 3]; got {top!r}")
+        T = ref * top * np.arange(1, loads + 1) / loads
+    else:
+        T = np.sort(np.atleast_1d(np.asarray(torques, float)))
+        if T.ndim != 1 or not 1 <= T.size <= 41 or not np.all(np.isfinite(T) & (T > 0)):
+            raise ReducerlabError("torques: must be 1..41 finite torques > 0 (N m)")
+    W = np.atleast_1d(np.asarray([speed0] if speeds is None else speeds, float))
+    if W.ndim != 1 or not W.size or not np.all(np.isfinite(W) & (W > 0)):
+        raise ReducerlabError("speeds: must be input speeds > 0 (rad/s)")
+    return T, W
+
+
 @names_source
 @with_compute_threads
 def efficiency(
@@ -237,19 +277,7 @@ def efficiency(
         raise ReducerlabError("load: the design gives no load (output torque or power)")
     pairs = gear_pairs(design)
     ref = np.array([design_load(design, p) for p in pairs])
-    if torques is None:
-        if isinstance(loads, bool) or not isinstance(loads, int) or not 1 <= loads <= 41:
-            raise ReducerlabError(f"loads: must be an integer in 1..41; got {loads!r}")
-        if not (isinstance(top, int | float) and math.isfinite(top) and 0 < top <= 3):
-            raise ReducerlabError(f"top: must be a factor in (0, 3]; got {top!r}")
-        T = ref[0] * top * np.arange(1, loads + 1) / loads
-    else:
-        T = np.sort(np.atleast_1d(np.asarray(torques, float)))
-        if T.ndim != 1 or not 1 <= T.size <= 41 or not np.all(np.isfinite(T) & (T > 0)):
-            raise ReducerlabError("torques: must be 1..41 finite torques > 0 (N m)")
-    W = np.atleast_1d(np.asarray([speed0] if speeds is None else speeds, float))
-    if W.ndim != 1 or not W.size or not np.all(np.isfinite(W) & (W > 0)):
-        raise ReducerlabError("speeds: must be input speeds > 0 (rad/s)")
+    T, W = load_grid(float(ref[0]), torques, loads, top, speeds, speed0)
     scale = T / ref[0]  # load over the design load
     setups = [pair_setup(design, p) for p in pairs]
     if compliance is not None and (rigid or len(compliance) != len(pairs)):

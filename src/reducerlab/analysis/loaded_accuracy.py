@@ -69,6 +69,7 @@ from ..units import parse_quantity
 __all__ = [
     "LoadedMeshError",
     "check_options",
+    "check_samples",
     "check_sweep",
     "cycle_to_output",
     "loaded_error",
@@ -162,6 +163,16 @@ def loaded_samples(design: Any, positions: int, sweep: Any = None, least: int = 
         positions = int(sweep.data.sizes["position"])
     step = mesh_cycles(design) * positions
     return step * max(1, math.ceil(least / step))
+
+
+def check_samples(order: int, samples: int) -> None:
+    """Refuse fewer than ``2 order + 1`` output samples for a loaded TE that repeats
+    ``order`` times per output revolution (its tooth-mesh order, Nyquist)."""
+    if 2 * order >= samples:
+        raise ReducerlabError(
+            f"samples: the loaded TE repeats {order} times per output revolution; its "
+            f"tooth-mesh order needs more than {2 * order} samples; got {samples}"
+        )
 
 
 def check_options(positions: Any, rigid: Any) -> None:
@@ -344,11 +355,7 @@ def loaded_error(
     t_out = output_load(design, load)
     check_options(positions, rigid)
     cycles = mesh_cycles(design)
-    if 2 * cycles >= len(u):
-        raise ReducerlabError(
-            f"samples: the loaded TE repeats {cycles} times per output revolution; its "
-            f"tooth-mesh order needs more than {2 * cycles} samples; got {len(u)}"
-        )
+    check_samples(cycles, len(u))
     torque = mesh_torque(design, t_out)
     reused = sweep is not None
     if sweep is None:

@@ -80,6 +80,7 @@ from ..kinematics.torques import mesh_torques
 from .loaded_accuracy import (
     ARCSEC,
     check_options,
+    check_samples,
     check_sweep,
     cycle_to_output,
     mesh_te,
@@ -402,11 +403,7 @@ def nutation_loaded_error(
     t_out = output_load(design, load)
     check_options(positions, rigid)
     orders = mesh_orders(design)
-    if 2 * max(orders) >= len(u):
-        raise ReducerlabError(
-            f"samples: the loaded TE repeats {max(orders)} times per output revolution; its "
-            f"tooth-mesh order needs more than {2 * max(orders)} samples; got {len(u)}"
-        )
+    check_samples(max(orders), len(u))
     torques = pair_torques(design, t_out)
     reused = sweeps is not None
     if sweeps is None:

@@ -347,33 +347,15 @@ def transmission_accuracy(
                              sweep=mesh_te, stage=stage, progress=progress)  # fmt: skip
         sources.append("mesh under load")
         parts.append(under.variation)
-    contribution = np.array(parts)
-    error = contribution.sum(axis=0)
-    orders, amp = order_spectrum(error / ARCSEC)
-    ds = xr.Dataset(
-        {
-            "error": ("output_angle", error, {"units": "rad"}),
-            "contribution": (("source", "output_angle"), contribution, {"units": "rad"}),
-            "amplitude": ("order", amp, {"units": "arcsec"}),
-        },
-        coords={
-            "output_angle": ("output_angle", u, {"units": "rad"}),
-            "source": sources,
-            "order": orders,
-            "input_order": ("order", orders / abs(ratio)),
-        },
-        attrs={
-            "title": "Transmission accuracy (rigid kinematics)",
-            **provenance(getattr(design, "provenance", None)),
-        },
-    )
-    ds.attrs.update(peak_to_peak_arcsec=float(np.ptp(error) / ARCSEC), ratio=ratio,
-                    drive=str(design.type), driven_base_radius=m.driven_base_radius,
-                    line_angle=tau, working_pressure_angle=m.working_pressure_angle)  # fmt: skip
-    ds.attrs.update(assembly_attrs(design, m.working_pressure_angle))  # backlash change
+    res = TransmissionAccuracyResult.from_contributions(
+        design, u, sources, np.array(parts), ratio,
+        driven_base_radius=m.driven_base_radius, line_angle=tau,
+        working_pressure_angle=m.working_pressure_angle,
+        **assembly_attrs(design, m.working_pressure_angle),  # backlash change
+    )  # fmt: skip
     if under is not None:
-        under.annotate(ds)
-    return TransmissionAccuracyResult(ds)
+        under.annotate(res.data)
+    return res
 
 
 def _drive_accuracy(

@@ -16,42 +16,17 @@ from .output import add_result, output_set, position_callbacks, progress_bar, us
 
 
 def _cached_mesh_te(cache: Path, design: Any, load: Any, kw: dict[str, Any]) -> Any:
-    """The loaded TE at ``load`` from the stage cache ``cache`` (``pipeline.store``),
-    computed and stored when absent; a nutation design's, one per pair (a list). Key of
-    each pair: the design's fields (without the gears' ``errors`` tables, which the
-    contact of the perfect teeth does not read), the pair, the torque on its gear A,
-    positions, rigid teeth and tooth size."""
-    from ..analysis.loaded_accuracy import mesh_te, mesh_torque, output_load
-    from ..pipeline.stages import design_inputs
+    """The loaded TE at ``load`` from the stage cache ``cache``, computed and stored when
+    absent (``pipeline.datasheet.loaded_sweeps``, the datasheet's entries); a nutation
+    design's, one per pair (a list)."""
+    from ..analysis.loaded_accuracy import output_load
+    from ..pipeline.datasheet import loaded_sweeps
     from ..pipeline.store import Store
     from .output import keeps_cache
 
     store = Store(cache)
-    t_out = output_load(design, load)
-    if getattr(design, "type", None) == "nutation":
-        from ..analysis.loaded_accuracy_nutation import pair_torques
-
-        torques = pair_torques(design, t_out)
-    else:
-        torques = [mesh_torque(design, t_out)]
-    out = []
-    for pair, torque in enumerate(torques, start=1):
-        fields = {k: v for k, v in design_inputs("te-sweep", design, {"pair": pair}).items()
-                  if "errors" not in k}  # fmt: skip
-        inputs = {"design": fields, "torque": torque, "positions": kw["positions"],
-                  "rigid": kw["rigid"], "tooth_size": kw["tooth_size"]}  # fmt: skip
-        if len(torques) > 1:
-            inputs["pair"] = pair
-        key = store.key("accuracy_mesh_te", inputs)
-        hit = store.get("accuracy_mesh_te", key)
-        if hit is not None:
-            out.append(hit[0])
-            continue
-        keeps_cache(store.root)
-        res = mesh_te(design, torque, pair=pair, **kw)
-        res.compliance = None
-        store.put("accuracy_mesh_te", key, inputs, res)
-        out.append(res)
+    keeps_cache(store.root)
+    out, _, _ = loaded_sweeps(store, design, output_load(design, load), **kw)
     return out if getattr(design, "type", None) == "nutation" else out[0]
 
 

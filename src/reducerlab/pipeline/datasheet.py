@@ -46,7 +46,7 @@ from ..errors import ReducerlabError
 from .stages import ContactSettings, Stage, compliance_stage, design_inputs
 from .store import Store
 
-__all__ = ["Datasheet", "datasheet", "datasheet_stages"]
+__all__ = ["Datasheet", "datasheet", "datasheet_stages", "loaded_sweeps"]
 
 #: Fractions of the rated torque at which the datasheet computes the efficiency.
 EFFICIENCY_LOADS = (0.25, 0.5, 1.0)
@@ -217,6 +217,57 @@ def efficiency_stage(
     return res, Stage("efficiency", key, "computed", time.perf_counter() - t0)
 
 
+def loaded_sweeps(
+    store: Store | None,
+    design: Any,
+    t_out: float,
+    *,
+    positions: int,
+    rigid: bool,
+    tooth_size: float | None,
+    compliance: list[Any] | None = None,
+    stage: Callable[[str], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> tuple[list[Any], list[str], bool]:
+    """Every pair's loaded TE at the output torque ``t_out`` (N m; each pair's gear A
+    at its lossless share), read from ``store`` or computed on the given tooth models
+    (``compliance``, in pair order) and stored. Key of each pair: the design's fields
+    without the gears' ``errors`` tables (the contact of perfect teeth does not read
+    them), the pair, its torque, positions, rigid teeth and tooth size. Returns the
+    sweeps (pair order), their keys and whether any was computed."""
+    from ..analysis.efficiency import gear_pairs
+    from ..analysis.loaded_accuracy import mesh_te, mesh_torque
+
+    if _is_nutation(design):
+        from ..analysis.loaded_accuracy_nutation import pair_torques
+
+        torques = pair_torques(design, t_out)
+    else:
+        torques = [mesh_torque(design, t_out)]
+    sweeps, keys, computed = [], [], False
+    for k, (p, torque) in enumerate(zip(gear_pairs(design), torques, strict=True)):
+        fields = {f: v for f, v in design_inputs("te-sweep", design, {"pair": p}).items()
+                  if "errors" not in f}  # fmt: skip
+        inputs = {"design": fields, "pair": p, "torque": torque, "positions": positions,
+                  "rigid": bool(rigid), "tooth_size": tooth_size}  # fmt: skip
+        key, te = _stored(store, "accuracy_mesh_te", inputs)
+        if te is None:
+            computed = True
+            if stage is not None:
+                stage(f"loaded transmission error pair {p}")
+            te = mesh_te(
+                design, torque, pair=p, positions=positions, rigid=rigid,
+                tooth_size=tooth_size, compliance=None if compliance is None else compliance[k],
+                stage=stage, progress=progress,
+            )  # fmt: skip
+            te.compliance = None
+            if store is not None:
+                store.put("accuracy_mesh_te", key, inputs, te)
+        sweeps.append(te)
+        keys.append(key)
+    return sweeps, keys, computed
+
+
 def accuracy_stage(
     store: Store | None,
     design: Any,
@@ -231,45 +282,21 @@ def accuracy_stage(
     """The transmission accuracy at the rated output torque ``rated`` (N m): the rigid
     kinematics' error of the design's manufacturing errors plus every mesh's loaded TE
     (``analysis.loaded_accuracy``; a nutation drive's two meshes,
-    ``analysis.loaded_accuracy_nutation``), each pair's contact on its given tooth
-    models (``compliance``, in pair order) and cached in ``store`` (without the gears'
-    ``errors`` tables, which the contact of perfect teeth does not read)."""
-    from ..analysis.efficiency import gear_pairs
-    from ..analysis.loaded_accuracy import mesh_te, mesh_torque
+    ``analysis.loaded_accuracy_nutation``), each pair's contact from
+    :func:`loaded_sweeps` (cached in ``store``)."""
     from ..analysis.transmission_accuracy import transmission_accuracy
 
-    pairs = gear_pairs(design)
-    if _is_nutation(design):
-        from ..analysis.loaded_accuracy_nutation import pair_torques
-
-        torques = pair_torques(design, rated)
-    else:
-        torques = [mesh_torque(design, rated)]
     t0 = time.perf_counter()
-    sweeps, keys, status = [], [], "cached"
-    for k, (p, torque) in enumerate(zip(pairs, torques, strict=True)):
-        fields = {f: v for f, v in design_inputs("te-sweep", design, {"pair": p}).items()
-                  if "errors" not in f}  # fmt: skip
-        inputs = {"design": fields, "pair": p, "torque": torque, "positions": positions,
-                  "rigid": bool(rigid), "tooth_size": settings.tooth_size}  # fmt: skip
-        key, te = _stored(store, "accuracy_mesh_te", inputs)
-        if te is None:
-            status = "computed"
-            report(f"loaded transmission error pair {p}", 0.0)
-            te = mesh_te(
-                design, torque, pair=p, positions=positions, rigid=rigid,
-                tooth_size=settings.tooth_size,
-                compliance=None if compliance is None else compliance[k],
-                progress=lambda d, t: report(f"loaded TE: {d}/{t} positions", d / t),
-            )  # fmt: skip
-            te.compliance = None
-            if store is not None:
-                store.put("accuracy_mesh_te", key, inputs, te)
-        sweeps.append(te)
-        keys.append(key)
+    sweeps, keys, computed = loaded_sweeps(
+        store, design, rated, positions=positions, rigid=rigid,
+        tooth_size=settings.tooth_size, compliance=compliance,
+        stage=lambda s: report(s, 0.0),
+        progress=lambda d, t: report(f"loaded TE: {d}/{t} positions", d / t),
+    )  # fmt: skip
     res = transmission_accuracy(design, load=rated, rigid=rigid, positions=positions,
                                 tooth_size=settings.tooth_size,
                                 mesh_te=sweeps if len(sweeps) > 1 else sweeps[0])  # fmt: skip
+    status = "computed" if computed else "cached"
     return res, Stage("loaded transmission error", ",".join(keys), status,
                       time.perf_counter() - t0)  # fmt: skip
 
