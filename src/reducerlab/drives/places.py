@@ -251,7 +251,9 @@ def cycloid_ball_places(design: CycloidBallDesign) -> list[Place]:
     r3 = design.pitch_radius(design.planetary_disc.lobes)
     gap = 0.6 * r3
     return [
-        Place("input_shaft", (0.0, 0.0, -2 * gap), Z, r2 / 3, f"input shaft (e = {e * 1e3:.3g} mm)"),
+        Place(
+            "input_shaft", (0.0, 0.0, -2 * gap), Z, r2 / 3, f"input shaft (e = {e * 1e3:.3g} mm)"
+        ),
         Place("centre_disc", (0.0, 0.0, -gap), Z, r2, "centre disc"),
         Place("planetary_disc", (e, 0.0, 0.0), Z, r3, "planetary disc"),
         Place("end_cover_disc", (0.0, 0.0, gap), Z, r3, "end cover disc"),
@@ -268,8 +270,14 @@ def khv_places(design: KHVDesign) -> list[Place]:
     return [
         Place("drive", (0.0, 0.0, -2 * gap), Z, 0.3 * rV, "drive shaft D"),
         Place("carrier", (0.0, 0.0, -gap), Z, 0.3 * rV, f"carrier H (a' = {a * 1e3:.3g} mm)"),
-        Place("planet", (a, 0.0, 0.0), Z, rV, f"planet V z{design.gears.planet_teeth}",
-              carrier="carrier"),  # fmt: skip
+        Place(
+            "planet",
+            (a, 0.0, 0.0),
+            Z,
+            rV,
+            f"planet V z{design.gears.planet_teeth}",
+            carrier="carrier",
+        ),
         Place("ring", (0.0, 0.0, 0.0), Z, rK, f"ring K z{design.gears.ring_teeth} (fixed)"),
         Place("load", (0.0, 0.0, 2 * gap), Z, 0.3 * rV, "load L"),
     ]
@@ -289,16 +297,31 @@ def nutation_places(design: NutationDesign) -> list[Place]:
     g1, g2 = design.gear1, design.gear2
     axis13 = (math.sin(th), 0.0, math.cos(th))
     rings = [(-dist[0] * math.cos(dn1), g1.mean_radius)]
-    out = [Place("g2", (0.0, 0.0, -dist[1] * math.cos(dc2)), Z, g2.mean_radius,
-                 f"gear 2 z{g2.teeth} (fixed)")]  # fmt: skip
+    out = [
+        Place(
+            "g2",
+            (0.0, 0.0, -dist[1] * math.cos(dc2)),
+            Z,
+            g2.mean_radius,
+            f"gear 2 z{g2.teeth} (fixed)",
+        )
+    ]
     if double:
         g3, g4 = design.gear3, design.gear4
         assert g3 is not None and g4 is not None  # the design's validator
         dn3, dc4 = cones[1]
         rings.append((dist[2] * math.cos(dn3), g3.mean_radius))
-        out.append(Place("g4", (0.0, 0.0, dist[3] * math.cos(dc4)), Z, g4.mean_radius,
-                         f"gear 4 z{g4.teeth} (output)"))  # fmt: skip
+        out.append(
+            Place(
+                "g4",
+                (0.0, 0.0, dist[3] * math.cos(dc4)),
+                Z,
+                g4.mean_radius,
+                f"gear 4 z{g4.teeth} (output)",
+            )
+        )
     label = "nutating gear 1" + ("-3" if double else "") + f" ({math.degrees(th):.3g}°)"
-    out.append(Place("g13", (0.0, 0.0, 0.0), axis13, max(r for _, r in rings), label,
-                     rings=tuple(rings)))  # fmt: skip
+    out.append(
+        Place("g13", (0.0, 0.0, 0.0), axis13, max(r for _, r in rings), label, rings=tuple(rings))
+    )
     return out

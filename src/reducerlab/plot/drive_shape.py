@@ -45,8 +45,18 @@ FRAMES_PER_CYCLE = 12
 #: Segments of each drawn circle.
 SEGMENTS = 24
 #: Body colours (matplotlib's tab10, as the bar charts of :mod:`reducerlab.plot.modal`).
-COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
-           "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")  # fmt: skip
+COLOURS = (
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#d62728",
+    "#9467bd",
+    "#8c564b",
+    "#e377c2",
+    "#7f7f7f",
+    "#bcbd22",
+    "#17becf",
+)
 
 
 def body_points(place: Place, segments: int = SEGMENTS) -> NDArray[np.float64]:
@@ -89,7 +99,9 @@ def deformed_points(
     return out
 
 
-def mode_amplitude(layout: DriveLayout, values: dict[str, float], fraction: float = FRACTION) -> float:
+def mode_amplitude(
+    layout: DriveLayout, values: dict[str, float], fraction: float = FRACTION
+) -> float:
     """Factor on the DOF values that makes the largest displacement of any drawn point
     ``fraction`` of the drive's size (small-motion displacement, by a difference)."""
     big = max((abs(v) for v in values.values()), default=0.0)
@@ -105,7 +117,9 @@ def mode_amplitude(layout: DriveLayout, values: dict[str, float], fraction: floa
 def _index(result: ModalResult, mode: int) -> int:
     modes = [int(m) for m in result.data["mode"].values]
     if mode not in modes:
-        raise ReducerlabError(f"modes: mode {mode} does not exist; the result has modes 1..{len(modes)}")
+        raise ReducerlabError(
+            f"modes: mode {mode} does not exist; the result has modes 1..{len(modes)}"
+        )
     return modes.index(mode)
 
 
@@ -169,7 +183,7 @@ def plot_drive_shapes(
     chosen = _chosen(result, modes, None)
     ncol = min(3, len(chosen))
     nrow = math.ceil(len(chosen) / ncol)
-    fig = Figure(figsize=(3.6 * ncol, 3.3 * nrow + 0.9), layout="constrained")
+    fig = Figure(figsize=(3.4 * ncol, 3.0 * nrow + 0.8), layout="constrained")
     rest = deformed_points(layout, {}, 0.0)
     moving = _moving(layout, result)
     colour = {p.body: COLOURS[i % len(COLOURS)] for i, p in enumerate(moving)}
@@ -178,20 +192,23 @@ def plot_drive_shapes(
         ax = fig.add_subplot(nrow, ncol, i + 1, projection="3d")
         values = shape_values(result, m)
         peak = deformed_points(layout, values, mode_amplitude(layout, values, fraction))
-        for b, pts in rest.items():
+        for pts in rest.values():
             ax.plot(*(1e3 * pts.T), color="0.7", lw=0.8)
         for p in moving:
             ax.plot(*(1e3 * peak[p.body].T), color=colour[p.body], lw=1.4)
         ax.set_xlim(1e3 * lo[0], 1e3 * hi[0])
         ax.set_ylim(1e3 * lo[1], 1e3 * hi[1])
         ax.set_zlim(1e3 * lo[2], 1e3 * hi[2])
-        ax.set_box_aspect(tuple(hi - lo))
+        ax.set_box_aspect(tuple(hi - lo), zoom=1.35)
         ax.view_init(elev=30, azim=-60)
         ax.set_title(_title(result, m).replace(" — ", "\n", 1), fontsize=9)
-        ax.tick_params(labelsize=6, pad=0)
-        ax.set_xlabel("x (mm)", fontsize=7, labelpad=-2)
-        ax.set_ylabel("y (mm)", fontsize=7, labelpad=-2)
-        ax.set_zlabel("z (mm)", fontsize=7, labelpad=-2)
+        ax.set_axis_off()
+        corner, arm = 1e3 * lo, 1e3 * 0.12 * layout.size
+        for k, name in enumerate("xyz"):
+            tip = corner.copy()
+            tip[k] += arm
+            ax.plot(*zip(corner, tip, strict=True), color="0.35", lw=0.8)
+            ax.text(*tip, name, fontsize=7, color="0.35")
     handles = [Line2D([], [], color=colour[p.body], label=p.label) for p in moving]
     handles.append(Line2D([], [], color="0.7", label="at rest"))
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize=8)
@@ -241,8 +258,10 @@ class _Grid:
         step = next(m * mag for m in (1, 2, 2.5, 5, 10) if m * mag >= raw)
         ticks = np.arange(math.ceil(lo_mm / step), math.floor(hi_mm / step) + 1) * step
         to_grid = (ticks / 1e3 - self.origin[k]) / self.unit
-        ends = [(float(self.lo[k]) - self.origin[k]) / self.unit,
-                (float(self.hi[k]) - self.origin[k]) / self.unit]  # fmt: skip
+        ends = [
+            (float(self.lo[k]) - self.origin[k]) / self.unit,
+            (float(self.hi[k]) - self.origin[k]) / self.unit,
+        ]
         return dict(
             title=title,
             range=[float(e) for e in ends],
@@ -305,29 +324,44 @@ def plotly_drive_shapes(
     # states[level][mode][body]
     states = [[deformed_points(layout, v, a * s) for v, a in amp] for s in levels]
     top = levels.index(1.0)
-    lo, hi = _bounds([st for level in (states[0], states[top]) for st in level] + [rest],
-                     0.04 * layout.size)  # fmt: skip
+    lo, hi = _bounds(
+        [st for level in (states[0], states[top]) for st in level] + [rest], 0.04 * layout.size
+    )
     grid = _Grid(lo, hi)
     fig = go.Figure()
-    fig.add_trace(go.Scatter3d(
-        **grid.gapped(list(rest.values())), mode="lines", line=dict(color="#b8b8b8", width=2),
-        name="at rest", hoverinfo="skip",
-    ))  # fmt: skip
+    fig.add_trace(
+        go.Scatter3d(
+            **grid.gapped(list(rest.values())),
+            mode="lines",
+            line=dict(color="#b8b8b8", width=2),
+            name="at rest",
+            hoverinfo="skip",
+        )
+    )
     for j in range(len(chosen)):
         for p in moving:
-            fig.add_trace(go.Scatter3d(
-                **grid.xyz(states[top][j][p.body]), mode="lines", name=p.label,
-                line=dict(color=colour[p.body], width=5), visible=j == 0,
-                legendgroup=p.body, hoverinfo="name",
-            ))  # fmt: skip
+            fig.add_trace(
+                go.Scatter3d(
+                    **grid.xyz(states[top][j][p.body]),
+                    mode="lines",
+                    name=p.label,
+                    line=dict(color=colour[p.body], width=5),
+                    visible=j == 0,
+                    legendgroup=p.body,
+                    hoverinfo="name",
+                )
+            )
     traces = list(range(1, len(fig.data)))
     fig.frames = [
         go.Frame(
             name=f"s{k}",
             traces=traces,
-            data=[go.Scatter3d(**grid.xyz(states[k][j][p.body])) for j in range(len(chosen))
-                  for p in moving],
-        )  # fmt: skip
+            data=[
+                go.Scatter3d(**grid.xyz(states[k][j][p.body]))
+                for j in range(len(chosen))
+                for p in moving
+            ],
+        )
         for k in range(len(levels))
     ]
     names = [f"s{levels.index(round(math.sin(p), 9))}" for p in phases]
@@ -358,20 +392,41 @@ def plotly_drive_shapes(
         y=0.0,
         yanchor="bottom",
         buttons=[
-            dict(label="▶ play", method="animate",
-                 args=[sequence, dict(frame=dict(duration=70, redraw=True), mode="immediate",
-                                      transition=dict(duration=0), fromcurrent=False)]),
-            dict(label="❚❚ pause", method="animate",
-                 args=[[None], dict(frame=dict(duration=0, redraw=False), mode="immediate")]),
+            dict(
+                label="▶ play",
+                method="animate",
+                args=[
+                    sequence,
+                    dict(
+                        frame=dict(duration=70, redraw=True),
+                        mode="immediate",
+                        transition=dict(duration=0),
+                        fromcurrent=False,
+                    ),
+                ],
+            ),
+            dict(
+                label="❚❚ pause",
+                method="animate",
+                args=[[None], dict(frame=dict(duration=0, redraw=False), mode="immediate")],
+            ),
         ],
-    )  # fmt: skip
+    )
     fig.update_layout(
         title=dict(text=titles[0], x=0.5, y=0.96, font=dict(size=13)),
         updatemenus=[
-            dict(buttons=menu, direction="down", x=0.0, xanchor="left", y=1.0, yanchor="top",
-                 active=0, showactive=True),
+            dict(
+                buttons=menu,
+                direction="down",
+                x=0.0,
+                xanchor="left",
+                y=1.0,
+                yanchor="top",
+                active=0,
+                showactive=True,
+            ),
             play,
-        ],  # fmt: skip
+        ],
         scene=dict(
             xaxis=grid.axis(0, "x (mm)"),
             yaxis=grid.axis(1, "y (mm)"),

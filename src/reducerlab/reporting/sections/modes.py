@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...drives import drive_layout
 from ...plot.campbell import plotly_campbell
+from ...plot.drive_shape import plotly_drive_shapes
 from ...plot.modal import plotly_mode_shapes, plotly_sensitivity
 from ..blocks import Section, figure, interactive, note, pre, table, verdict
 from ..context import Context
@@ -36,6 +38,21 @@ def modal_section(ctx: Context) -> Section | None:
                 "The model has gyroscopic, Coriolis or circulatory terms; these "
                 "undamped modes leave them out (see the Campbell section).",
                 "warning",
+            )
+        )
+    elastic = [int(m) for m, r in zip(ds["mode"].values, ds["rigid"].values, strict=True) if not r]
+    if elastic:
+        layout = drive_layout(ctx.design, ctx.model())
+        shown = plotly_drive_shapes(res, layout)
+        count = len(shown.layout.meta["modes"])
+        s.blocks.append(
+            interactive(
+                shown,
+                res.plot_drive(layout, elastic[:3]),
+                "mode shapes as the drive moving: the bodies of the model at their places "
+                "in the drive, grey at rest; choose a mode, press play, drag to turn"
+                + (f" (the first {count} elastic modes)" if count < len(elastic) else ""),
+                div_id="drive-shapes",
             )
         )
     s.blocks.append(
