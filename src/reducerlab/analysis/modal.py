@@ -289,7 +289,12 @@ class ModalResult(Result):
         return plot_mode_shapes(self, modes, scale=scale)
 
     def plot_drive(
-        self, layout: DriveLayout, modes: Sequence[int] | None = None, *, fraction: float = 0.15
+        self,
+        layout: DriveLayout,
+        modes: Sequence[int] | None = None,
+        *,
+        fraction: float = 0.15,
+        panel: float = 3.4,
     ) -> Figure:
         """The mode shapes as the drive's bodies moving, one 3-D panel per mode (every
         elastic mode by default; see :func:`reducerlab.plot.drive_shape.plot_drive_shapes`).
@@ -302,10 +307,12 @@ class ModalResult(Result):
             1-based modes.
         fraction : float
             Largest drawn displacement over the drive's size.
+        panel : float
+            Width of one panel (in).
         """
         from ..plot.drive_shape import plot_drive_shapes
 
-        return plot_drive_shapes(self, layout, modes, fraction=fraction)
+        return plot_drive_shapes(self, layout, modes, fraction=fraction, panel=panel)
 
     def plot_energy(self) -> Figure:
         """Map of kinetic and strain energy shares per mode."""

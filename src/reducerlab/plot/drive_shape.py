@@ -43,7 +43,7 @@ FRACTION = 0.15
 #: Animation frames over one period (the distinct ones are shared: sin takes 7 values).
 FRAMES_PER_CYCLE = 12
 #: Segments of each drawn circle.
-SEGMENTS = 24
+SEGMENTS = 20
 #: Body colours (matplotlib's tab10, as the bar charts of :mod:`reducerlab.plot.modal`).
 COLOURS = (
     "#1f77b4",
@@ -161,6 +161,7 @@ def plot_drive_shapes(
     modes: Sequence[int] | None = None,
     *,
     fraction: float = FRACTION,
+    panel: float = 3.4,
 ) -> Figure:
     """The mode shapes as the drive moving: one 3-D panel per mode (three a row), the
     drive at rest in grey and at the mode's peak in colour, one colour per body.
@@ -174,6 +175,8 @@ def plot_drive_shapes(
         1-based modes; every elastic mode by default.
     fraction : float
         Largest drawn displacement over the drive's size, in (0, 0.5].
+    panel : float
+        Width of one panel (in).
     """
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
@@ -183,7 +186,7 @@ def plot_drive_shapes(
     chosen = _chosen(result, modes, None)
     ncol = min(3, len(chosen))
     nrow = math.ceil(len(chosen) / ncol)
-    fig = Figure(figsize=(3.4 * ncol, 3.0 * nrow + 0.8), layout="constrained")
+    fig = Figure(figsize=(panel * ncol, 0.88 * panel * nrow + 0.8), layout="constrained")
     rest = deformed_points(layout, {}, 0.0)
     moving = _moving(layout, result)
     colour = {p.body: COLOURS[i % len(COLOURS)] for i, p in enumerate(moving)}
@@ -279,7 +282,7 @@ def plotly_drive_shapes(
     modes: Sequence[int] | None = None,
     *,
     fraction: float = FRACTION,
-    limit: int | None = 10,
+    limit: int | None = 12,
     cycles: int = 3,
 ) -> Any:
     """Interactive 3-D figure (plotly) of the mode shapes as the drive moving: a menu

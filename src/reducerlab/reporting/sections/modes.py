@@ -48,7 +48,7 @@ def modal_section(ctx: Context) -> Section | None:
         s.blocks.append(
             interactive(
                 shown,
-                res.plot_drive(layout, elastic[:3]),
+                res.plot_drive(layout, elastic[:3], panel=2.8),
                 "mode shapes as the drive moving: the bodies of the model at their places "
                 "in the drive, grey at rest; choose a mode, press play, drag to turn"
                 + (f" (the first {count} elastic modes)" if count < len(elastic) else ""),
@@ -58,8 +58,9 @@ def modal_section(ctx: Context) -> Section | None:
     s.blocks.append(
         interactive(
             plotly_mode_shapes(res),
-            res.plot_shapes(),
-            "mode shapes: choose a mode",
+            res.plot_shapes(elastic[:3] or None),
+            "mode shapes DOF by DOF (the mass-normalised shape, translations in m over "
+            "rotations in rad, as 'reducerlab modal -o' draws them): choose a mode",
             div_id="mode-shapes",
         )
     )
