@@ -7,8 +7,11 @@ still) in the drive: its centre, its axis, the circles it is drawn as and a labe
 motions of the bodies (:meth:`DriveLayout.motion`), read as :mod:`reducerlab.model.dofs`
 defines the kinds:
 
-* ``x, y, z`` translate the body's centre along the drive's x, y, z (m);
-* ``rx, ry`` tilt it about the drive's x and y axes through its centre (rad);
+* ``x, y, z`` translate the body's centre along the drive's x, y, z (m) (the frame of
+  the builders' lines of action, the nutating gear's included);
+* ``rx, ry`` tilt it about its own transverse axes through its centre (rad): the
+  drive's x and y laid onto its plane (:meth:`Place.frame`; the nutating gear's tilts
+  about the nutation centre, ``drives.nutation_specs.TiltSupport``);
 * ``rz`` turns it about its own axis (rad), ``u`` by ``u / r`` with the DOF's radius.
 
 A model read in a rotating frame (the cycloid-ball drive's frame of the eccentric, a
@@ -188,8 +191,8 @@ class DriveLayout:
                 return scale * float(values.get(f"{body}.{kind}", 0.0))
 
             twist = q("rz") + q("u") / self.u_radius.get(p.body, 1.0)
-            R = rotation((1, 0, 0), q("rx")) @ rotation((0, 1, 0), q("ry"))
-            R = R @ rotation(p.axis, twist)
+            e1, e2, a = p.frame()
+            R = rotation(e1, q("rx")) @ rotation(e2, q("ry")) @ rotation(a, twist)
             t = np.array([q("x"), q("y"), q("z")])
             if p.carrier is not None:
                 car = self[p.carrier]

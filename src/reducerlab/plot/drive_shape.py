@@ -205,18 +205,17 @@ def plot_drive_shapes(
         ax.set_box_aspect(tuple(hi - lo), zoom=1.35)
         ax.view_init(elev=30, azim=-60)
         ax.set_title(_title(result, m).replace(" — ", "\n", 1), fontsize=9)
-        ax.set_axis_off()
-        corner, arm = 1e3 * lo, 1e3 * 0.12 * layout.size
-        for k, name in enumerate("xyz"):
-            tip = corner.copy()
-            tip[k] += arm
-            ax.plot(*zip(corner, tip, strict=True), color="0.35", lw=0.8)
-            ax.text(*tip, name, fontsize=7, color="0.35")
+        ax.grid(False)
+        for name, axis in zip("xyz", (ax.xaxis, ax.yaxis, ax.zaxis), strict=True):
+            axis.set_ticks([])
+            axis.set_pane_color((1.0, 1.0, 1.0, 0.0))
+            axis.set_label_text(name, fontsize=8, color="0.35")
+            axis.labelpad = -12
     handles = [Line2D([], [], color=colour[p.body], label=p.label) for p in moving]
     handles.append(Line2D([], [], color="0.7", label="at rest"))
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize=8)
     fig.suptitle(
-        f"{layout.name}: mode shapes; largest motion drawn as {100 * fraction:.0f} % of the "
+        f"{layout.name}: mode shapes\nlargest motion drawn as {100 * fraction:.0f} % of the "
         f"drive's size ({1e3 * layout.size:.3g} mm)",
         fontsize=10,
     )
