@@ -123,6 +123,27 @@ def test_motion_twists_translates_and_tilts(gear_pair):
     np.testing.assert_allclose(R @ (0, 0, 1), (0, -math.sin(0.05), math.cos(0.05)))
 
 
+def test_the_nutating_gear_tilts_about_its_own_axes_through_the_nutation_centre():
+    design = load_design(
+        example_dir() / "nutation_double_sided.toml",
+        ["tilt13.k_rx=7.65e4 N*m/rad", "tilt13.k_ry=7.65e4 N*m/rad"],
+    )
+    model = build_model(design)
+    layout = drive_layout(design, model)
+    g13 = layout["g13"]
+    e1, e2, a = g13.frame()
+    assert e2 == pytest.approx((0.0, 1.0, 0.0)) and abs(e1 @ a) < 1e-15
+    t, R = layout.motion({"g13.ry": 0.02})["g13"]
+    np.testing.assert_allclose(t, 0.0)  # about the nutation centre, which stays
+    tilt = math.acos(float((R @ a)[2]))
+    assert tilt == pytest.approx(design.theta + 0.02)  # tips further about its own y
+    res = modal(model)
+    tilting = [j for j, c in enumerate(res.classifications) if c.startswith("tilting")]
+    assert tilting  # and the figure draws those modes with the gear tipping
+    fig = res.plot_drive(layout, [tilting[0] + 1])
+    assert len([ax for ax in fig.axes if ax.name == "3d"]) == 1
+
+
 def _peak(fig, j: int, body: str, bodies: list[str]) -> np.ndarray:
     """Decoded coordinates (m) of ``body`` in mode ``j`` of the plotly figure (peak)."""
     grid = fig.layout.meta["grid"]
