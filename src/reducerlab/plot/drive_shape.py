@@ -1,7 +1,7 @@
 """Mode shapes as the drive's bodies moving (issue 32): each body of the lumped model drawn
 at its place in the drive (:class:`~reducerlab.drives.places.DriveLayout`) as circles
-with spokes and an axle, so that a translation moves it, a tilt tips it and a twist
-turns its spokes; the motion of a mode is scaled so that the largest displacement of any
+with a pointer and an axle, so that a translation moves it, a tilt tips it and a twist
+turns its pointer; the motion of a mode is scaled so that the largest displacement of any
 drawn point is a stated fraction of the drive's size.
 
 :func:`plot_drive_shapes` is the still (matplotlib: one 3-D panel per mode, grey at
@@ -108,8 +108,8 @@ def mode_amplitude(
     if big == 0.0 or not math.isfinite(big):
         return 0.0
     h = 1e-7 * layout.size / big
-    rest = deformed_points(layout, {}, 0.0, 12)
-    moved = deformed_points(layout, values, h, 12)
+    rest = deformed_points(layout, {}, 0.0)
+    moved = deformed_points(layout, values, h)
     disp = max(float(np.nanmax(np.linalg.norm(moved[b] - rest[b], axis=1))) for b in rest)
     return 0.0 if disp == 0.0 else fraction * layout.size * h / disp
 
