@@ -278,3 +278,14 @@ def test_heat_maps_text_reads_on_its_cells(gear_pair):
     assert min(t.get_fontsize() for a in energy.axes for t in a.texts) >= 9
     heat = plotly_sensitivity(sens).data[0]
     assert heat.texttemplate == "%{text}" and heat.textfont.color is None  # auto contrast
+
+
+def test_a_place_refuses_what_it_cannot_draw(gear_pair):
+    from reducerlab.drives.places import Place, complete
+
+    with pytest.raises(ReducerlabError, match="axis must be a non-zero 3-vector"):
+        Place("gear", (0, 0, 0), (0, 0, 0), 0.1)
+    with pytest.raises(ReducerlabError, match="radius must be > 0 m"):
+        Place("gear", (0, 0, 0), (0, 0, 1), -0.1)
+    with pytest.raises(ReducerlabError, match="placed twice"):
+        complete([Place("gear", (0, 0, 0), (0, 0, 1), 0.1)] * 2, gear_pair[1])

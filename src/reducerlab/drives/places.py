@@ -291,7 +291,9 @@ def nutation_places(design: NutationDesign) -> list[Place]:
     of the pitch cones): the fixed gear 2 on -z and (double-sided) the output gear 4 on
     +z at their mean cone distances ``R cos(delta)``, the nutating body 13 tilted by the
     nutation angle about y (its axis ``(sin theta, 0, cos theta)``) with gear 1 facing
-    gear 2 and gear 3 facing gear 4: its pitch circles touch theirs at +x and -x."""
+    gear 2 and gear 3 facing gear 4: its pitch circles touch theirs at +x and -x. The
+    drive is drawn as the mesh frame sees it, at input crank angle 0 (the nutating
+    gear's axis precesses about z with the crank)."""
     th = design.theta
     cones = design.cones(th)
     dist = design.cone_distances(th)
