@@ -25,8 +25,8 @@ from ..design import Design, Thresholds
 from ..errors import ReducerlabError, names_source
 from ..model import Model
 from ..units import RPM, TWO_PI
-from .campbell import CampbellResult, campbell, frequencies_over
-from .complex_modal import ComplexCampbellResult, complex_campbell, modes_over, stack_branches
+from .campbell import CampbellResult, campbell
+from .complex_modal import ComplexCampbellResult, complex_campbell, modes_over
 from .components import ComponentModes, as_components
 from .excitation import operating_range
 from .modal import has_skew_terms
@@ -199,17 +199,16 @@ def resonance_check(
     grid = np.unique(np.concatenate([speeds, np.linspace(0.0, 1.5 * hi, 201)]))
     _, model = design_and_model(target, "resonance check")
     # gyroscopic, Coriolis or circulatory terms: check the damped, whirl-split branches
-    rows = modes_over(model, speeds)  # complex modes at each speed: stability and branches
+    rows = modes_over(model, speeds)  # complex modes at each speed: stability
     gyroscopic = has_skew_terms(model.with_speed(float(hi)))
     res: CampbellResult | ComplexCampbellResult
-    if gyroscopic:
-        res = complex_campbell(target, grid)
-        freq, _, whirl, _ = stack_branches(rows)
-        freq = np.where(np.isnan(freq), 0.0, freq)
-    else:
-        res = campbell(target, grid)
-        freq, whirl = frequencies_over(model, speeds), None
+    res = complex_campbell(target, grid) if gyroscopic else campbell(target, grid)
     ds = res.data
+    # the checked speeds on the diagram's tracked modes (the grid holds them exactly)
+    at = np.searchsorted(ds["speed"].values, speeds)
+    freq = np.nan_to_num(ds["frequency"].values[at], nan=0.0)
+    sorted_mode = ds["sorted_mode"].values[at]
+    whirl = ds["whirl"].values[at] if gyroscopic else None
     orders = dict(zip([str(e) for e in ds["excitation"].values], ds["order"].values, strict=True))
     near = []
     for name, order in orders.items():
@@ -225,6 +224,7 @@ def resonance_check(
                 near.append(
                     {
                         "mode": j + 1,
+                        "sorted_mode": int(sorted_mode[i, j]),
                         "excitation": name,
                         "speed_rpm": float(speeds[i] * RPM),
                         "natural_hz": float(fn[i]),
@@ -235,7 +235,7 @@ def resonance_check(
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
-    participation(model, crossings + near, orders, gyroscopic)
+    _participation(model, crossings + near, orders, gyroscopic)
     for row in crossings + near:
         row["excited"] = excited(row, mesh_strain_share, forward_whirl_share)
     stability = _stability(rows, speeds)
@@ -259,6 +259,18 @@ def resonance_check(
             report["component_crossings"] or report["component_near"] or report["coincidences"]
         )
     return ResonanceResult(report, res, comps)
+
+
+def _participation(
+    model: Model, rows: list[dict[str, Any]], orders: dict[str, float], gyroscopic: bool
+) -> None:
+    """:func:`~.participation.participation` of rows named by their tracked mode: the
+    shares are read from the mode's number in frequency order at the row's speed
+    (``sorted_mode``), the numbering the participation measures use."""
+    shown = [{**r, "mode": r.get("sorted_mode", r["mode"])} for r in rows]
+    participation(model, shown, orders, gyroscopic)
+    for row, done in zip(rows, shown, strict=True):
+        row.update({k: v for k, v in done.items() if k not in row})
 
 
 def excited(row: dict[str, Any], mesh_strain_share: float, forward_whirl_share: float) -> bool:
