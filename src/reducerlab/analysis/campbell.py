@@ -139,8 +139,7 @@ def tracked_rows(
     their tracked mode: ``(tracked mode, excitation, speed, frequency, sorted mode)``,
     modes numbered from 1."""
     return [
-        (branch_of(j, w, f, speeds, tracked, order) + 1, name, w, f, j)
-        for j, name, w, f in rows
+        (branch_of(j, w, f, speeds, tracked, order) + 1, name, w, f, j) for j, name, w, f in rows
     ]
 
 

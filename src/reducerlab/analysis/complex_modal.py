@@ -24,6 +24,7 @@ Without damping and gyroscopic terms the damped frequencies are the undamped one
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import pairwise
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -334,7 +335,7 @@ def steady_whirl(labels: Sequence[str], min_run: int | None = None) -> NDArray:
     min_run = max(3, n // 50) if min_run is None else int(min_run)
     while True:
         starts = np.concatenate([[0], np.nonzero(lab[1:] != lab[:-1])[0] + 1, [n]])
-        runs = [(a, b) for a, b in zip(starts[:-1], starts[1:], strict=True)]
+        runs = list(pairwise(starts.tolist()))
         short = [k for k, (a, b) in enumerate(runs) if b - a < min_run and len(runs) > 1]
         if not short:
             break

@@ -28,7 +28,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
-__all__ = ["Event", "Tracking", "branch_of", "find_events", "renumber", "track_complex", "track_modes"]
+__all__ = [
+    "Event",
+    "Tracking",
+    "branch_of",
+    "find_events",
+    "renumber",
+    "track_complex",
+    "track_modes",
+]
 
 
 #: Relative eigenvalue gap below which modes form one repeated eigenvalue.
