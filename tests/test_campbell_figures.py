@@ -185,7 +185,7 @@ def test_crossing_rows_give_the_margin_to_the_operating_range():
 def test_complex_figure_shows_whirl_and_damping(disc):
     fig = plot_complex_campbell(disc)
     ax, bar = fig.axes
-    assert bar.get_ylabel() == "logarithmic decrement"
+    assert bar.get_xlabel() == "logarithmic decrement (damping)"
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     for key in ("forward whirl", "backward whirl", "planar"):
         assert any(t.startswith(key) for t in legend)

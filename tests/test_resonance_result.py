@@ -60,7 +60,7 @@ def test_gyroscopic_models_carry_the_complex_branches():
     assert "whirl" in res.campbell.data
     ax, bar = res.plot().axes  # the diagram and its damping colour bar
     assert ax.get_ylabel() == "damped natural frequency (Hz)"
-    assert bar.get_ylabel() == "logarithmic decrement"
+    assert bar.get_xlabel() == "logarithmic decrement (damping)"
 
 
 def test_the_report_does_not_compute_the_diagram_again(monkeypatch):

@@ -40,6 +40,7 @@ __all__ = [
     "drive_note",
     "excited",
     "format_check",
+    "format_components",
     "percent",
     "resonance_check",
 ]
@@ -419,6 +420,33 @@ def format_check(report: dict[str, Any]) -> str:
             f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
             f"at {r['speed_rpm']:.5g} rpm{drive_note(r, report)}"
         )
+    lines += format_components(report).splitlines()
+    st = report.get("stability")
+    if st is not None:
+        for u in st["unstable"][:10]:
+            lines.append(
+                f"  UNSTABLE  mode {u['mode']} ({u['frequency_hz']:.5g} Hz) grows at "
+                f"{u['growth_rate']:.4g} 1/s at {u['speed_rpm']:.5g} rpm"
+            )
+        if len(st["unstable"]) > 10:
+            lines.append(f"  ... {len(st['unstable']) - 10} more unstable (mode, speed) pairs")
+        z = st["least_damped"]
+        if z is not None:
+            lines.append(
+                f"  DAMPING   least damped: mode {z['mode']} ({z['frequency_hz']:.5g} Hz), "
+                f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
+            )
+    lines.append(
+        "resonance: no resonance risk" if report["ok"] else "resonance: RESONANCE RISK (see above)"
+    )
+    return "\n".join(lines)
+
+
+def format_components(report: dict[str, Any]) -> str:
+    """The gear-body part of :func:`format_check`: body-mode crossings, near misses,
+    coincidences with system modes and each body's closest approaches (empty without
+    components)."""
+    lines: list[str] = []
     for c in report.get("component_crossings", ()):
         lines.append(
             f"  CROSSING  {_body_mode(c)} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
@@ -451,24 +479,6 @@ def format_check(report: dict[str, Any]) -> str:
                 f"system mode {sy['system_mode']})"
             )
         lines.append(", ".join(parts))
-    st = report.get("stability")
-    if st is not None:
-        for u in st["unstable"][:10]:
-            lines.append(
-                f"  UNSTABLE  mode {u['mode']} ({u['frequency_hz']:.5g} Hz) grows at "
-                f"{u['growth_rate']:.4g} 1/s at {u['speed_rpm']:.5g} rpm"
-            )
-        if len(st["unstable"]) > 10:
-            lines.append(f"  ... {len(st['unstable']) - 10} more unstable (mode, speed) pairs")
-        z = st["least_damped"]
-        if z is not None:
-            lines.append(
-                f"  DAMPING   least damped: mode {z['mode']} ({z['frequency_hz']:.5g} Hz), "
-                f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
-            )
-    lines.append(
-        "resonance: no resonance risk" if report["ok"] else "resonance: RESONANCE RISK (see above)"
-    )
     return "\n".join(lines)
 
 

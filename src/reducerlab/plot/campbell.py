@@ -112,8 +112,9 @@ def _crossings(ax: Axes, ds: xr.Dataset, rows: list[dict[str, Any]]) -> None:
     groups = unique_crossings(rows)
     inside = [g[0] for g in groups if lo <= g[0]["speed_rpm"] <= hi]
     outside = [g[0] for g in groups if not lo <= g[0]["speed_rpm"] <= hi]
-    for sel, colour, label in ((inside, CROSSING_COLOUR, "crossing in the operating range"),
-                               (outside, OUTSIDE_COLOUR, "crossing")):  # fmt: skip
+    kinds = ((inside, CROSSING_COLOUR, "crossing in the operating range"),
+             (outside, OUTSIDE_COLOUR, "crossing outside the operating range"))  # fmt: skip
+    for sel, colour, label in kinds:
         if sel:
             ax.plot([c["speed_rpm"] for c in sel], [c["frequency_hz"] for c in sel], "o",
                     mfc="none", color=colour, ms=8 if colour == CROSSING_COLOUR else 6,
@@ -252,7 +253,8 @@ def plot_complex_campbell(
     for label in [k for k in WHIRL if k in shown] + sorted(shown - set(WHIRL)):
         mk, _, text = WHIRL.get(label, ("o", "circle", label))
         ax.plot([], [], mk, mfc="white", mec="k", ls="none", label=text)
-    fig.colorbar(ScalarMappable(norm, cmap), ax=ax, pad=0.01, label="logarithmic decrement")
+    fig.colorbar(ScalarMappable(norm, cmap), ax=ax, location="bottom", shrink=0.45, aspect=35,
+                 pad=0.02, label="logarithmic decrement (damping)")  # fmt: skip
     ax.set_ylabel("damped natural frequency (Hz)")
     ax.set_title(
         f"complex Campbell diagram: {ds.attrs.get('title', '')} (modes tracked by shape, "

@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...analysis.resonance import format_components
 from ...plot.campbell import plotly_campbell
 from ...plot.campbell_style import excitation_label, modes_text, unique_crossings
 from ...plot.modal import plotly_mode_shapes, plotly_sensitivity
-from ..blocks import Section, figure, interactive, note, table, verdict
+from ..blocks import Section, figure, interactive, note, pre, table, verdict
 from ..context import Context
 
 __all__ = [
@@ -208,6 +209,7 @@ def campbell_section(ctx: Context) -> Section | None:
                 "excitation frequencies over the operating range (paper 000 Table 5)",
             )
         )
+        s.blocks.append(pre(format_components(check)))
     return s
 
 
