@@ -475,9 +475,10 @@ class ComplexCampbellResult(Result):
     def plot(
         self, components: Sequence[ComponentModes] = (), *, fmax: float | None = None
     ) -> Figure:
-        """Damped frequencies against speed: forward whirl as up-triangles, backward as
-        down-triangles, unstable points as red crosses; excitation lines; crossings;
-        ``components``: body modes drawn as horizontal lines (see
+        """Damped frequencies against speed: each tracked mode coloured by its log
+        decrement, its whirl marked (up-triangles forward, down-triangles backward),
+        unstable points as red crosses; excitation lines; crossings; ``components``:
+        body modes drawn as horizontal lines (see
         :func:`~reducerlab.plot.campbell.plot_complex_campbell`)."""
         from ..plot.campbell import plot_complex_campbell
 

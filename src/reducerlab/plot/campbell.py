@@ -97,7 +97,16 @@ def _excitations(ax: Axes, ds: xr.Dataset, rpm: np.ndarray, top: float,
 def _right_labels(ax: Axes, ends: list[tuple[float, str, str]], x: float, top: float) -> None:
     """Labels at the right edge (excitation names, mode numbers), spread so that none
     overlaps."""
-    ends = [e for e in ends if np.isfinite(e[0]) and 0 <= e[0] <= top]
+    ends = sorted((e for e in ends if np.isfinite(e[0]) and 0 <= e[0] <= top), key=lambda e: e[0])
+    merged: list[tuple[float, str, str]] = []
+    for e in ends:  # modes ending at one frequency (a repeated one) share one label
+        last = merged[-1] if merged else None
+        if (last is not None and e[1].isdigit() and last[1].replace(", ", "").isdigit()
+                and e[0] - last[0] <= 0.004 * top):  # fmt: skip
+            merged[-1] = (last[0], f"{last[1]}, {e[1]}", "0.15")
+        else:
+            merged.append(e)
+    ends = merged
     ys = spread([y for y, _, _ in ends], 0.035 * top)
     for y, (_, text, colour) in zip(ys, ends, strict=True):
         if y <= top:
