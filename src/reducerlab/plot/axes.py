@@ -59,7 +59,7 @@ def scaled_unit(values: Any, unit: str) -> tuple[float, str]:
         Multiply the values by it to show them.
     unit : str
         The unit they are shown in (``"µm"``, ``"mm/s"``, ``"MN/m"``, ``"mrad"``; a unit
-        with no prefix form such as ``kg·m²`` is scaled as ``"1e-3 kg·m²"``).
+        with no prefix form such as ``kg·m²`` is scaled as ``"10⁻³ kg·m²"``).
     """
     v = np.asarray(values, dtype=float)
     v = np.abs(v[np.isfinite(v)])
@@ -75,7 +75,8 @@ def scaled_unit(values: Any, unit: str) -> tuple[float, str]:
             return 10.0 ** (-power), name
         if power == 0:
             return 1.0, pretty_unit(unit)
-        return 10.0 ** (-power), f"1e{power} {pretty_unit(unit)}"
+        exponent = str(power).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+        return 10.0 ** (-power), f"10{exponent} {pretty_unit(unit)}"
     return 10.0 ** (-power), PREFIXES[power] + pretty_unit(unit)
 
 
@@ -157,6 +158,6 @@ def parameter_axis(coord: Any, name: str) -> tuple[Any, str]:
     if not unit:
         return x, name
     if unit in ("um", "mm", "ms"):  # display units that carry their prefix already
-        return x, f"{name} ({pretty_unit(unit)})"
+        return x, f"{name} ({unit})"
     factor, shown = scaled_unit(x, unit)
     return x * factor, f"{name} ({shown})"
