@@ -65,7 +65,9 @@ def coinciding_period(
 ) -> int:
     """The period n of Poincaré points that coincide every n points to within ``tol`` of
     the orbit's size (a period-n orbit whose spread is round-off or integration error
-    against the motion), 0 when they do not.
+    against the motion), 0 when they do not: every n-th point (each of the n classes)
+    spreads over less than ``tol`` times the size, so that a slow drift whose steps are
+    small but whose course is not does not pass.
 
     Parameters
     ----------
@@ -92,7 +94,7 @@ def coinciding_period(
     if not np.all(np.isfinite(pts)) or pts.shape[0] < 2:
         return 0
     for n in range(1, min(max_period, pts.shape[0] - 1) + 1):
-        if np.all(np.abs(pts[n:] - pts[:-n]) <= tol * size):
+        if all(np.all(np.ptp(pts[k::n], axis=0) <= tol * size) for k in range(n)):
             return n
     return 0
 
@@ -281,8 +283,8 @@ class Spectrum:
 
 
 def windowed_spectrum(signal: NDArray[np.float64], dt: float, pad: int = 8) -> Spectrum:
-    """The Hann-windowed, zero-padded one-sided amplitude spectrum of ``signal`` (its mean
-    removed), for display. The Hann window keeps the leakage of a sinusoid that does not
+    """The Hann-windowed, zero-padded one-sided amplitude spectrum of ``signal`` (its
+    windowed mean removed), for display. The Hann window keeps the leakage of a sinusoid that does not
     fall on a bin in sidelobes below -31 dB that fall by 18 dB per octave (a rectangular
     window: -13 dB, 6 dB per octave); the amplitudes are divided by the window's sum
     (coherent gain), so a sinusoid of amplitude A peaks at A.
@@ -306,6 +308,7 @@ def windowed_spectrum(signal: NDArray[np.float64], dt: float, pad: int = 8) -> S
         raise ReducerlabError("windowed_spectrum: need >= 4 samples, dt > 0 and pad >= 1")
     w = np.hanning(x.size)
     n_fft = pad * x.size
-    amp = 2.0 * np.abs(np.fft.rfft((x - x.mean()) * w, n=n_fft)) / np.sum(w)
+    mean = np.sum(x * w) / np.sum(w)  # the windowed mean: no DC left under the window
+    amp = 2.0 * np.abs(np.fft.rfft((x - mean) * w, n=n_fft)) / np.sum(w)
     record = x.size * dt
     return Spectrum(np.fft.rfftfreq(n_fft, dt), amp, 1.0 / record, record, "Hann", pad)
