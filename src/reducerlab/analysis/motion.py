@@ -284,10 +284,10 @@ class Spectrum:
 
 def windowed_spectrum(signal: NDArray[np.float64], dt: float, pad: int = 8) -> Spectrum:
     """The Hann-windowed, zero-padded one-sided amplitude spectrum of ``signal`` (its
-    windowed mean removed), for display. The Hann window keeps the leakage of a sinusoid that does not
-    fall on a bin in sidelobes below -31 dB that fall by 18 dB per octave (a rectangular
-    window: -13 dB, 6 dB per octave); the amplitudes are divided by the window's sum
-    (coherent gain), so a sinusoid of amplitude A peaks at A.
+    windowed mean removed), for display. The Hann window keeps the leakage of a sinusoid
+    that does not fall on a bin in sidelobes below -31 dB that fall by 18 dB per octave
+    (a rectangular window: -13 dB, 6 dB per octave); the amplitudes are divided by the
+    window's sum (coherent gain), so a sinusoid of amplitude A peaks at A.
 
     Parameters
     ----------
