@@ -255,3 +255,35 @@ def test_sweep_axes_name_the_unit_not_si():
         assert ax.xaxis.get_offset_text().get_text() == ""
         x, _ = parameter_axis(res.data["p0"], path)
         assert ax.get_xlim()[0] <= x.min() and ax.get_xlim()[1] >= x.max()
+
+
+def test_plain_figure_widens_a_round_off_span_and_keeps_placed_ticks():
+    from matplotlib.figure import Figure
+
+    from reducerlab.plot.axes import plain_figure
+
+    fig = Figure()
+    ax, bx = fig.subplots(1, 2)
+    speed = 157.07963267948966 + 1e-13 * np.random.default_rng(1).standard_normal(50)
+    ax.plot(np.arange(50), speed)  # a constant speed, varying in its 15th digit
+    bx.barh([0, 1], [2.16, 2.33])
+    bx.set_yticks([0, 1], ["pinion", "gear"])
+    drawn(plain_figure(fig))
+    lo, hi = ax.get_ylim()
+    assert hi - lo >= 1e-2 * 157.0 and lo < speed.min() and hi > speed.max()
+    for axis in (ax.xaxis, ax.yaxis, bx.xaxis, bx.yaxis):
+        assert axis.get_offset_text().get_text() == ""
+    assert [t.get_text() for t in bx.get_yticklabels()] == ["pinion", "gear"]
+    labels = [t.get_text() for t in ax.get_yticklabels()]
+    assert len(set(labels)) == len(labels)
+
+
+def test_rating_figure_has_no_legend_over_its_bars():
+    from reducerlab.analysis.rating import load_capacity
+    from reducerlab.plot.rating import plot_rating
+
+    fig = drawn(plot_rating(load_capacity(load_design("examples/gear_pair.toml"))))
+    for ax in fig.axes:
+        assert ax.get_legend() is None and "dashed: S_" in ax.get_xlabel()
+        assert ax.xaxis.get_offset_text().get_text() == ""
+    assert [t.get_text() for t in fig.axes[0].get_yticklabels()] == ["pinion", "gear"]

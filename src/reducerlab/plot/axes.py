@@ -20,6 +20,7 @@ __all__ = [
     "parameter_axis",
     "plain_axes",
     "plain_axis",
+    "plain_figure",
     "pretty_unit",
     "scaled_unit",
 ]
@@ -161,3 +162,58 @@ def parameter_axis(coord: Any, name: str) -> tuple[Any, str]:
         return x, f"{name} ({unit})"
     factor, shown = scaled_unit(x, unit)
     return x * factor, f"{name} ({shown})"
+
+
+#: A view whose span is below this share of its values' size shows round-off (a
+#: constant that varies in its last digits): :func:`plain_figure` widens it.
+ROUND_OFF_SPAN = 1e-6
+
+#: The span such a view is widened to, as a share of its values' size (a constant drawn
+#: as a flat line, ticks of four digits).
+FLAT_SPAN = 1e-2
+
+
+def plain_figure(fig: Any, nbins: int = 6) -> Any:
+    """Plain tick labels on every axis of ``fig`` (:func:`plain_axis`; a colorbar keeps
+    its locator and takes the plain formatter; log axes, axes with ticks the figure
+    placed itself, such as categories, and non-rectilinear axes are left as they are)
+    and no view spanning round-off: an axis
+    whose span is below :data:`ROUND_OFF_SPAN` of its values' size (a constant speed
+    that varies in its fifteenth digit) is widened to :data:`FLAT_SPAN` of it about its
+    centre, so that it reads as the constant it is instead of ``1e-13+1.5708e2``.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    nbins : int
+        The most ticks (less one) on an axis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig``, changed in place.
+    """
+    from matplotlib.ticker import FixedLocator, ScalarFormatter
+
+    for ax in fig.axes:
+        if ax.name != "rectilinear":  # polar, 3-D: their own ticks
+            continue
+        colorbar = ax.get_label() == "<colorbar>"
+        for axis, get, put in (
+            (ax.xaxis, ax.get_xlim, ax.set_xlim),
+            (ax.yaxis, ax.get_ylim, ax.set_ylim),
+        ):
+            if axis.get_scale() != "linear" or isinstance(axis.get_major_locator(), FixedLocator):
+                continue  # log axes, and ticks the figure placed (categories, none)
+            if colorbar:
+                fmt = ScalarFormatter(useOffset=False)
+                fmt.set_scientific(False)
+                axis.set_major_formatter(fmt)
+                continue
+            lo, hi = get()
+            size = max(abs(lo), abs(hi))
+            if size > 0 and abs(hi - lo) < ROUND_OFF_SPAN * size:
+                mid, half = 0.5 * (lo + hi), 0.5 * FLAT_SPAN * size
+                put(mid - half, mid + half)
+            plain_axis(axis, nbins)
+    return fig

@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -72,4 +74,4 @@ def plot_ball_track(result: Any) -> Figure:
     polar.set_title(f"ball forces at {t[i]:.3g} N m (max {fmax:.3g} N)")
     polar.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4, fontsize=7)
     fig.colorbar(sc, ax=polar, label="force (N)", shrink=0.8)
-    return fig
+    return plain_figure(fig)

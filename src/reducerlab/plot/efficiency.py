@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -38,4 +40,4 @@ def plot_efficiency(result: Any) -> Figure:
     bx.set_ylabel("friction power (W)")
     bx.set_ylim(bottom=0.0)
     bx.legend(title="torque")
-    return fig
+    return plain_figure(fig)

@@ -8,6 +8,7 @@ import numpy as np
 
 from ..errors import ReducerlabError
 from ..geometry import InternalGearPair
+from .axes import plain_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -95,7 +96,7 @@ def plot_closed_graph(
     )
     ax.legend(handles=handles + ax.get_legend_handles_labels()[0], fontsize=7, loc="upper left")
     ax.grid(alpha=0.3)
-    return fig
+    return plain_figure(fig)
 
 
 def plot_mesh_stiffness(laws: dict[str, object], periods: float = 2.0) -> Figure:
@@ -115,7 +116,7 @@ def plot_mesh_stiffness(laws: dict[str, object], periods: float = 2.0) -> Figure
     ax.set_title("time-varying mesh stiffness (dashed: mean)", fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    return fig
+    return plain_figure(fig)
 
 
 def plot_clearances(rolls: np.ndarray, teeth: list[int], clearance: np.ndarray) -> Figure:
@@ -140,7 +141,7 @@ def plot_clearances(rolls: np.ndarray, teeth: list[int], clearance: np.ndarray) 
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7, ncol=2)
     ax.set_title("unloaded drive-flank clearances of the tooth pairs over one mesh cycle")
-    return fig
+    return plain_figure(fig)
 
 
 def plot_load_sharing(result, shown: int = 3) -> Figure:
@@ -201,4 +202,4 @@ def plot_load_sharing(result, shown: int = 3) -> Figure:
     for a in (a1, a2, a3, a4):
         a.grid(alpha=0.3)
     fig.suptitle(f"KHV pair load sharing, pairs {ds.attrs['pairs_examined']}", fontsize=10)
-    return fig
+    return plain_figure(fig)

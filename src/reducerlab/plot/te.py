@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -55,7 +57,7 @@ def plot_te_sweep(result: Any) -> Figure:
     bx.set_title("Peak-to-peak TE and mesh harmonics")
     bx.grid(alpha=0.3)
     bx.legend(fontsize=8)
-    return fig
+    return plain_figure(fig)
 
 
 def plot_layout(result: Any) -> Figure:
@@ -97,4 +99,4 @@ def plot_layout(result: Any) -> Figure:
         fontsize=10,
     )
     ax.legend(fontsize=8, loc="upper right")
-    return fig
+    return plain_figure(fig)

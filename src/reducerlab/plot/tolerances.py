@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -45,4 +47,4 @@ def plot_tolerances(result: Any) -> Figure:
         bottom.set_ylabel("fraction of samples below")
         bottom.set_ylim(0, 1.02)
     fig.suptitle(f"Monte-Carlo over tolerances: {a['samples']} samples, seed {a['seed']}")
-    return fig
+    return plain_figure(fig)

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -73,7 +75,7 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     )
     bx.set_ylabel("amplitude (arcsec)")
     bx.set_ylim(bottom=0.0)
-    return fig
+    return plain_figure(fig)
 
 
 def _loaded_zoom(fig: Figure, ax: Any, ds: Any, deg: Any) -> None:
