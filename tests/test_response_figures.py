@@ -287,3 +287,20 @@ def test_rating_figure_has_no_legend_over_its_bars():
         assert ax.get_legend() is None and "dashed: S_" in ax.get_xlabel()
         assert ax.xaxis.get_offset_text().get_text() == ""
     assert [t.get_text() for t in fig.axes[0].get_yticklabels()] == ["pinion", "gear"]
+
+
+def test_time_history_draws_one_curve_where_dte_equals_the_deflection():
+    (ax,) = drawn(plot_transmission_error(synthetic())).axes
+    (line,) = ax.get_lines()
+    assert line.get_label() == "DTE = mesh deflection (e = 0)"
+    assert ax.get_ylabel().endswith("(µm)") and ax.get_xlabel() == "time (ms)"
+
+
+def test_a_zero_transmission_error_says_why_its_figure_is_empty():
+    from reducerlab.analysis.transmission_accuracy import transmission_accuracy
+
+    res = transmission_accuracy(load_design("examples/gear_pair.toml"))  # no errors given
+    assert not np.any(res.data["error"].values)
+    fig = drawn(res.plot())
+    for ax in fig.axes[:2]:
+        assert any("no manufacturing or assembly error" in t.get_text() for t in ax.texts)

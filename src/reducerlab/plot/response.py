@@ -236,7 +236,7 @@ def plot_transmission_error(result: ResponseResult) -> Figure:
     plain_axes(ax, xbins=8)
     ax.set_xlabel(f"time ({ut})")
     ax.set_ylabel(f"displacement along the line ({unit})", fontsize=9)
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2, frameon=False)
     ax.grid(alpha=0.3)
     return fig
 
