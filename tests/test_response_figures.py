@@ -304,3 +304,21 @@ def test_a_zero_transmission_error_says_why_its_figure_is_empty():
     fig = drawn(res.plot())
     for ax in fig.axes[:2]:
         assert any("no manufacturing or assembly error" in t.get_text() for t in ax.texts)
+
+
+def test_tolerance_histograms_keep_their_legends_off_the_bars():
+    from reducerlab.analysis.tolerances import tolerances
+
+    d = load_design("examples/gear_pair.toml")
+    res = tolerances(d, {"mesh.backlash": "60..100 um"}, samples=8, te_samples=256)
+    axes = np.asarray(drawn(res.plot()).axes).reshape(2, -1)
+    for j in range(axes.shape[1]):
+        top, bottom = axes[:, j]
+        assert top.get_legend() is None and bottom.get_legend() is not None
+        assert bottom.get_xlim() == pytest.approx(top.get_xlim())
+        for ax in (top, bottom):
+            assert ax.xaxis.get_offset_text().get_text() == ""
+    # the backlash alone leaves the unloaded transmission error at zero in every sample
+    te = axes[0, -1]
+    assert any("every sample" in t.get_text() for t in te.texts)
+    assert not any(t.get_text() for t in axes[0, 0].texts)
