@@ -42,6 +42,7 @@ def plot_ball_track(result: Any) -> Figure:
     ax2.plot(t, n.mean(axis=1), "C3-s", ms=3, label="loaded balls (mean)")
     ax2.set_ylabel("loaded balls", color="C3")
     ax2.set_ylim(0, a["balls"] + 1)
+    ax.set_ylim(0, 1.08 * max(float(kt.max()) / 1e3, 1e-300))  # both zeros on the baseline
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
     ax.legend(h1 + h2, l1 + l2, loc="lower right", fontsize=8)
