@@ -84,6 +84,7 @@ CASES = {
     "period-2": dict(poincare="period-2"),
     "quasi-periodic ring": dict(poincare="ring"),
     "rattle across the backlash": dict(mean=-5e-6, amp=8e-6, backlash=2e-6, poincare="ring"),
+    "not excited (round-off)": dict(amp=0.0),
 }
 
 

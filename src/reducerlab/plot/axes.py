@@ -16,6 +16,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 __all__ = [
+    "FLAT_SPAN",
+    "ROUND_OFF_SPAN",
     "fit_limits",
     "parameter_axis",
     "plain_axes",
@@ -101,10 +103,21 @@ def plain_axes(ax: Axes, xbins: int = 5, ybins: int = 5) -> None:
     plain_axis(ax.yaxis, ybins)
 
 
+#: A view whose span is below this share of its values' size shows round-off (a
+#: constant that varies in its last digits): :func:`plain_figure` widens it.
+ROUND_OFF_SPAN = 1e-6
+
+#: The span such a view is widened to, as a share of its values' size (a constant drawn
+#: as a flat line, ticks of four digits).
+FLAT_SPAN = 1e-2
+
+
 def fit_limits(values: Any, margin: float = 0.08, floor: float = 0.0) -> tuple[float, float]:
     """Limits that show ``values`` with ``margin`` of their range on each side; a range
     below ``floor`` (a span the figure must show at least, e.g. the orbit's size against
-    the round-off spread of coinciding points) is widened to ``floor`` about the centre.
+    the round-off spread of coinciding points) is widened to ``floor`` about the centre,
+    and one below :data:`ROUND_OFF_SPAN` of the values' size (a constant up to
+    round-off) to :data:`FLAT_SPAN` of it.
 
     Parameters
     ----------
@@ -125,9 +138,12 @@ def fit_limits(values: Any, margin: float = 0.08, floor: float = 0.0) -> tuple[f
     if not v.size:
         return 0.0, 1.0
     lo, hi = float(v.min()), float(v.max())
+    size = max(abs(lo), abs(hi))
     span = max(hi - lo, floor)
-    if span <= 0.0:  # all equal and no floor: a tenth of the value's size
-        span = 0.1 * abs(lo) or 1.0
+    if span < ROUND_OFF_SPAN * size:  # a constant up to round-off: drawn flat
+        span = FLAT_SPAN * size
+    if span <= 0.0:  # all zero and no floor
+        span = 1.0
     mid = 0.5 * (lo + hi)
     half = 0.5 * span * (1.0 + 2.0 * margin)
     return mid - half, mid + half
@@ -162,15 +178,6 @@ def parameter_axis(coord: Any, name: str) -> tuple[Any, str]:
         return x, f"{name} ({unit})"
     factor, shown = scaled_unit(x, unit)
     return x * factor, f"{name} ({shown})"
-
-
-#: A view whose span is below this share of its values' size shows round-off (a
-#: constant that varies in its last digits): :func:`plain_figure` widens it.
-ROUND_OFF_SPAN = 1e-6
-
-#: The span such a view is widened to, as a share of its values' size (a constant drawn
-#: as a flat line, ticks of four digits).
-FLAT_SPAN = 1e-2
 
 
 def plain_figure(fig: Any, nbins: int = 6) -> Any:

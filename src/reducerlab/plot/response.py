@@ -60,20 +60,30 @@ def plot_response(result: ResponseResult) -> Figure:
     return fig
 
 
-def _units(ds: Any) -> tuple[float, str, float, str]:
-    """Display factors and units of the mesh deflection and its velocity."""
-    fd, ud = scaled_unit(ds["delta"].values, "m")
-    fv, uv = scaled_unit(ds["delta_velocity"].values, "m/s")
-    return fd, ud, fv, uv
+def _scales(ds: Any) -> tuple[float, str, float, str, float, float]:
+    """Display factors and units of the mesh deflection and its velocity, and the least
+    sizes the figures show of each: :data:`reducerlab.analysis.response.NOISE_M` (1 pm,
+    the round-off of a mesh deflection) and that times the forcing's angular frequency,
+    so that a motion nothing excites is drawn as the still point it is, not as its
+    round-off magnified."""
+    from ..analysis.response import NOISE_M
+
+    floor_d = NOISE_M
+    floor_v = 2 * np.pi * float(ds.attrs["forcing_hz"]) * NOISE_M
+    fd, ud = scaled_unit(np.append(ds["delta"].values, floor_d), "m")
+    fv, uv = scaled_unit(np.append(ds["delta_velocity"].values, floor_v), "m/s")
+    return fd, ud, fv, uv, floor_d, floor_v
 
 
 def _phase(ax: Axes, ds: Any) -> None:
     """The phase trajectory on the orbit's limits, the backlash edges inside the view
     drawn, those outside named at the side they lie on."""
-    fd, ud, fv, uv = _units(ds)
+    fd, ud, fv, uv, floor_d, floor_v = _scales(ds)
     d, v = ds["delta"].values * fd, ds["delta_velocity"].values * fv
-    xlim, ylim = fit_limits(d), fit_limits(v)
+    xlim, ylim = fit_limits(d, floor=floor_d * fd), fit_limits(v, floor=floor_v * fv)
     ax.plot(d, v, lw=0.7, color="C0")
+    if np.ptp(d) <= floor_d * fd:  # a still point: a line of no length shows nothing
+        ax.plot(d[:1], v[:1], "o", color="C0", ms=5)
     b = float(ds.attrs.get("half_backlash_m", 0.0)) * fd
     if b > 0:  # the backlash: no elastic force while |deflection| < b
         lo, hi = max(-b, xlim[0]), min(b, xlim[1])
@@ -123,10 +133,12 @@ def _poincare(ax: Axes, ds: Any) -> None:
     extent."""
     from ..analysis.motion import coinciding_period
 
-    fd, ud, fv, uv = _units(ds)
+    fd, ud, fv, uv, floor_d, floor_v = _scales(ds)
     d, v = ds["delta"].values, ds["delta_velocity"].values
     pts = np.column_stack([ds["poincare_delta"].values, ds["poincare_velocity"].values])
-    sizes = np.array([np.ptp(d), np.ptp(v)])
+    # the orbit's size, at least the round-off floors (a motion nothing excites: its
+    # points coincide as the fixed point they are)
+    sizes = np.array([max(float(np.ptp(d)), floor_d), max(float(np.ptp(v)), floor_v)])
     n = coinciding_period(pts, sizes, tol=COINCIDE)
     spread_d = float(np.ptp(pts[:, 0]))
     if n:
@@ -143,13 +155,13 @@ def _poincare(ax: Axes, ds: Any) -> None:
             f"= {rel:.1g} × orbit ({cause})",
             transform=ax.transAxes, fontsize=7, va="bottom", color="0.25",
         )  # fmt: skip
-        ax.set_xlim(*fit_limits(d * fd))
-        ax.set_ylim(*fit_limits(v * fv))
+        ax.set_xlim(*fit_limits(d * fd, floor=floor_d * fd))
+        ax.set_ylim(*fit_limits(v * fv, floor=floor_v * fv))
         ax.legend(fontsize=7, loc="upper right")
     else:
         ax.plot(pts[:, 0] * fd, pts[:, 1] * fv, ".k", ms=3)
-        ax.set_xlim(*fit_limits(pts[:, 0] * fd))
-        ax.set_ylim(*fit_limits(pts[:, 1] * fv))
+        ax.set_xlim(*fit_limits(pts[:, 0] * fd, floor=floor_d * fd))
+        ax.set_ylim(*fit_limits(pts[:, 1] * fv, floor=floor_v * fv))
         rel = spread_d / max(sizes[0], 1e-300)
         if rel < 0.05:
             ax.text(0.02, 0.03, f"spread {spread_d:.2g} m = {rel:.2g} × orbit",
@@ -163,6 +175,8 @@ def _poincare(ax: Axes, ds: Any) -> None:
 def _spectrum(ax: Axes, result: ResponseResult) -> None:
     """The Hann-windowed spectrum against multiples of the forcing frequency, its
     resolution stated, harmonics marked, the largest peaks labelled."""
+    from ..analysis.response import NOISE_M
+
     ds = result.data
     fh = float(ds.attrs["forcing_hz"])
     sp = result.spectrum()
@@ -171,7 +185,7 @@ def _spectrum(ax: Axes, result: ResponseResult) -> None:
     top = max([4.0, *(p + 0.5 for p, _ in peaks)])
     top = min(float(np.ceil(top)), float(m[-1]))
     shown = m <= top
-    fa, ua = scaled_unit(sp.amplitude[shown], "m")
+    fa, ua = scaled_unit(np.append(sp.amplitude[shown], NOISE_M), "m")
     amp = sp.amplitude * fa
     big = float(amp[shown].max()) if np.any(shown) else 0.0
     heights = [float(a) * fa for _, a in peaks]
@@ -188,7 +202,11 @@ def _spectrum(ax: Axes, result: ResponseResult) -> None:
         ax.set_yscale("log")
         ax.set_ylim(max(big * 1e-5, min(heights) / 3), big * 3)
     else:
-        ax.set_ylim(0, big * 1.15 if big > 0 else 1.0)
+        ax.set_ylim(0, max(big * 1.15, NOISE_M * fa))
+    if float(np.ptp(ds["delta"].values)) <= NOISE_M:
+        ax.text(0.5, 0.5, f"not excited: the deflection varies by\nless than {NOISE_M:g} m "
+                "(round-off)", transform=ax.transAxes, ha="center", va="center", fontsize=8,
+                color="0.3")  # fmt: skip
     plain_axes(ax)
     ax.set_xlabel(f"frequency / forcing frequency (f = {fh:.4g} Hz)")
     ax.set_ylabel(f"amplitude ({ua})")
