@@ -30,11 +30,12 @@ def synthetic(
     amp: float = 0.6e-6,
     backlash: float = 40e-6,
     poincare: str = "period-1",
+    spread: float = 1e-20,
     rng: int = 0,
 ) -> ResponseResult:
     """A steady response as ``response()`` returns it: a mesh deflection of two
     harmonics about ``mean`` (m), its Poincaré points (``"period-1"``: the orbit's point
-    at the period, spread by 1e-20 m of round-off; ``"period-2"``: two points;
+    at the period, spread by ``spread`` (m; 1e-20: round-off); ``"period-2"``: two points;
     ``"ring"``: a closed curve of 0.3 x the orbit, quasi-periodic)."""
     w = 2 * math.pi * F
     t = np.arange(1, STEPS * HISTORY + 1) / (STEPS * F)
@@ -43,7 +44,7 @@ def synthetic(
     noise = np.random.default_rng(rng).standard_normal((2, 100))
     k = np.arange(100)
     if poincare == "period-1":
-        pd = mean + 0.2 * amp * math.sin(0.3) + 1e-20 * noise[0]
+        pd = mean + 0.2 * amp * math.sin(0.3) + spread * noise[0]
         pv = amp * w * (1 + 0.4 * math.cos(0.3)) + 1e-15 * noise[1]
     elif poincare == "period-2":
         pd = mean + 0.5 * amp * (-1.0) ** k + 1e-20 * noise[0]
@@ -125,6 +126,9 @@ def test_coinciding_poincare_points_are_drawn_on_the_orbit_scale():
     assert len(markers) == 1 and len(markers[0].get_xdata()) == 1
     note = " ".join(t.get_text() for t in ax.texts)
     assert "period 1" in note and "round-off" in note
+    # a spread above round-off but within the integrator's accuracy says so
+    fuzzy = drawn(plot_response(synthetic(spread=1e-13))).axes[1]
+    assert "(integration accuracy)" in " ".join(t.get_text() for t in fuzzy.texts)
     two = drawn(plot_response(synthetic(poincare="period-2"))).axes[1]
     (marks,) = [line for line in two.get_lines() if line.get_marker() == "o"]
     assert len(marks.get_xdata()) == 2

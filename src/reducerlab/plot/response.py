@@ -148,7 +148,13 @@ def _poincare(ax: Axes, ds: Any) -> None:
         ax.plot(centres[:, 0] * fd, centres[:, 1] * fv, "o", color="k", ms=6, zorder=3,
                 label=f"{n} point{'s' if n > 1 else ''}")  # fmt: skip
         rel = spread / max(sizes[0], 1e-300)
-        cause = "round-off" if spread <= 1e-9 * max(np.abs(d).max(), 1e-300) else "accuracy"
+        accuracy = float(ds.attrs.get("accuracy", float("nan")))
+        if spread <= 1e-9 * max(float(np.abs(d).max()), 1e-300):
+            cause = "round-off"
+        elif rel <= (accuracy if np.isfinite(accuracy) else 1e-6):
+            cause = "integration accuracy"
+        else:
+            cause = "below what this scale shows"
         ax.text(
             0.02, 0.03,
             f"period {n}: {pts.shape[0]} points coincide,\nspread {spread:.1g} m "
