@@ -12,6 +12,7 @@ from reducerlab.analysis.modal import ModalResult, SensitivityResult, frequency_
 from reducerlab.drives import build_model, load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
+from reducerlab.plot.axes import scaled_unit
 
 
 @pytest.fixture(scope="module")
@@ -69,12 +70,15 @@ def test_figures(example):
     assert len(panels) == 6
     # default: the mass-normalised shape, translations (m) over rotations (rad)
     top, bottom = panels[1].axes
-    assert "(m)" in top.get_ylabel() and "(rad)" in bottom.get_ylabel()
+    assert "m)" in top.get_ylabel() and "rad)" in bottom.get_ylabel()
     kinds = list(res.data["kind"].values)
     trans = [i for i, k in enumerate(kinds) if k in ("x", "y")]
     rot = [i for i, k in enumerate(kinds) if k == "rz"]
-    np.testing.assert_allclose([p.get_height() for p in top.patches], res.shapes[trans, 1])
-    np.testing.assert_allclose([p.get_height() for p in bottom.patches], res.shapes[rot, 1])
+    for ax, rows, unit in ((top, trans, "m"), (bottom, rot, "rad")):
+        factor, shown = scaled_unit(res.shapes[rows, 1], unit)  # with a prefix: mm, mrad
+        assert ax.get_ylabel().endswith(f"({shown})")
+        heights = [p.get_height() for p in ax.patches]
+        np.testing.assert_allclose(heights, factor * res.shapes[rows, 1])
     # energy scale: bars are signed sqrt of the kinetic shares, max 1 over the mode
     energy = res.plot_shapes(scale="energy")
     heights = [p.get_height() for a in energy.subfigs[1].axes for p in a.patches]

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..errors import ReducerlabError
 from ..units import RPM
+from .axes import plain_axis, scaled_unit
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -141,8 +142,12 @@ def plot_mode_shapes(
     for panel, m in zip(panels, modes, strict=False):
         j = all_modes.index(m)
         axes = np.atleast_1d(panel.subplots(len(groups), 1))
-        for ax, (_, idx, ylabel) in zip(axes, groups, strict=True):
+        for ax, (name, idx, ylabel) in zip(axes, groups, strict=True):
             h = bars[idx, j]
+            if scale == "mass":  # shown with the prefix that keeps the numbers short
+                factor, unit = scaled_unit(h, "m" if name == "translation" else "rad")
+                h = factor * h
+                ylabel = ylabel.rsplit(" (", 1)[0] + f" ({unit})"
             x = np.arange(len(idx))
             ax.bar(x, h, color=[colours[i] for i in idx])
             ax.axhline(0.0, color="0.3", lw=0.6)
@@ -151,6 +156,7 @@ def plot_mode_shapes(
             ax.set_ylim(-1.15 * top, 1.15 * top)
             ax.set_ylabel(ylabel, fontsize=7)
             ax.tick_params(axis="y", labelsize=7)
+            plain_axis(ax.yaxis)
             ax.grid(axis="y", alpha=0.3)
         f = float(ds["frequency"].values[j])
         panel.suptitle(f"mode {m}: {f:.5g} Hz\n{ds['classification'].values[j]}", fontsize=8)
