@@ -147,7 +147,7 @@ def test_the_nutating_gear_tilts_about_its_own_axes_through_the_nutation_centre(
 def _peak(fig, j: int, body: str, bodies: list[str]) -> np.ndarray:
     """Decoded coordinates (m) of ``body`` in mode ``j`` of the plotly figure (peak)."""
     grid = fig.layout.meta["grid"]
-    trace = fig.data[1 + j * len(bodies) + bodies.index(body)]
+    trace = fig.data[fig.layout.meta["first_mode_trace"] + j * len(bodies) + bodies.index(body)]
     q = np.column_stack([np.asarray(trace[k], float) for k in "xyz"])
     return np.asarray(grid["origin"]) + grid["unit"] * q
 
@@ -156,7 +156,10 @@ def test_a_twist_mode_turns_the_bodies_without_moving_their_centres(khv):
     _, _, res, layout = khv
     fig = plotly_drive_shapes(res, layout)
     moving = ["drive", "carrier", "planet", "load"]
-    assert [t.name for t in fig.data[1:5]] == [layout[b].label for b in moving]
+    assert fig.data[1].name == layout["ring"].label  # the fixed ring, still
+    assert fig.layout.meta["first_mode_trace"] == 2
+    assert [t.name for t in fig.data[2:6]] == [layout[b].label for b in moving]
+    assert all(f.traces[0] == 2 for f in fig.frames)  # rest and ring stay still
     unit = fig.layout.meta["grid"]["unit"]
     for j, _ in enumerate(fig.layout.meta["modes"]):
         for body in ("drive", "load"):  # on the axis, no carrier: they only turn
@@ -233,6 +236,8 @@ def test_the_still_has_one_panel_per_elastic_mode(gear_pair):
     # each panel draws the bodies at rest (grey) and at the mode's peak (coloured)
     peak = deformed_points(layout, shape_values(res, 2), 1.0)
     assert len(panels[0].lines) == 2 * len(peak)
+    still = res.plot_drive(layout, [2])  # nothing fixed here; the KHV ring is: dashed
+    assert [h.get_label() for h in still.legends[0].legend_handles][-1] == "at rest"
     assert len(res.plot_drive(layout, [2, 3]).axes) == 2
 
 

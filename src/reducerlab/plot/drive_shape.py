@@ -195,8 +195,9 @@ def plot_drive_shapes(
         ax = fig.add_subplot(nrow, ncol, i + 1, projection="3d")
         values = shape_values(result, m)
         peak = deformed_points(layout, values, mode_amplitude(layout, values, fraction))
-        for pts in rest.values():
-            ax.plot(*(1e3 * pts.T), color="0.7", lw=0.8)
+        for p in layout.places:
+            style = dict(color="0.7", lw=0.8) if p in moving else dict(color="0.4", lw=1.0, ls="--")
+            ax.plot(*(1e3 * rest[p.body].T), **style)
         for p in moving:
             ax.plot(*(1e3 * peak[p.body].T), color=colour[p.body], lw=1.4)
         ax.set_xlim(1e3 * lo[0], 1e3 * hi[0])
@@ -213,6 +214,11 @@ def plot_drive_shapes(
             axis.labelpad = -12
     handles = [Line2D([], [], color=colour[p.body], label=p.label) for p in moving]
     handles.append(Line2D([], [], color="0.7", label="at rest"))
+    handles += [
+        Line2D([], [], color="0.4", ls="--", label=p.label)
+        for p in layout.places
+        if p not in moving
+    ]
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize=8)
     fig.suptitle(
         f"{layout.name}: mode shapes\nlargest motion drawn as {100 * fraction:.0f} % of the "
@@ -304,10 +310,12 @@ def plotly_drive_shapes(
     Returns
     -------
     plotly.graph_objects.Figure
-        Trace 0 the drive at rest; then one trace per (mode, moving body), the first
-        mode's visible, at the mode's peak; frames ``s0`` .. ``s6`` hold every mode at
-        ``sin(w t)`` = ``layout.meta["frame_levels"]`` (-1 .. 1), shared by the play
-        sequence. Coordinates are integers on a grid (``layout.meta["grid"]``: origin
+        Trace 0 the moving bodies at rest, then one trace per fixed member (drawn
+        still); from ``layout.meta["first_mode_trace"]`` one trace per (mode, moving
+        body), the first mode's visible, at the mode's peak; frames ``s0`` .. ``s6``
+        hold every mode at ``sin(w t)`` = ``layout.meta["frame_levels"]`` (-1 .. 1),
+        shared by the play sequence. Coordinates are integers on a grid
+        (``layout.meta["grid"]``: origin
         and unit in m), the axes ticked in mm.
     """
     import plotly.graph_objects as go
@@ -330,16 +338,28 @@ def plotly_drive_shapes(
         [st for level in (states[0], states[top]) for st in level] + [rest], 0.04 * layout.size
     )
     grid = _Grid(lo, hi)
+    fixed = [p for p in layout.places if p not in moving]
     fig = go.Figure()
     fig.add_trace(
         go.Scatter3d(
-            **grid.gapped(list(rest.values())),
+            **grid.gapped([rest[p.body] for p in moving]),
             mode="lines",
             line=dict(color="#b8b8b8", width=2),
             name="at rest",
             hoverinfo="skip",
         )
     )
+    for p in fixed:  # members without DOFs (the KHV ring): still, named
+        fig.add_trace(
+            go.Scatter3d(
+                **grid.xyz(rest[p.body]),
+                mode="lines",
+                line=dict(color="#6b6b6b", width=3, dash="dash"),
+                name=p.label,
+                hoverinfo="name",
+            )
+        )
+    first = len(fig.data)
     for j in range(len(chosen)):
         for p in moving:
             fig.add_trace(
@@ -353,7 +373,7 @@ def plotly_drive_shapes(
                     hoverinfo="name",
                 )
             )
-    traces = list(range(1, len(fig.data)))
+    traces = list(range(first, len(fig.data)))
     fig.frames = [
         go.Frame(
             name=f"s{k}",
@@ -380,7 +400,7 @@ def plotly_drive_shapes(
             label=_title(result, m),
             method="update",
             args=[
-                {"visible": [True] + [k // per_mode == j for k in range(len(traces))]},
+                {"visible": [True] * first + [k // per_mode == j for k in range(len(traces))]},
                 {"title.text": titles[j]},
             ],
         )
@@ -442,6 +462,7 @@ def plotly_drive_shapes(
         legend=dict(x=1.0, xanchor="right", y=0.9),
         meta=dict(
             frame_levels=levels,
+            first_mode_trace=first,
             modes=chosen,
             amplitude=[a for _, a in amp],
             grid=dict(origin=[float(v) for v in grid.origin], unit=grid.unit),
