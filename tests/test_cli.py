@@ -35,7 +35,14 @@ def test_modal_json_and_outputs(tmp_path):
     f = data["frequencies_hz"]
     assert f == sorted(f) and len(f) == 6 and f[0] == 0.0
     assert all({"frequency_hz", "classification"} <= set(m) for m in data["modes"])
-    for name in ("modal.nc", "modal.json", "modal.txt", "mode_shapes.png", "energy.png"):
+    for name in (
+        "modal.nc",
+        "modal.json",
+        "modal.txt",
+        "mode_shapes.png",
+        "energy.png",
+        "drive_shapes.png",
+    ):
         assert (tmp_path / name).stat().st_size > 0
 
 

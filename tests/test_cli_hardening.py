@@ -125,7 +125,14 @@ def test_output_set_is_all_or_nothing(tmp_path, monkeypatch):
     r = runner.invoke(app, ["modal", GEAR, "-o", str(out)])
     assert r.exit_code == 0, r.output
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    assert set(before) == {"modal.nc", "modal.json", "modal.txt", "mode_shapes.png", "energy.png"}
+    assert set(before) == {
+        "modal.nc",
+        "modal.json",
+        "modal.txt",
+        "mode_shapes.png",
+        "energy.png",
+        "drive_shapes.png",
+    }
 
     def broken(self, *a, **k):
         raise OSError("disk full")

@@ -12,6 +12,7 @@ from reducerlab.analysis.modal import ModalResult, SensitivityResult, frequency_
 from reducerlab.drives import build_model, load_design
 from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
+from reducerlab.plot.axes import scaled_unit
 
 
 @pytest.fixture(scope="module")
@@ -65,16 +66,29 @@ def test_table_and_json(example):
 def test_figures(example):
     _, model, res = example
     fig = res.plot_shapes()
-    assert len([a for a in fig.axes if a.get_visible()]) == 6
-    # energy scale: bars are signed sqrt of the kinetic shares, max 1
-    heights = [p.get_height() for p in fig.axes[1].patches]
+    panels = [f for f in fig.subfigs if f.get_visible()]
+    assert len(panels) == 6
+    # default: the mass-normalised shape, translations (m) over rotations (rad)
+    top, bottom = panels[1].axes
+    assert "m)" in top.get_ylabel() and "rad)" in bottom.get_ylabel()
+    kinds = list(res.data["kind"].values)
+    trans = [i for i, k in enumerate(kinds) if k in ("x", "y")]
+    rot = [i for i, k in enumerate(kinds) if k == "rz"]
+    for ax, rows, unit in ((top, trans, "m"), (bottom, rot, "rad")):
+        factor, shown = scaled_unit(res.shapes[rows, 1], unit)  # with a prefix: mm, mrad
+        assert ax.get_ylabel().endswith(f"({shown})")
+        heights = [p.get_height() for p in ax.patches]
+        np.testing.assert_allclose(heights, factor * res.shapes[rows, 1])
+    # energy scale: bars are signed sqrt of the kinetic shares, max 1 over the mode
+    energy = res.plot_shapes(scale="energy")
+    heights = [p.get_height() for a in energy.subfigs[1].axes for p in a.patches]
     ke = res.data["kinetic_energy"].values[1]
     expected = np.sign(res.shapes[:, 1]) * np.sqrt(np.clip(ke, 0, None))
-    np.testing.assert_allclose(heights, expected / np.abs(expected).max(), atol=1e-12)
+    expected = (expected / np.abs(expected).max())[trans + rot]
+    np.testing.assert_allclose(heights, expected, atol=1e-12)
     raw = res.plot_shapes([2, 3], scale="max")
-    assert [p.get_height() for p in raw.axes[0].patches] == pytest.approx(
-        res.data["shape_max"].values[:, 1].tolist()
-    )
+    got = [p.get_height() for a in raw.subfigs[0].axes for p in a.patches]
+    assert got == pytest.approx(res.data["shape_max"].values[trans + rot, 1].tolist())
     assert len(res.plot_energy().axes) == 3  # two maps and a colour bar
     sens = frequency_sensitivity(model, ["mesh.stiffness", "support:gear.x.stiffness"], res)
     assert sens.plot().axes

@@ -33,6 +33,8 @@ from ..units import TWO_PI
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from ..drives.places import DriveLayout
+
 __all__ = [
     "ModalResult",
     "SensitivityResult",
@@ -278,12 +280,39 @@ class ModalResult(Result):
     def __repr__(self) -> str:
         return f"ModalResult({self.data.attrs.get('title', '')!r}, {self.data.sizes['mode']} modes)"
 
-    def plot_shapes(self, modes: Sequence[int] | None = None, *, scale: str = "energy") -> Figure:
-        """Bar charts of the mode shapes, one panel per mode (see
-        :func:`reducerlab.plot.modal.plot_mode_shapes`)."""
+    def plot_shapes(self, modes: Sequence[int] | None = None, *, scale: str = "mass") -> Figure:
+        """Bar charts of the mode shapes, one panel per mode, translations (m) and
+        rotations (rad) on separate axes; ``scale``: ``"mass"`` (the mass-normalised
+        shape), ``"energy"`` or ``"max"`` (see :func:`reducerlab.plot.modal.plot_mode_shapes`)."""
         from ..plot.modal import plot_mode_shapes
 
         return plot_mode_shapes(self, modes, scale=scale)
+
+    def plot_drive(
+        self,
+        layout: DriveLayout,
+        modes: Sequence[int] | None = None,
+        *,
+        fraction: float = 0.15,
+        panel: float = 3.4,
+    ) -> Figure:
+        """The mode shapes as the drive's bodies moving, one 3-D panel per mode (every
+        elastic mode by default; see :func:`reducerlab.plot.drive_shape.plot_drive_shapes`).
+
+        Parameters
+        ----------
+        layout : DriveLayout
+            Where the bodies sit: :func:`reducerlab.drives.drive_layout` of the design.
+        modes : sequence of int, optional
+            1-based modes.
+        fraction : float
+            Largest drawn displacement over the drive's size.
+        panel : float
+            Width of one panel (in).
+        """
+        from ..plot.drive_shape import plot_drive_shapes
+
+        return plot_drive_shapes(self, layout, modes, fraction=fraction, panel=panel)
 
     def plot_energy(self) -> Figure:
         """Map of kinetic and strain energy shares per mode."""

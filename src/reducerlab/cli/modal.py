@@ -32,13 +32,18 @@ from .output import (
 )
 
 
-def add_modal(result: Any, files: OutputSet) -> None:
-    """Add modal.nc, modal.json, modal.txt and the two figures to an open output set."""
+def add_modal(result: Any, files: OutputSet, layout: Any = None) -> None:
+    """Add modal.nc, modal.json, modal.txt and the figures to an open output set: the
+    mode-shape bars, the energy map and, given the drive's layout
+    (:func:`reducerlab.drives.drive_layout`) and an elastic mode, the mode shapes as the
+    drive moving (drive_shapes.png)."""
     result.save(files.path("modal.nc"))
     write_json(result, files.path("modal.json"))
     files.path("modal.txt").write_text(result.table() + "\n")
     savefig(result.plot_shapes(), files.path("mode_shapes.png"), result.data.attrs)
     savefig(result.plot_energy(), files.path("energy.png"), result.data.attrs)
+    if layout is not None and not result.data["rigid"].values.all():
+        savefig(result.plot_drive(layout), files.path("drive_shapes.png"), result.data.attrs)
 
 
 def print_modal(result: Any) -> None:
@@ -76,19 +81,21 @@ def modal(
     ] = False,
     sets: SetOption = None,
 ) -> None:
-    """Natural frequencies, mode shapes and energy classification of a design."""
+    """Natural frequencies, mode shapes and energy classification of a design; -o also
+    draws the mode shapes as the drive moving (drive_shapes.png)."""
     from ..analysis.complex_modal import complex_modes
     from ..analysis.modal import modal as run_modal
+    from ..drives import drive_layout
 
     with user_errors():
         files = outputs(output)
         with busy("modal analysis"):
-            _, model = model_from(design, sets)
+            spec, model = model_from(design, sets)
             result = run_modal(model, rigid_tol=rigid_tol)
             cplx = complex_modes(model, rigid_tol=rigid_tol) if complex_ else None
         if files is not None:
             with files:
-                add_modal(result, files)
+                add_modal(result, files, drive_layout(spec, model))
                 if cplx is not None:
                     add_with_figure(cplx, files, "complex_modes")
                     write_json(cplx, files.path("complex_modes.json"))

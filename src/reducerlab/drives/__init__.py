@@ -19,6 +19,15 @@ from ..errors import DesignError, ReducerlabError, names_source
 from ..kinematics import DriveKinematics
 from ..model import Model
 from . import cycloid_ball, gear_pair, khv, kinematic, lumped, nutation
+from .places import (
+    DriveLayout,
+    Place,
+    complete,
+    cycloid_ball_places,
+    gear_pair_places,
+    khv_places,
+    nutation_places,
+)
 
 __all__ = [
     "DRIVES",
@@ -26,6 +35,7 @@ __all__ = [
     "build_model",
     "design_and_model",
     "design_from_dict",
+    "drive_layout",
     "has_model",
     "kinematics_of",
     "load_design",
@@ -34,11 +44,14 @@ __all__ = [
 
 class DriveType(NamedTuple):
     """A registered design type: its Design class, its model builder (None for a
-    kinematics-only design) and a one-line summary."""
+    kinematics-only design), a one-line summary and where its model's bodies sit
+    (``places``: design → :class:`~reducerlab.drives.places.Place` list; None: on
+    one axis, :func:`~reducerlab.drives.places.complete`)."""
 
     design: type[Design]
     build: Callable[[Any], Model] | None
     summary: str
+    places: Callable[[Any], list[Place]] | None = None
 
 
 DRIVES: dict[str, DriveType] = {
@@ -46,21 +59,25 @@ DRIVES: dict[str, DriveType] = {
         gear_pair.GearPairDesign,
         gear_pair.build_model,
         "spur gear pair on bearings, bending-torsional",
+        gear_pair_places,
     ),
     "cycloid_ball": DriveType(
         cycloid_ball.CycloidBallDesign,
         cycloid_ball.build_model,
         "cycloid ball transmission, 7-DOF translational-torsional (paper 003)",
+        cycloid_ball_places,
     ),
     "khv": DriveType(
         khv.KHVDesign,
         khv.build_model,
         "KHV planetary drive with a small tooth difference, 4-DOF torsional (paper 004)",
+        khv_places,
     ),
     "nutation": DriveType(
         nutation.NutationDesign,
         nutation.build_model,
         "nutation drive, single- or double-sided, bending-torsional-axial (paper 000)",
+        nutation_places,
     ),
     "kinematics": DriveType(
         kinematic.KinematicsDesign,
@@ -171,6 +188,24 @@ def kinematics_of(design: Design) -> tuple[DriveKinematics, float]:
             f"non-zero input speed (e.g. {field} = '1500 rpm')"
         )
     return drive, speed
+
+
+def drive_layout(target: Design | Model, model: Model | None = None) -> DriveLayout:
+    """Where the bodies of a design's model (or of a bare model: on one axis) sit in the
+    drive, for the mode-shape figures (:mod:`reducerlab.drives.places`).
+
+    Parameters
+    ----------
+    target : Design or Model
+    model : Model, optional
+        The design's model, when already built.
+    """
+    design, built = design_and_model(target, "drive_layout") if model is None else (target, model)
+    places: list[Place] = []
+    if isinstance(design, Design):
+        hook = _entry(design).places
+        places = hook(design) if hook is not None else []
+    return complete(places, built, built.name)
 
 
 def design_and_model(target: Design | Model, what: str) -> tuple[Design | None, Model]:

@@ -5,13 +5,14 @@ imported only when its figure is built."""
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ReducerlabError
 from ..units import RPM
+from .axes import plain_axis, scaled_unit
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -21,12 +22,14 @@ if TYPE_CHECKING:
     from ..analysis.modal import ModalResult, SensitivityResult
 
 __all__ = [
+    "SCALES",
     "plot_complex_modes",
     "plot_energy",
     "plot_mode_shapes",
     "plot_sensitivity",
     "plotly_mode_shapes",
     "plotly_sensitivity",
+    "shape_bars",
 ]
 
 
@@ -42,23 +45,81 @@ def _mode_labels(ds: xr.Dataset) -> list[str]:
     return [f"{int(m)}: {f:.4g} Hz" for m, f in zip(modes, freqs, strict=True)]
 
 
+#: DOF kinds drawn on the translation axis (m) and on the rotation axis (rad).
+TRANSLATIONS = ("x", "y", "z", "u")
+ROTATIONS = ("rx", "ry", "rz")
+#: What each bar scale draws, stated on the axes and in the title.
+SCALES = {
+    "mass": "mass-normalised shape, φᵀMφ = 1 (modal.nc 'shape')",
+    "energy": "signed √(kinetic-energy share), largest 1",
+    "max": "max-normalised shape, largest component 1",
+}
+
+
+def shape_bars(
+    result: ModalResult, scale: str = "mass"
+) -> tuple[np.ndarray, list[tuple[str, list[int], str]]]:
+    """The bar heights of every mode and the DOF groups they are drawn in.
+
+    Parameters
+    ----------
+    result : ModalResult
+    scale : {"mass", "energy", "max"}
+        ``"mass"`` (default): the mass-normalised shape (``φᵀMφ = 1``), each DOF in its
+        unit (m: x, y, z and ``u = r θ``; rad: rx, ry, rz); ``"energy"``:
+        ``sign(φ_i) √(kinetic share_i)``, the largest 1; ``"max"``: the max-normalised
+        shape.
+
+    Returns
+    -------
+    bars : ndarray, shape (dof, mode)
+    groups : list of (name, DOF indices, axis label)
+        The translations and the rotations, those the model has.
+    """
+    if scale not in SCALES:
+        raise ReducerlabError(f"scale must be one of {', '.join(map(repr, SCALES))}, got {scale!r}")
+    ds = result.data
+    if scale == "energy":
+        ke = np.clip(ds["kinetic_energy"].values.T, 0.0, None)  # (dof, mode)
+        bars = np.sign(ds["shape"].values) * np.sqrt(ke)
+        bars = bars / np.max(np.abs(bars), axis=0)
+    elif scale == "max":
+        bars = ds["shape_max"].values
+    else:
+        bars = ds["shape"].values
+    # round-off (1e-16 of the mode's largest component) drawn as nothing, not magnified
+    # to a full axis
+    bars = np.where(np.abs(bars) <= 1e-9 * np.max(np.abs(bars), axis=0), 0.0, bars)
+    kinds = [str(k) for k in ds["kind"].values]
+    unit = {"mass": (" (m)", " (rad)"), "energy": ("", ""), "max": ("", "")}[scale]
+    groups = [
+        (
+            "translation",
+            [i for i, k in enumerate(kinds) if k in TRANSLATIONS],
+            "x, y, z, u = rθ" + unit[0],
+        ),
+        ("rotation", [i for i, k in enumerate(kinds) if k in ROTATIONS], "rx, ry, rz" + unit[1]),
+    ]
+    return bars, [g for g in groups if g[1]]
+
+
 def plot_mode_shapes(
-    result: ModalResult, modes: Sequence[int] | None = None, *, scale: str = "energy"
+    result: ModalResult, modes: Sequence[int] | None = None, *, scale: str = "mass"
 ) -> Figure:
-    """One panel per mode: a bar per DOF, coloured by body (the papers' mode-shape plots).
+    """One panel per mode: a bar per DOF, coloured by body, translations (m) and
+    rotations (rad) on separate axes (see :func:`shape_bars` for ``scale``).
 
     Parameters
     ----------
     result : ModalResult
     modes : sequence of int, optional
         1-based mode numbers; all modes by default.
-    scale : {"energy", "max"}
-        ``"energy"`` (default) draws ``sign(phi_i) sqrt(kinetic share_i)``, which puts
-        translations (m) and rotations (rad) on one comparable scale; ``"max"`` draws
-        the max-normalised shape in each DOF's own unit, as the papers do.
+    scale : {"mass", "energy", "max"}
+        What the bars show, stated in the title: the mass-normalised shape (default,
+        as the report's interactive chart), the signed root of the kinetic-energy
+        shares, or the max-normalised shape.
     """
-    if scale not in ("energy", "max"):
-        raise ReducerlabError(f"scale must be 'energy' or 'max', got {scale!r}")
+    bars, groups = shape_bars(result, scale)
     ds = result.data
     all_modes = [int(m) for m in ds["mode"].values]
     modes = list(modes) if modes is not None else all_modes
@@ -67,8 +128,10 @@ def plot_mode_shapes(
         raise ReducerlabError(f"modes {bad} do not exist; the result has modes 1..{len(all_modes)}")
     ncol = min(3, len(modes))
     nrow = math.ceil(len(modes) / ncol)
-    fig = _figure(figsize=(4.2 * ncol, 2.6 * nrow + 0.4), layout="constrained")
-    axes = np.atleast_1d(fig.subplots(nrow, ncol, sharey=True, squeeze=False)).ravel()
+    fig = _figure(
+        figsize=(4.2 * ncol, (1.5 + 1.3 * len(groups)) * nrow + 0.6), layout="constrained"
+    )
+    panels = np.atleast_1d(fig.subfigures(nrow, ncol, squeeze=False)).ravel()
     bodies = [str(b) for b in ds["body"].values]
     unique = list(dict.fromkeys(bodies))
     import matplotlib as mpl
@@ -76,37 +139,65 @@ def plot_mode_shapes(
     cmap = mpl.colormaps["tab10"]
     colours = [cmap(unique.index(b) % 10) for b in bodies]
     labels = [f"{b}.{k}" for b, k in zip(bodies, ds["kind"].values, strict=True)]
-    x = np.arange(len(labels))
-    if scale == "energy":
-        ke = np.clip(ds["kinetic_energy"].values.T, 0.0, None)  # (dof, mode)
-        bars = np.sign(ds["shape"].values) * np.sqrt(ke)
-        bars = bars / np.max(np.abs(bars), axis=0)
-        ylabel = "signed sqrt(kinetic share), max 1"
-    else:
-        bars = ds["shape_max"].values
-        ylabel = "shape (max 1)"
-    for ax, m in zip(axes, modes, strict=False):
+    for panel, m in zip(panels, modes, strict=False):
         j = all_modes.index(m)
-        ax.bar(x, bars[:, j], color=colours)
-        ax.axhline(0.0, color="0.3", lw=0.6)
+        axes = np.atleast_1d(panel.subplots(len(groups), 1))
+        for ax, (name, idx, ylabel) in zip(axes, groups, strict=True):
+            h = bars[idx, j]
+            if scale == "mass":  # shown with the prefix that keeps the numbers short
+                factor, unit = scaled_unit(h, "m" if name == "translation" else "rad")
+                h = factor * h
+                ylabel = ylabel.rsplit(" (", 1)[0] + f" ({unit})"
+            x = np.arange(len(idx))
+            ax.bar(x, h, color=[colours[i] for i in idx])
+            ax.axhline(0.0, color="0.3", lw=0.6)
+            ax.set_xticks(x, [labels[i] for i in idx], rotation=90, fontsize=7)
+            top = float(np.max(np.abs(h))) if np.any(h) else 1.0
+            ax.set_ylim(-1.15 * top, 1.15 * top)
+            ax.set_ylabel(ylabel, fontsize=7)
+            ax.tick_params(axis="y", labelsize=7)
+            plain_axis(ax.yaxis)
+            ax.grid(axis="y", alpha=0.3)
         f = float(ds["frequency"].values[j])
-        ax.set_title(f"mode {m}: {f:.5g} Hz\n{ds['classification'].values[j]}", fontsize=8)
-        ax.set_xticks(x, labels, rotation=90, fontsize=7)
-        ax.set_ylim(-1.1, 1.1)
-        ax.grid(axis="y", alpha=0.3)
-    for ax in axes[len(modes) :]:
-        ax.set_visible(False)
-    for ax in axes[::ncol]:
-        ax.set_ylabel(ylabel, fontsize=7)
+        panel.suptitle(f"mode {m}: {f:.5g} Hz\n{ds['classification'].values[j]}", fontsize=8)
+    for panel in panels[len(modes) :]:
+        panel.set_visible(False)
     handles = [mpl.patches.Patch(color=cmap(i % 10), label=b) for i, b in enumerate(unique)]
     fig.legend(handles=handles, loc="outside lower center", ncol=len(unique), fontsize=8)
-    fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
+    fig.suptitle(f"{ds.attrs.get('title', '')}: {SCALES[scale]}", fontsize=10)
     return fig
 
 
+#: Widest figure (in) that the report shows at its size (1132 px at 110 dpi): text of
+#: ``TEXT`` pt stays that size in the report.
+REPORT_WIDTH = 10.2
+#: Smallest text (pt) of the heat maps.
+TEXT = 9.0
+
+
+def text_colour(rgba: Sequence[float]) -> str:
+    """Black or white, whichever reads on a cell of colour ``rgba`` (its relative
+    luminance, WCAG: white below 0.4)."""
+    lin = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in rgba[:3]]
+    lum = 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2]
+    return "white" if lum < 0.4 else "black"
+
+
+def _annotate(
+    ax: Any, im: Any, data: np.ndarray, label: Callable[[float], str | None], size: float
+) -> None:
+    """Write each cell's ``label(value)`` (None: nothing) in the colour that reads on it."""
+    for (r, c), v in np.ndenumerate(data):
+        text = label(v) if np.isfinite(v) else None
+        if text is not None:
+            colour = text_colour(im.cmap(im.norm(v)))
+            ax.text(c, r, text, ha="center", va="center", fontsize=size, color=colour)
+
+
 def plot_energy(result: ModalResult) -> Figure:
-    """Heat maps of kinetic-energy share per (body, DOF family) and strain-energy share
-    per element, for every mode (percent annotated)."""
+    """Heat maps of kinetic-energy share per (body, DOF family) (top) and strain-energy
+    share per element (below), for every mode, shares of 5 % and more written in per
+    cent; at most :data:`REPORT_WIDTH` wide, with text of :data:`TEXT` pt."""
     ds = result.data
     bodies = [str(b) for b in ds["body"].values]
     fams = [str(f) for f in ds["family"].values]
@@ -117,41 +208,32 @@ def plot_energy(result: ModalResult) -> Figure:
         grid[:, cells.index(cell)] += ke[:, i]
     ee = ds["element_energy"].values
     elements = [str(e) for e in ds["element"].values]
-    fig = _figure(
-        figsize=(2.0 + 0.7 * (len(cells) + len(elements)), 1.6 + 0.32 * ke.shape[0]),
-        layout="constrained",
-    )
-    widths = [max(len(cells), 1), max(len(elements), 1)]
-    ax1, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": widths})
+    ncol = max(len(cells), len(elements), 1)
+    rows = ke.shape[0]
+    width = min(REPORT_WIDTH, max(6.0, 2.4 + 0.5 * ncol))
+    # narrow columns (many elements) write smaller numbers, never under 7 pt
+    size = max(7.0, min(TEXT, 72 * (width - 2.4) / ncol / 2.2))
+    fig = _figure(figsize=(width, 2.2 * 1.6 + 2 * 0.3 * rows), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, gridspec_kw={"height_ratios": [1, 1]})
     ylabels = _mode_labels(ds)
     for ax, data, xl, title in (
-        (ax1, grid, [f"{b}\n{f}" for b, f in cells], "kinetic energy share"),
-        (ax2, ee, elements, "strain energy share"),
+        (ax1, grid, [f"{b}\n{f}" for b, f in cells], "kinetic energy share (%)"),
+        (ax2, ee, elements, "strain energy share (%)"),
     ):
         shown = np.nan_to_num(np.clip(data, 0, 1))
         im = ax.imshow(shown, vmin=0, vmax=1, cmap="viridis", aspect="auto")
-        ax.set_xticks(np.arange(len(xl)), xl, rotation=90, fontsize=7)
-        ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=7)
-        ax.set_title(title, fontsize=9)
-        for (r, c), v in np.ndenumerate(data):
-            if np.isfinite(v) and v >= 0.05:
-                ax.text(
-                    c,
-                    r,
-                    f"{100 * v:.0f}",
-                    ha="center",
-                    va="center",
-                    fontsize=6,
-                    color="w" if v < 0.6 else "k",
-                )
-    ax2.set_yticks([])
-    fig.colorbar(im, ax=[ax1, ax2], shrink=0.8, label="share")
-    fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
+        ax.set_xticks(np.arange(len(xl)), xl, rotation=90, fontsize=TEXT)
+        ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=TEXT)
+        ax.set_title(title, fontsize=TEXT + 1)
+        _annotate(ax, im, data, lambda v: f"{100 * v:.0f}" if v >= 0.05 else None, size)
+    fig.colorbar(im, ax=[ax1, ax2], shrink=0.6, label="share").ax.tick_params(labelsize=TEXT)
+    fig.suptitle(ds.attrs.get("title", ""), fontsize=TEXT + 1)
     return fig
 
 
 def plot_sensitivity(result: SensitivityResult) -> Figure:
-    """Heat map of relative sensitivities ``(p/f) df/dp`` (mode x parameter)."""
+    """Heat map of relative sensitivities ``(p/f) df/dp`` (mode x parameter), each value
+    of at least 0.005 written in black or white by its cell's luminance."""
     ds = result.data
     rel = ds["relative"].values
     params = [str(p) for p in ds["parameter"].values]
@@ -159,12 +241,10 @@ def plot_sensitivity(result: SensitivityResult) -> Figure:
     ax = fig.subplots()
     lim = float(np.nanmax(np.abs(rel))) if np.any(np.isfinite(rel)) else 1.0
     im = ax.imshow(np.nan_to_num(rel), cmap="RdBu_r", vmin=-lim, vmax=lim, aspect="auto")
-    ax.set_xticks(np.arange(len(params)), params, rotation=90, fontsize=7)
+    ax.set_xticks(np.arange(len(params)), params, rotation=90, fontsize=8)
     ylabels = _mode_labels(ds)
-    ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=7)
-    for (r, c), v in np.ndenumerate(rel):
-        if np.isfinite(v):
-            ax.text(c, r, f"{v:.2f}", ha="center", va="center", fontsize=6)
+    ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=8)
+    _annotate(ax, im, rel, lambda v: f"{v:.2f}" if abs(v) >= 0.005 else None, 8)
     fig.colorbar(im, ax=ax, label="(p/f) df/dp")
     ax.set_title("relative frequency sensitivity", fontsize=9)
     return fig
@@ -182,8 +262,12 @@ def plot_complex_modes(result: ComplexModalResult) -> Figure:
     fig = _figure(figsize=(7.0, 4.2), layout="constrained")
     a1, a2 = fig.subplots(2, 1, sharex=True)
     modes = ds["mode"].values
-    marks = {"forward": ("^", "C0"), "backward": ("v", "C3"), "planar": ("o", "C2"),
-             "rigid": ("s", "k")}  # fmt: skip
+    marks = {
+        "forward": ("^", "C0"),
+        "backward": ("v", "C3"),
+        "planar": ("o", "C2"),
+        "rigid": ("s", "k"),
+    }
     for w in sorted(set(ds["whirl"].values.tolist())):
         sel = ds["whirl"].values == w
         mk, col = marks.get(w, ("d", "C7"))
@@ -191,8 +275,7 @@ def plot_complex_modes(result: ComplexModalResult) -> Figure:
         a2.plot(modes[sel], ds["damping_ratio"].values[sel], mk, color=col)
     bad = ~ds["stable"].values
     if bad.any():
-        a1.plot(modes[bad], ds["frequency"].values[bad], "x", color="red", ms=10,
-                label="unstable")  # fmt: skip
+        a1.plot(modes[bad], ds["frequency"].values[bad], "x", color="red", ms=10, label="unstable")
     a1.set_ylabel("damped frequency (Hz)")
     a2.set_ylabel("damping ratio")
     a2.set_xlabel("mode")
@@ -204,60 +287,83 @@ def plot_complex_modes(result: ComplexModalResult) -> Figure:
     return fig
 
 
-def plotly_mode_shapes(result: ModalResult) -> Any:
-    """Interactive bar chart (plotly) of the mass-weighted mode shapes, one mode per menu
-    entry: each DOF's bar is ``sign(shape) sqrt(kinetic energy share)``, the largest 1.
+def plotly_mode_shapes(result: ModalResult, scale: str = "mass") -> Any:
+    """Interactive bar chart (plotly) of the mode shapes, one mode per menu entry,
+    translations (m) and rotations (rad) on separate axes, scaled as
+    :func:`plot_mode_shapes` (:func:`shape_bars`).
 
     Parameters
     ----------
     result : ModalResult
+    scale : {"mass", "energy", "max"}
 
     Returns
     -------
     plotly.graph_objects.Figure
+        One trace per (mode, DOF group), the first elastic mode's visible.
     """
     import plotly.graph_objects as go
+    from plotly.subplots import make_subplots
 
+    bars, groups = shape_bars(result, scale)
     ds = result.data
     dofs = [str(d) for d in ds["dof"].values]
-    ke = ds["kinetic_energy"].values  # (mode, dof), sums to 1 per mode
-    sign = np.sign(ds["shape"].values.T)
-    amp = sign * np.sqrt(np.clip(ke, 0.0, None))
-    fig = go.Figure()
-    n = amp.shape[0]
+    fig = make_subplots(rows=len(groups), cols=1, vertical_spacing=0.22)
+    bodies = [str(b) for b in ds["body"].values]
+    unique = list(dict.fromkeys(bodies))
+    tab10 = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+             "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")  # fmt: skip
+    colours = [tab10[unique.index(b) % 10] for b in bodies]
+    n = bars.shape[1]
+    first = next((j for j in range(n) if not ds["rigid"].values[j]), 0)
     labels = []
     for j in range(n):
         f = float(ds["frequency"].values[j])
-        cls = str(ds["classification"].values[j])
-        labels.append(f"mode {j + 1}: {f:.5g} Hz ({cls})")
-        a = amp[j] / max(float(np.max(np.abs(amp[j]))), 1e-300)
-        fig.add_trace(
-            go.Bar(
-                x=dofs,
-                y=a,
-                name=f"mode {j + 1}",
-                visible=j == min(1, n - 1),
-                hovertemplate="%{x}: %{y:.3f}<extra></extra>",
+        labels.append(f"mode {j + 1}: {f:.5g} Hz ({ds['classification'].values[j]})")
+        for row, (name, idx, _) in enumerate(groups, start=1):
+            values = [float(f"{v:.4g}") for v in bars[idx, j]]
+            fig.add_trace(
+                go.Bar(
+                    x=[dofs[i] for i in idx],
+                    y=values,
+                    name=f"mode {j + 1} {name}",
+                    marker_color=[colours[i] for i in idx],
+                    visible=j == first,
+                    hovertemplate="%{x}: %{y:.4g}<extra></extra>",
+                ),
+                row=row,
+                col=1,
             )
-        )
+    per = len(groups)
     buttons = [
         dict(
             label=labels[j],
             method="update",
-            args=[{"visible": [k == j for k in range(n)]}, {"title.text": labels[j]}],
+            args=[{"visible": [k // per == j for k in range(n * per)]}, {"title.text": labels[j]}],
         )
         for j in range(n)
     ]
+    for row, (_, _, ylabel) in enumerate(groups, start=1):
+        fig.update_yaxes(title_text=ylabel, exponentformat="power", row=row, col=1)
     fig.update_layout(
         updatemenus=[
+            dict(buttons=buttons, direction="down", x=0, xanchor="left", y=1.22, active=first)
+        ],
+        title=dict(text=labels[first], x=0.5, y=0.97, font=dict(size=13)),
+        annotations=[
             dict(
-                buttons=buttons, direction="down", x=0, xanchor="left", y=1.18, active=min(1, n - 1)
+                text=SCALES[scale],
+                xref="paper",
+                yref="paper",
+                x=1,
+                y=1.08,
+                xanchor="right",
+                showarrow=False,
+                font=dict(size=11),
             )
         ],
-        title=dict(text=labels[min(1, n - 1)], x=0.5, y=0.97, font=dict(size=13)),
-        yaxis_title="mass-weighted amplitude (largest 1)",
-        height=430,
-        margin=dict(t=90, l=60, r=20, b=90),
+        height=260 + 170 * len(groups),
+        margin=dict(t=110, l=80, r=20, b=80),
         template="plotly_white",
         showlegend=False,
     )
@@ -266,7 +372,8 @@ def plotly_mode_shapes(result: ModalResult) -> Any:
 
 def plotly_sensitivity(result: SensitivityResult) -> Any:
     """Interactive heat map (plotly) of the relative sensitivities ``(p/f) df/dp``
-    (mode x parameter), symmetric colour scale.
+    (mode x parameter), symmetric colour scale, values of at least 0.005 written in
+    the cells (in black or white by the cell's colour).
 
     Parameters
     ----------
@@ -294,6 +401,13 @@ def plotly_sensitivity(result: SensitivityResult) -> Any:
             zmax=lim,
             colorscale="RdBu_r",
             colorbar=dict(title="(p/f) df/dp"),
+            # plotly writes cell text black or white by the cell's colour (auto colour)
+            text=[
+                [f"{v:.2f}" if np.isfinite(v) and abs(v) >= 0.005 else "" for v in row]
+                for row in rel
+            ],
+            texttemplate="%{text}",
+            textfont=dict(size=11),
             hovertemplate="mode %{y}<br>%{x}<br>(p/f) df/dp = %{z:.4f}<extra></extra>",
         )
     )

@@ -7,8 +7,10 @@ from __future__ import annotations
 import numpy as np
 
 from ...analysis.resonance import format_components
+from ...drives import drive_layout
 from ...plot.campbell import plotly_campbell
 from ...plot.campbell_style import excitation_label, modes_text, unique_crossings
+from ...plot.drive_shape import plotly_drive_shapes
 from ...plot.modal import plotly_mode_shapes, plotly_sensitivity
 from ..blocks import Section, figure, interactive, note, pre, table, verdict
 from ..context import Context
@@ -46,11 +48,27 @@ def modal_section(ctx: Context) -> Section | None:
                 "warning",
             )
         )
+    elastic = [int(m) for m, r in zip(ds["mode"].values, ds["rigid"].values, strict=True) if not r]
+    if elastic:
+        layout = drive_layout(ctx.design, ctx.model())
+        shown = plotly_drive_shapes(res, layout)
+        count = len(shown.layout.meta["modes"])
+        s.blocks.append(
+            interactive(
+                shown,
+                res.plot_drive(layout, elastic[:3], panel=2.8),
+                "mode shapes as the drive moving: the bodies of the model at their places "
+                "in the drive, grey at rest; choose a mode, press play, drag to turn"
+                + (f" (the first {count} elastic modes)" if count < len(elastic) else ""),
+                div_id="drive-shapes",
+            )
+        )
     s.blocks.append(
         interactive(
             plotly_mode_shapes(res),
-            res.plot_shapes(),
-            "mode shapes: choose a mode",
+            res.plot_shapes(elastic[:3] or None),
+            "mode shapes DOF by DOF (the mass-normalised shape, translations in m over "
+            "rotations in rad, as 'reducerlab modal -o' draws them): choose a mode",
             div_id="mode-shapes",
         )
     )
