@@ -34,6 +34,8 @@ __all__ = [
     "AZIM",
     "DEFORMATION",
     "ELEV",
+    "body_surface",
+    "feature_edges",
     "plot_body_mode",
     "plot_body_modes_grid",
     "view_elevation",
@@ -97,12 +99,12 @@ def plot_body_mode(
     """
     from matplotlib.figure import Figure
 
-    p, faces = _geometry(points, tets_or_faces)
+    p, faces = body_surface(points, tets_or_faces)
     u = _displacement("displacement", displacement, len(p))
     if not isinstance(title, str):
         raise ReducerlabError(f"title: must be a str, got {title!r}")
     scale = _scale(scale)
-    edges = _feature_edges(p, faces)
+    edges = feature_edges(p, faces)
     elev = view_elevation(p, faces) if elev is None else _angle("elev", elev)
     azim = _angle("azim", azim)
     aspect = _aspect(p, faces, elev, azim)
@@ -159,7 +161,7 @@ def plot_body_modes_grid(
     """
     from matplotlib.figure import Figure
 
-    p, faces = _geometry(points, tets_or_faces)
+    p, faces = body_surface(points, tets_or_faces)
     s = finite_array("shapes", shapes)
     if s.ndim == 2:
         s = s[:, :, None]
@@ -182,7 +184,7 @@ def plot_body_modes_grid(
         raise ReducerlabError(f"ncols: must be an integer in 1..10, got {ncols!r}")
     ncol = min(ncols, modes)
     nrow = math.ceil(modes / ncol)
-    edges = _feature_edges(p, faces)
+    edges = feature_edges(p, faces)
     elev = view_elevation(p, faces) if elev is None else _angle("elev", elev)
     azim = _angle("azim", azim)
     aspect = _aspect(p, faces, elev, azim)
@@ -359,10 +361,10 @@ def _draw(
     return scale, pct
 
 
-def _feature_edges(
+def feature_edges(
     p: Array, faces: NDArray[np.int64]
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Edges (e, 2) of the surface where it bends by more than :data:`FEATURE_ANGLE` and
+    """Feature edges: edges (e, 2) of the surface where it bends by more than :data:`FEATURE_ANGLE` and
     its open edges (used by one face), with the two faces (e, 2) at each (the same face
     twice at an open edge)."""
     e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
@@ -410,8 +412,10 @@ def _scale(scale: float | None) -> float | None:
     return float(scale)
 
 
-def _geometry(points: ArrayLike, tets_or_faces: ArrayLike) -> tuple[Array, NDArray[np.int64]]:
-    """The points and the outward boundary triangles."""
+def body_surface(points: ArrayLike, tets_or_faces: ArrayLike) -> tuple[Array, NDArray[np.int64]]:
+    """The checked points (m) and the outward boundary triangles of a body given by
+    its linear tetrahedra (m, 4) or its boundary triangles (k, 3), as
+    :func:`plot_body_mode` takes them."""
     from ..fe.vtu import boundary_faces, checked_points, checked_tets
 
     p = checked_points(points)
