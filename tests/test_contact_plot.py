@@ -15,7 +15,8 @@ matplotlib.use("Agg")
 from reducerlab.analysis.contact import ContactResult, contact_analysis
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError
-from reducerlab.plot.contact import _flank, plot_contact, plot_pressure_map
+from reducerlab.plot.contact import plot_contact, plot_pressure_map
+from reducerlab.plot.contact_flank import developed_flank as _flank
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

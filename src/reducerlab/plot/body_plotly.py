@@ -290,23 +290,27 @@ def plotly_body_modes(
         {
             "label": labels[m],
             "method": "update",
-            "args": [deformed[m], {"title.text": f"{title}<br><sub>{labels[m]}; {note}</sub>"}, [0]],
+            "args": [
+                deformed[m],
+                {"title.text": f"{title}<br><sub>{labels[m]}; {note}</sub>"},
+                [0],
+            ],
         }
         for m in range(modes)
     ]
     hidden = {"visible": False}
     fig = go.Figure([mesh, outline])
+    menu = {"buttons": buttons, "direction": "down", "x": 0.0, "xanchor": "left", "y": 1.0,
+            "yanchor": "top", "showactive": True, "active": 0}  # fmt: skip
+    scene = {
+        "xaxis": hidden, "yaxis": hidden, "zaxis": hidden, "aspectmode": "manual",
+        "aspectratio": dict(zip("xyz", (ZOOM * box / box.max()).tolist(), strict=True)),
+        "camera": {"eye": dict(zip("xyz", eye.tolist(), strict=True))},
+    }  # fmt: skip
     fig.update_layout(
         title={"text": f"{title}<br><sub>{labels[0]}; {note}</sub>", "font": {"size": 14}},
-        scene={
-            "xaxis": hidden, "yaxis": hidden, "zaxis": hidden, "aspectmode": "manual",
-            "aspectratio": dict(zip("xyz", (ZOOM * box / box.max()).tolist(), strict=True)),
-            "camera": {"eye": dict(zip("xyz", eye.tolist(), strict=True))},
-        },  # fmt: skip
-        updatemenus=[
-            {"buttons": buttons, "direction": "down", "x": 0.0, "xanchor": "left", "y": 1.0,
-             "yanchor": "top", "showactive": True, "active": 0}  # fmt: skip
-        ],
+        scene=scene,
+        updatemenus=[menu],
         margin={"l": 0, "r": 0, "t": 70, "b": 0},
         height=520,
         template="plotly_white",

@@ -235,17 +235,16 @@ def _body_render(r: Any, label: str, bodies: int) -> Block:
     """A body's modes as an interactive 3-D render (its surface decimated so that the
     report's bodies stay within a few hundred kB together) over the static grid of
     renders."""
+    from ...plot.body import plot_body_modes_grid
     from ...plot.body_plotly import MAX_FACES, plotly_body_modes
 
     a = r.data.attrs
+    title = f"Gear {a.get('gear')} body modes ({a.get('boundary')})"
+    args = (r.mesh.points, r.mesh.tets[:, :4], r.shapes, r.frequencies, r.labels, title)
     faces = max(MAX_FACES // 3, 2 * MAX_FACES // (bodies + 1))
-    fig = plotly_body_modes(
-        r.mesh.points, r.mesh.tets[:, :4], r.shapes, r.frequencies, r.labels,
-        f"Gear {a.get('gear')} body modes ({a.get('boundary')})", max_faces=faces,
-    )  # fmt: skip
     return interactive(
-        fig,
-        r.figure(),
+        plotly_body_modes(*args, max_faces=faces),
+        plot_body_modes_grid(*args, side=2.0),
         f"{label}: mode shapes, the surface coloured by the displacement magnitude: "
         "choose a mode, drag to turn",
         div_id=f"body-modes-{a.get('gear', 0)}",
