@@ -15,8 +15,9 @@ matplotlib.use("Agg")
 from reducerlab.analysis.contact import ContactResult, contact_analysis
 from reducerlab.drives import load_design
 from reducerlab.errors import ReducerlabError
-from reducerlab.plot.contact import plot_contact, plot_pressure_map
+from reducerlab.plot.contact import cycle_label, plot_contact, plot_pressure_map
 from reducerlab.plot.contact_flank import developed_flank as _flank
+from reducerlab.plot.contact_pattern import PRESSURE_LABEL as PATTERN_LABEL
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -49,41 +50,47 @@ def _saves(fig, path) -> None:
 def test_overview_panels(result, tmp_path):
     fig = result.figure()
     assert type(fig).__name__ == "Figure"
-    # 4 panels + the pressure colorbar + the twin axis of (d)
-    assert len(fig.axes) == 6
+    # 4 panels + the twin axis of (d); the pattern's colour bar is an inset of (a)
+    assert len(fig.axes) == 5
     a, b, c, d = fig.axes[:4]
     assert a.get_title().startswith("(a)") and d.get_title().startswith("(d)")
-    assert a.get_xlabel() == "face: toe -> heel (mm)"
-    assert a.get_ylabel() == "profile: root -> tip (mm)"
-    assert len(_colorbars(fig)) == 1
-    # (a): the peak-pressure position is named in the legend
+    assert a.get_xlabel() == "face width from the toe (mm)"
+    assert a.get_ylabel() == "profile from the root end (mm)"
+    bars = [ax for ax in a.child_axes if "contact pressure" in ax.get_ylabel()]
+    assert [ax.get_ylabel() for ax in bars] == [PATTERN_LABEL]
+    # (a): the highest cell is starred and named in the legend with its position
     j = int(np.argmax(result.data["peak_pressure"].values))
     p = 1e-6 * float(result.data["peak_pressure"].values[j])
-    assert any(f"position {j} " in t and f"{p:.0f} MPa" in t for t in _legend_texts(a))
-    # (b): k(t) points, the dashed red Eq. 8 fit with order and residual, k_m
+    assert any(f"position {j} (" in t and f"{p:.0f} MPa" in t for t in _legend_texts(a))
+    # (b): k(t) points, the dashed red Eq. 8 law with order and residual, k_m
     assert b.get_ylabel() == "mesh stiffness k (10^8 N/m)"
-    assert b.get_xlabel() == "time t (ms)"
     texts = _legend_texts(b)
-    assert any(t.startswith("Eq. 8, order 2 (residual") for t in texts)
+    assert any(t.startswith("Eq. 8 in the dynamic model, order 2 (residual") for t in texts)
     assert any(t.startswith("k_m = ") for t in texts)
     fits = [ln for ln in b.get_lines() if ln.get_linestyle() == "--"]
     assert len(fits) == 1 and fits[0].get_color() == "tab:red"
-    period_ms = 1e3 / result.data.attrs["mesh_frequency"]
-    assert b.get_xlim() == pytest.approx((0.0, period_ms))
-    pts = b.get_lines()[0].get_ydata()
-    np.testing.assert_allclose(pts, 1e-8 * result.stiffness)
+    pts = next(ln for ln in b.get_lines() if ln.get_label().startswith("LTCA ("))
+    np.testing.assert_allclose(pts.get_ydata(), 1e-8 * result.stiffness)
+    np.testing.assert_allclose(pts.get_xdata(), np.degrees(result.data["angle"].values))
+    # (b)-(d) share one abscissa: gear A's rotation in deg over one mesh period
+    period = 360.0 / result.data.attrs["teeth_external"]
+    start = float(np.degrees(result.data["angle"].values[0]))
+    for ax in (b, c, d):
+        assert ax.get_xlabel() == cycle_label(result.data)
+        assert ax.get_xlim() == pytest.approx((start - 0.02 * period, start + 1.02 * period))
+    assert "(deg)" in b.get_xlabel() and "ms" not in b.get_xlabel()
     # (c) TE in um, (d) stresses in MPa and tooth pairs on the twin axis
     assert c.get_ylabel() == "loaded transmission error (um)"
     np.testing.assert_allclose(c.get_lines()[0].get_ydata(), 1e6 * result.data["te"].values)
     assert d.get_ylabel() == "stress (MPa)"
-    assert fig.axes[5].get_ylabel() == "tooth pairs in contact"
+    assert fig.axes[4].get_ylabel() == "tooth pairs in contact"
     assert "max subsurface von Mises" in _legend_texts(d)
     _saves(fig, tmp_path / "overview.png")
 
 
 def test_overview_direct_call_matches(result):
     fig = plot_contact(result.data)  # the dataset itself also works
-    assert len(fig.axes) == 6
+    assert len(fig.axes) == 5
 
 
 def test_developed_flank_of_a_real_result(result):
@@ -244,7 +251,9 @@ def test_single_position_and_all_nan(tmp_path):
     fig = plot_contact(ds)
     d = fig.axes[3]
     assert "max subsurface von Mises (not computed)" in _legend_texts(d)
-    assert any(t.startswith("Eq. 8, order 0") for t in _legend_texts(fig.axes[1]))
+    assert any(
+        t.startswith("Eq. 8 in the dynamic model, order 0") for t in _legend_texts(fig.axes[1])
+    )
     _saves(fig, tmp_path / "single.png")
     _saves(plot_pressure_map(ds), tmp_path / "single_map.png")
 
