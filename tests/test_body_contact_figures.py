@@ -162,3 +162,51 @@ def test_a_body_without_its_mesh_keeps_the_table_only():
     kinds = [b.kind for b in r.section("bodies").blocks]
     assert "interactive" not in kinds and "table" in kinds
     assert math.isfinite(r.section("bodies").values["frequencies_hz"][0][0])
+
+
+# ------------------------------------------------------------------ tooth renders
+
+
+@pytest.fixture(scope="module")
+def external_solid():
+    from reducerlab.drives import load_design
+    from reducerlab.geometry.solid import build_gear_solid
+
+    d = load_design(example_dir() / "nutation_surface.toml")
+    crown, bevel = d.tooth_generation(2)
+    return build_gear_solid(crown, bevel, n_profile=15, n_face=15, n_land=3, n_space=7,
+                            rim=d.surface.rim)  # fmt: skip
+
+
+def test_tooth_render_has_a_dimensioned_section_from_the_design(external_solid):
+    """The section's diameters against the bevel gear's closed forms at the mean cone
+    distance: d = z m_n / cos beta_m, d_a = d + 2 h_a cos delta, d_f = d - 2 h_f cos
+    delta, and the tooth thickness half the transverse pitch (a symmetric basic rack)."""
+    from reducerlab.plot.surface import plot_tooth, tooth_section
+
+    crown, gear = external_solid.crown, external_solid.gear
+    prof = crown.profile
+    z, m_n, beta = gear.teeth, 1e3 * prof.module, crown.spiral_angle
+    d = z * m_n / math.cos(beta)
+    cos_d = math.cos(gear.cone_angle)
+    sec = tooth_section(external_solid)
+    assert sec["d"] == pytest.approx(d, rel=1e-9)
+    assert sec["d"] == pytest.approx(2e3 * crown.mean_cone_distance * math.sin(gear.cone_angle))
+    assert sec["d_a"] == pytest.approx(d + 2e3 * prof.addendum * cos_d, abs=0.03)
+    assert sec["d_f"] == pytest.approx(d - 2e3 * prof.dedendum * cos_d, abs=0.03)
+    assert sec["h_a"] == pytest.approx(1e3 * prof.addendum, abs=0.02)
+    assert sec["s"] == pytest.approx(math.pi * d / z / 2, abs=0.02)
+    fig = plot_tooth(external_solid)
+    ax3d, ax = fig.axes[:2]
+    texts = [t.get_text() for t in ax.texts]
+    for name, sym, value in (("tip", "d_a", sec["d_a"]), ("pitch", "d", d),
+                             ("root", "d_f", sec["d_f"])):  # fmt: skip
+        assert f"{name}: {sym} = {value:.2f} mm" in texts
+    assert f"s = {sec['s']:.2f} mm" in texts
+    assert any(f"m_n = {m_n:.4g} mm, alpha_n = 20 deg" in t for t in texts)
+    assert ax.get_xlabel().endswith("(mm)") and ax.get_ylabel().endswith("(mm)")
+    # the 3-D render: at most five ticks an axis, small labels
+    for axis in (ax3d.xaxis, ax3d.yaxis, ax3d.zaxis):
+        lo, hi = sorted(axis.get_view_interval())
+        ticks = [t for t in axis.get_ticklocs() if lo <= t <= hi]
+        assert 2 <= len(ticks) <= 5
