@@ -160,7 +160,7 @@ def plot_body_modes_grid(
     elev, azim : float
         View angles (deg), by default as :func:`plot_body_mode`.
     side : float
-        Width of a panel (in, 1..6): 2.8 for a page, 2.0 for a report's still.
+        Width of a panel (in, 1..6): 2.8 for a page, 1.6 for a report's still.
     """
     from matplotlib.figure import Figure
 

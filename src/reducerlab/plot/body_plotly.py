@@ -107,7 +107,7 @@ def _collapse(p: Array, f: NDArray[np.int64], target: int) -> NDArray[np.int64]:
 
     def push(u: int, w: int) -> None:
         q = Q[u] + Q[w]
-        cu, cw = float(hom[w] @ q @ hom[w]), float(hom[u] @ q @ hom[u])
+        cu, cw = float(hom[w] @ q @ hom[w]), float(hom[u] @ q @ hom[u])  # remove u; w
         if cu <= cw:  # remove u, keep w
             heapq.heappush(heap, (cu, u, w, int(version[u]), int(version[w])))
         else:
@@ -121,51 +121,55 @@ def _collapse(p: Array, f: NDArray[np.int64], target: int) -> NDArray[np.int64]:
         heap.append((c1, u, w, 0, 0) if c1 <= c0 else (c0, w, u, 0, 0))
     heapq.heapify(heap)
     count = len(f)
+    tri = f.tolist()  # python lists in the loop: a collapse touches a few triangles
+    pts = p.tolist()
+    nrm = n.tolist()
     while count > target and heap:
         _, u, w, vu, vw = heapq.heappop(heap)
         if gone[u] or gone[w] or version[u] != vu or version[w] != vw:
             continue
-        shared = [i for i in around[u] if w in f[i]]
-        moved = [i for i in around[u] if w not in f[i]]
+        shared = [i for i in around[u] if w in tri[i]]
         if not shared:
             continue
+        moved = [i for i in around[u] if w not in tri[i]]
         # the link condition (the surface stays a manifold): the common neighbours of
         # u and w are the third corners of the triangles on their edge
-        third = {int(v) for i in shared for v in f[i]} - {u, w}
-        if _neighbours(f, around, u) & _neighbours(f, around, w) != third:
+        third = {v for i in shared for v in tri[i]} - {u, w}
+        if _neighbours(tri, around, u) & _neighbours(tri, around, w) != third:
             continue
-        if any(_turns(p, f[i], u, w, n[i]) for i in moved):
+        if any(_turns(pts, tri[i], u, w, nrm[i]) for i in moved):
             continue
         for i in shared:
             alive[i] = False
             count -= 1
-            for v in f[i].tolist():
+            for v in tri[i]:
                 around[v].discard(i)
         for i in moved:
-            f[i][f[i] == u] = w
+            tri[i] = [w if v == u else v for v in tri[i]]
             around[w].add(i)
         around[u].clear()
         gone[u] = True
         Q[w] += Q[u]
         # only the costs of w's edges change (its quadric; w itself stays put)
         version[w] += 1
-        for x in _neighbours(f, around, w):
+        for x in _neighbours(tri, around, w):
             push(w, x)
-    return f[alive]
+    return np.asarray(tri, dtype=np.int64).reshape(-1, 3)[alive]
 
 
-def _neighbours(f: NDArray[np.int64], around: list[set[int]], v: int) -> set[int]:
+def _neighbours(tri: list[list[int]], around: list[set[int]], v: int) -> set[int]:
     """The vertices that share a triangle with ``v``."""
-    return {int(x) for i in around[v] for x in f[i]} - {v}
+    return {x for i in around[v] for x in tri[i]} - {v}
 
 
-def _turns(p: Array, tri: NDArray[np.int64], u: int, w: int, normal: Array) -> bool:
+def _turns(pts: list[list[float]], tri: list[int], u: int, w: int, normal: list[float]) -> bool:
     """Whether triangle ``tri`` with its corner ``u`` moved to ``w`` faces against (or
     across) its original ``normal`` or collapses to a line."""
-    t = np.where(tri == u, w, tri)
-    b = p[t[0]]
-    m = np.cross(p[t[1]] - b, p[t[2]] - b)
-    return bool(m @ normal <= 0.0)
+    a, b, c = (pts[w if v == u else v] for v in tri)
+    e = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
+    g = (c[0] - a[0], c[1] - a[1], c[2] - a[2])
+    m = (e[1] * g[2] - e[2] * g[1], e[2] * g[0] - e[0] * g[2], e[0] * g[1] - e[1] * g[0])
+    return m[0] * normal[0] + m[1] * normal[1] + m[2] * normal[2] <= 0.0
 
 
 def _rounded(x: Array, size: float) -> list[float]:
@@ -255,7 +259,7 @@ def plotly_body_modes(
                 "x": [_rounded(q[:, 0], size_mm)],
                 "y": [_rounded(q[:, 1], size_mm)],
                 "z": [_rounded(q[:, 2], size_mm)],
-                "intensity": [np.round(level, 3).tolist()],
+                "intensity": [np.round(level, 2).tolist()],  # 1 % of the colour scale
             }
         )
         labels.append(f"mode {m + 1}: {f[m]:.0f} Hz, {types[m]}")
