@@ -130,7 +130,7 @@ def contact_section(ctx: Context) -> Section | None:
     if not given and not sharing:
         return None
     from ...plot.contact import plot_contact
-    from ...plot.contact_pattern import plot_bearing_pattern, plotly_bearing_pattern
+    from ...plot.contact_pattern import plotly_bearing_pattern
 
     s = Section("contact", "Loaded tooth contact")
     for r in given:
@@ -158,7 +158,7 @@ def contact_section(ctx: Context) -> Section | None:
         s.blocks.append(
             interactive(
                 plotly_bearing_pattern(r),
-                plot_bearing_pattern(r),
+                None,  # its still is panel (a) of the overview below
                 "bearing pattern: the highest contact pressure over the mesh cycle on the "
                 "developed flank, inside its outline (hover for values)",
                 div_id=f"bearing-pattern-{pair}",
