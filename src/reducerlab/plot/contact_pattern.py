@@ -237,8 +237,20 @@ def draw_bearing_pattern(ax: Axes, result: ContactResult | xr.Dataset, fig: Figu
 
 
 def plot_bearing_pattern(result: ContactResult | xr.Dataset) -> Figure:
-    """The bearing pattern on gear A's developed flank (:func:`bearing_pattern`), its
-    outline drawn and named, coloured by the highest contact pressure over the cycle."""
+    """The bearing pattern on gear A's developed flank, its outline drawn and named.
+
+    Parameters
+    ----------
+    result : ContactResult or its dataset
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel (mm, true scale): the highest contact pressure over the cycle
+        (:func:`bearing_pattern`, MPa colour bar), light grey where computed and never
+        loaded, the loaded area's border in white, the flank's outline with its root
+        end, tip, toe and heel named, and the highest cell starred.
+    """
     from matplotlib.figure import Figure
 
     ds = contact_data(result)
