@@ -244,7 +244,7 @@ def _body_render(r: Any, label: str, bodies: int) -> Block:
     faces = max(MAX_FACES // 3, 2 * MAX_FACES // (bodies + 1))
     return interactive(
         plotly_body_modes(*args, max_faces=faces),
-        plot_body_modes_grid(*args, side=1.6),  # a still for pages without scripts
+        plot_body_modes_grid(*args, side=1.6 if bodies == 1 else 1.2),  # without scripts
         f"{label}: mode shapes, the surface coloured by the displacement magnitude: "
         "choose a mode, drag to turn",
         div_id=f"body-modes-{a.get('gear', 0)}",
