@@ -92,11 +92,18 @@ def _cycle(ds: xr.Dataset) -> tuple[float, float]:
 
 
 def cycle_label(ds: xr.Dataset) -> str:
-    """The abscissa of every panel over the mesh cycle: gear A's rotation (deg)."""
+    """The abscissa of every panel over the mesh cycle: gear A's rotation (deg), relative
+    to gear B where the pair's frame turns (the nutation pair's nutating gear, the KHV
+    pair's carrier frame): the angle the analysis steps."""
     _, period = _cycle(ds)
     z = ds.attrs.get("teeth_external")
     per = f"360/{int(z)} = {period:.4g} deg" if z else f"{period:.4g} deg"
-    return f"rotation of {gear_a_name(ds)} (deg); mesh period {per}"
+    b = str(ds.attrs.get("gear_b", ""))
+    moving = ds.attrs.get("pair_kind", "spur") != "spur" and b  # a frame that turns
+    rel = (
+        f" relative to {b.replace('gear', 'gear ', 1) if b[4:5].isdigit() else b}" if moving else ""
+    )
+    return f"rotation of {gear_a_name(ds)}{rel} (deg); mesh period {per}"
 
 
 def _cycle_axis(ax: Axes, ds: xr.Dataset) -> None:
