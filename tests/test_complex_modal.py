@@ -205,7 +205,8 @@ def test_campbell_critical_speeds_of_the_spinning_disc():
     np.testing.assert_allclose(rpm, [wn / math.sqrt(1 + g) * 30 / math.pi,
                                      wn / math.sqrt(1 - g) * 30 / math.pi], rtol=1e-9)  # fmt: skip
     assert res.unstable_speeds() == [] and "every mode is stable" in res.table()
-    assert isinstance(res, ComplexCampbellResult) and len(res.plot().axes) == 1
+    # the diagram and its colour bar (damping: logarithmic decrement)
+    assert isinstance(res, ComplexCampbellResult) and len(res.plot().axes) == 2
 
 
 def test_campbell_reports_the_speeds_where_a_mode_grows():

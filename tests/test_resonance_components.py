@@ -224,26 +224,42 @@ def test_bad_components_argument(design):
 
 
 def test_comparison_figure_from_report_and_from_frequencies(design):
+    # issue 32: the system modes, the body modes and the excitation bands on one
+    # frequency axis; no system mode is paired with a body mode by its index
     g2 = ComponentModes("gear 2", (10987.0, 10988.0, 11184.0), ("torsional",) * 2 + ("",))
     report = resonance_check(design, speed_range=QUIET, components=[GEAR1, g2])
-    fig = plot_component_comparison(report, count=5)
+    fig = plot_component_comparison(report)
     (ax,) = fig.axes
-    assert len(ax.containers) == 3  # system, gear 1, gear 2
-    assert all(len(c.patches) == 5 for c in ax.containers)
-    heights = [p.get_height() for p in ax.containers[1].patches]
-    assert heights == pytest.approx(list(GEAR1.frequencies))
-    system = [p.get_height() for p in ax.containers[0].patches]
-    assert system == pytest.approx(report["system"]["frequencies_hz"][:5])
-    texts = [t.get_text() for t in ax.texts]
-    assert any("torsional" in t for t in texts) and any("umbrella" in t for t in texts)
+    body = [ln for ln in ax.lines if ln.get_gid() == "body-mode"]
+    got = sorted((ln.get_xdata()[0], ln.get_ydata()[0]) for ln in body)
+    want = sorted([(f, 1) for f in GEAR1.frequencies] + [(f, 0) for f in g2.frequencies])
+    assert got == want  # the given values, drawn as given
+    system = [ln.get_xdata()[0] for ln in ax.lines if ln.get_gid() == "system-mode"]
+    elastic = [f for f in report["system"]["frequencies_hz"] if f > 0]
+    assert system == pytest.approx(elastic)
+    assert all(ln.get_ydata()[0] == 2 for ln in ax.lines if ln.get_gid() == "system-mode")
+    assert [t.get_text() for t in ax.get_yticklabels()][::-1][1:] == ["gear 1", "gear 2"]
+    # each excitation's frequencies over the range: a band from order lo to order hi
+    lo, hi = report["speed_range_rpm"]
+    ds = report.campbell.data
+    bands = {p.get_label().split(":")[0]: p for p in ax.patches if p.get_gid() == "excitation"}
+    for name, q in zip(ds["excitation"].values, ds["order"].values, strict=True):
+        key = f"{name} (order {q:.4g})"
+        assert key in bands
+        x0, x1 = bands[key].get_x(), bands[key].get_x() + bands[key].get_width()
+        assert (x0, x1) == pytest.approx((q * lo / 60, q * hi / 60))
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert legend[1:] == ["gear 1", "gear 2"] and legend[0].startswith("system")
-    # (system frequencies, components): default count = most modes of a component
+    assert {"torsional", "folding", "umbrella", "(type not given)"} <= set(legend)
+    # (system frequencies, components): a log axis, no excitation without orders
     fig = plot_component_comparison(report["system"]["frequencies_hz"], [GEAR1, g2], log=True)
     (ax,) = fig.axes
-    assert ax.get_yscale() == "log" and all(len(c.patches) == 5 for c in ax.containers)
-    fig = plot_component_comparison(([0.0, 6600, 7870], [GEAR1]))
-    assert len(fig.axes[0].containers) == 2
+    assert ax.get_xscale() == "log" and not [p for p in ax.patches if p.get_gid()]
+    fig = plot_component_comparison(([0.0, 6600, 7870], [GEAR1]), orders={"1x": 1.0},
+                                    speed_range_rpm=(60.0, 60.0))  # fmt: skip
+    (ax,) = fig.axes
+    lines = [ln for ln in ax.lines if ln.get_gid() == "excitation"]
+    assert len(lines) == 1 and lines[0].get_xdata()[0] == pytest.approx(1.0)
+    assert len([ln for ln in ax.lines if ln.get_gid() == "system-mode"]) == 2
     fig.savefig(io.BytesIO(), format="png")
     with pytest.raises(ReducerlabError, match="no component modes"):
         plot_component_comparison(resonance_check(design, speed_range=QUIET))

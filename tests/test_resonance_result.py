@@ -47,7 +47,10 @@ def test_plot_draws_the_carried_diagram_with_the_body_lines(gear):
     (ax,) = fig.axes
     assert ax.get_ylim()[1] == pytest.approx(1.05 * 900.0)
     assert any(line.get_gid() == "component-mode" for line in ax.lines)
-    assert len(gear.plot_components().axes[0].containers) == 2
+    # the body modes on the system modes' frequency axis: one marker per body mode
+    (comp,) = gear.plot_components().axes
+    marks = [ln for ln in comp.lines if ln.get_gid() == "body-mode"]
+    assert [ln.get_xdata()[0] for ln in marks] == [900.0]
 
 
 def test_gyroscopic_models_carry_the_complex_branches():
@@ -55,8 +58,9 @@ def test_gyroscopic_models_carry_the_complex_branches():
     assert res["frequencies"] != "undamped"
     assert isinstance(res.campbell, ComplexCampbellResult)
     assert "whirl" in res.campbell.data
-    (ax,) = res.plot().axes
+    ax, bar = res.plot().axes  # the diagram and its damping colour bar
     assert ax.get_ylabel() == "damped natural frequency (Hz)"
+    assert bar.get_xlabel() == "logarithmic decrement (damping)"
 
 
 def test_the_report_does_not_compute_the_diagram_again(monkeypatch):

@@ -242,7 +242,10 @@ def bifurcation(
                 {"units": length_unit(scale), "long_name": "mesh deflection"},
             )
         },
-        coords={"p0": ("p0", values, axis_coord(design, axis, values)), "point": np.arange(keep)},
+        coords={
+            "p0": ("p0", values, axis_coord(design, axis, values, model)),
+            "point": np.arange(keep),
+        },
         attrs={
             "title": (design.name if design else model.name) or "bifurcation",
             "parameter": axis.path,

@@ -24,13 +24,21 @@ from ..model.rigid import RIGID_TOL, element_blocks, rest_stiffness
 from ..results import Result
 from ..units import RPM, TWO_PI
 from .excitation import campbell_axes, campbell_dataset, find_crossings
+from .tracking import branch_of, renumber, track_modes
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from .components import ComponentModes
 
-__all__ = ["CampbellResult", "campbell", "frequencies_over", "undamped_modes_over"]
+__all__ = [
+    "CampbellResult",
+    "campbell",
+    "frequencies_over",
+    "reference_index",
+    "tracked_rows",
+    "undamped_modes_over",
+]
 
 #: Public names that lived here before the resonance verdict got its own module
 #: (issue 25) and stay importable from here, as the README's
@@ -77,6 +85,13 @@ def undamped_modes_over(
 ) -> tuple[NDArray, NDArray]:
     """:func:`frequencies_over` with the mode shapes: frequencies (Hz), shape (speed,
     mode), and mass-normalised shapes, shape (speed, dof, mode), in the same order."""
+    lam, phi, _ = _eigen_over(model, speeds, rigid_tol)
+    return np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI, phi
+
+
+def _eigen_over(model: Model, speeds: NDArray, rigid_tol: float) -> tuple[NDArray, ...]:
+    """Sorted eigenvalues (rad^2/s^2), mass-normalised and mass-weighted shapes at
+    each speed."""
     from .sweep import PointModes
 
     Ms, Ks = [], []
@@ -90,7 +105,7 @@ def undamped_modes_over(
     modes = PointModes(np.array(Ms), K, rest, element_blocks(model), model.dof_names,
                        f"campbell of {model.name!r}")  # fmt: skip
     try:
-        lam, phi, _ = modes.solve(rigid_tol)
+        lam, phi, y = modes.solve(rigid_tol)
     except (np.linalg.LinAlgError, ValueError) as exc:
         if isinstance(exc, ReducerlabError):
             raise
@@ -103,7 +118,29 @@ def undamped_modes_over(
             f"campbell: non-finite natural frequencies for model {model.name!r}; check for "
             "an extreme inertia or stiffness value"
         )
-    return np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI, phi
+    return lam, phi, y
+
+
+def reference_index(target: Design | Model, model: Model, speeds: NDArray) -> int:
+    """The sample nearest the operating speed (a design's ``operating_speed``, a
+    model's speed): tracked modes are numbered by their order there, as the modal
+    analysis at the operating point numbers them."""
+    op = target.operating_speed if isinstance(target, Design) else model.speed
+    return int(np.argmin(np.abs(speeds - float(op))))
+
+
+def tracked_rows(
+    rows: Sequence[tuple[int, str, float, float]],
+    speeds: NDArray,
+    tracked: NDArray,
+    order: NDArray,
+) -> list[tuple[int, str, float, float, int]]:
+    """Crossings found on sorted branches (:func:`~.excitation.find_crossings`) named by
+    their tracked mode: ``(tracked mode, excitation, speed, frequency, sorted mode)``,
+    modes numbered from 1."""
+    return [
+        (branch_of(j, w, f, speeds, tracked, order) + 1, name, w, f, j) for j, name, w, f in rows
+    ]
 
 
 @names_source
@@ -131,16 +168,38 @@ def campbell(
     Returns
     -------
     CampbellResult
-        ``frequency`` (speed, mode; Hz), the excitation lines and their crossings.
+        ``frequency`` (speed, mode; Hz) along each mode tracked by shape (MAC,
+        :func:`~.tracking.track_modes`, refined where neighbouring speeds disagree), so
+        that a line follows one mode through crossings and veerings; modes are numbered
+        by their order at the operating speed (``sorted_mode``: the sorted number of
+        each tracked mode at each speed). The excitation lines and their crossings
+        (``crossing_mode`` the tracked mode, ``crossing_sorted_mode`` its sorted number
+        at the crossing speed).
     """
     from ..drives import design_and_model
 
     _, model = design_and_model(target, "campbell")
     speeds, lo, hi, orders = campbell_axes(target, model, speeds, orders, points, "campbell")
-    freq = frequencies_over(model, speeds)
-    rows = find_crossings(freq, speeds, orders, lambda w: frequencies_over(model, np.array([w]))[0])
-    data = campbell_dataset(target, model, speeds, (lo, hi), orders, rows,
-                            {"frequency": (("speed", "mode"), freq, {"units": "Hz"})})  # fmt: skip
+    lam, _, y = _eigen_over(model, speeds, RIGID_TOL)
+
+    def evaluate(w: float) -> tuple[NDArray, NDArray]:
+        lw, _, yw = _eigen_over(model, np.array([w]), RIGID_TOL)
+        return lw[0], yw[0]
+
+    order = renumber(track_modes(speeds, lam, y, evaluate).order,
+                     reference_index(target, model, speeds))  # fmt: skip
+    freq = np.sign(lam) * np.sqrt(np.abs(lam)) / TWO_PI
+    tracked = np.take_along_axis(freq, order, axis=1)
+    found = find_crossings(freq, speeds, orders,
+                           lambda w: frequencies_over(model, np.array([w]))[0])  # fmt: skip
+    rows = tracked_rows(found, speeds, tracked, order)
+    modes = {
+        "frequency": (("speed", "mode"), tracked, {"units": "Hz"}),
+        "sorted_mode": (("speed", "mode"), order + 1, {"long_name": "sorted mode number"}),
+    }
+    data = campbell_dataset(target, model, speeds, (lo, hi), orders, [r[:4] for r in rows],
+                            modes)  # fmt: skip
+    data["crossing_sorted_mode"] = ("crossing", np.array([r[4] for r in rows], dtype=int))
     return CampbellResult(data)
 
 
@@ -150,18 +209,24 @@ class CampbellResult(Result):
     kind: ClassVar[str] = "campbell"
 
     def crossings(self) -> list[dict[str, Any]]:
-        """Crossings of natural frequencies with excitation lines."""
+        """Crossings of natural frequencies with excitation lines: ``mode`` the tracked
+        mode (the line of the diagram), ``sorted_mode`` its number in frequency order
+        at the crossing speed."""
         ds = self.data
+        sorted_ = (ds["crossing_sorted_mode"].values if "crossing_sorted_mode" in ds
+                   else ds["crossing_mode"].values)  # fmt: skip
         return [
             {
                 "mode": int(m),
+                "sorted_mode": int(s),
                 "excitation": str(e),
                 "speed_rad_s": float(w),
                 "speed_rpm": float(w) * RPM,
                 "frequency_hz": float(f),
             }
-            for m, e, w, f in zip(
+            for m, s, e, w, f in zip(
                 ds["crossing_mode"].values,
+                sorted_,
                 ds["crossing_excitation"].values,
                 ds["crossing_speed"].values,
                 ds["crossing_frequency"].values,

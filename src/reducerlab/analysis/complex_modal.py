@@ -24,6 +24,7 @@ Without damping and gyroscopic terms the damped frequencies are the undamped one
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import pairwise
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -35,8 +36,10 @@ from ..model import Coriolis, Gyroscopic, Model, Nutating
 from ..model.rigid import RIGID_TOL, rigid_and_elastic
 from ..results import Result, provenance
 from ..units import RPM, TWO_PI
+from .campbell import reference_index, tracked_rows
 from .excitation import campbell_axes, campbell_dataset, find_crossings
 from .modal import has_skew_terms
+from .tracking import renumber, track_complex
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -48,7 +51,9 @@ __all__ = [
     "ComplexModalResult",
     "complex_campbell",
     "complex_modes",
+    "log_decrement",
     "spin_signs",
+    "steady_whirl",
 ]
 
 #: An orbit whose minor axis is below this share of its major axis is planar (no whirl).
@@ -183,8 +188,7 @@ def complex_modes(model: Model, *, rigid_tol: float = RIGID_TOL) -> ComplexModal
         zeta[j] = z
         growth[j] = lk.real
         shapes[:, j] = phi
-    with np.errstate(divide="ignore", invalid="ignore"):
-        logdec = np.where(np.abs(zeta) < 1, TWO_PI * zeta / np.sqrt(1 - zeta**2), np.inf)
+    logdec = log_decrement(zeta)
     stable = growth <= UNSTABLE_TOL * np.maximum(natural * TWO_PI, 1e-300)
     data = xr.Dataset(
         {
@@ -275,6 +279,76 @@ def _branches(model: Model, speeds: NDArray, rigid_tol: float) -> tuple[NDArray,
     return stack_branches(modes_over(model, speeds, rigid_tol))
 
 
+def _shapes(rows: list[xr.Dataset], width: int) -> NDArray[np.complex128]:
+    """Complex shapes (speed, dof, mode) of :func:`modes_over` rows, zero where a
+    speed has fewer modes."""
+    n = rows[0].sizes["dof"]
+    out = np.zeros((len(rows), n, width), complex)
+    for i, r in enumerate(rows):
+        out[i, :, : r.sizes["mode"]] = r["shape_real"].values + 1j * r["shape_imag"].values
+    return out
+
+
+def log_decrement(zeta: NDArray) -> NDArray:
+    """Logarithmic decrement ``2 pi zeta / sqrt(1 - zeta^2)`` of damping ratios (inf
+    from critical damping on, NaN kept)."""
+    z = np.asarray(zeta, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(np.abs(z) < 1, TWO_PI * z / np.sqrt(1 - z**2), np.copysign(np.inf, z))
+
+
+#: Whirl labels that only say the orbit's sense about +z (no spin to compare with: a
+#: model at rest).
+UNREFERENCED = ("cw", "ccw")
+
+
+def steady_whirl(labels: Sequence[str], min_run: int | None = None) -> NDArray:
+    """The whirl along one tracked branch, without flicker.
+
+    At rest there is no spin to compare an orbit with (``cw``/``ccw``): those samples
+    take the whirl the branch has once it spins. A run of one label shorter than
+    ``min_run`` samples (default ``max(3, n / 50)``) between others is a decision at its
+    threshold (an orbit near the planar limit, a repeated eigenvalue whose basis the
+    solver picks), not a change of whirl: it takes its neighbours' label. Where the
+    label still changes more than twice, the branch has no whirl of its own (a repeated
+    eigenvalue throughout): it takes its most frequent label.
+
+    Parameters
+    ----------
+    labels : sequence of str
+        Whirl of the branch at each speed, as :func:`complex_modes` gives it ("" where
+        the branch is missing).
+    min_run : int, optional
+
+    Returns
+    -------
+    ndarray of str
+    """
+    lab = np.array([str(v) for v in labels], dtype=object)
+    n = lab.size
+    if n == 0:
+        return lab.astype(str)
+    known = np.nonzero(~np.isin(lab, UNREFERENCED) & (lab != ""))[0]
+    if known.size:
+        for i in np.nonzero(np.isin(lab, UNREFERENCED))[0]:
+            lab[i] = lab[known[np.argmin(np.abs(known - i))]]
+    min_run = max(3, n // 50) if min_run is None else int(min_run)
+    while True:
+        starts = np.concatenate([[0], np.nonzero(lab[1:] != lab[:-1])[0] + 1, [n]])
+        runs = list(pairwise(starts.tolist()))
+        short = [k for k, (a, b) in enumerate(runs) if b - a < min_run and len(runs) > 1]
+        if not short:
+            break
+        k = min(short, key=lambda q: runs[q][1] - runs[q][0])
+        a, b = runs[k]
+        lab[a:b] = lab[runs[k - 1][0]] if k > 0 else lab[runs[k + 1][0]]
+    if np.count_nonzero(lab[1:] != lab[:-1]) > 2:
+        values, counts = np.unique(lab[lab != ""], return_counts=True)
+        if values.size:
+            lab[lab != ""] = values[np.argmax(counts)]
+    return lab.astype(str)
+
+
 @names_source
 def complex_campbell(
     target: Any,
@@ -301,32 +375,52 @@ def complex_campbell(
     Returns
     -------
     ComplexCampbellResult
-        ``frequency``, ``damping_ratio``, ``whirl``, ``stable`` over (speed, mode), the
-        modes numbered by frequency at each speed; excitation lines; crossings found
-        between samples and refined by root finding on the same numbered mode.
+        ``frequency``, ``damping_ratio``, ``log_decrement``, ``whirl``, ``stable`` over
+        (speed, mode), each mode tracked across speed by its shape (complex MAC,
+        :func:`~.tracking.track_complex`) so that a line follows one mode, and numbered
+        by its frequency order at the operating speed (``sorted_mode``: its number in
+        frequency order at each speed); ``whirl`` decided along each tracked branch
+        (:func:`steady_whirl`: no flicker, the sense at rest from the spinning branch);
+        excitation lines; crossings found between samples on the frequency-ordered
+        modes, refined by root finding and named by their tracked mode
+        (``crossing_mode``; ``crossing_sorted_mode``, ``crossing_whirl``).
     """
     from ..drives import design_and_model
 
     _, model = design_and_model(target, "complex campbell")
     speeds, lo, hi, orders = campbell_axes(target, model, speeds, orders, points,
                                            "complex campbell")  # fmt: skip
-    freq, zeta, whirl, stable = _branches(model, speeds, rigid_tol)
+    at = modes_over(model, speeds, rigid_tol)
+    freq, zeta, whirl, stable = stack_branches(at)
+    shapes = _shapes(at, freq.shape[1])
+    order = renumber(track_complex(freq, shapes, model.matrices().M),
+                     reference_index(target, model, speeds))  # fmt: skip
+
+    def take(a: NDArray) -> NDArray:
+        return np.take_along_axis(a, order, axis=1)
+
+    tracked, zeta = take(freq), take(zeta)
+    whirl = np.stack([steady_whirl(c) for c in take(whirl).T], axis=1).astype(str)
     found = find_crossings(
         freq, speeds, orders, lambda w: _branches(model, np.array([w]), rigid_tol)[0][0]
     )
-    rows = []
-    for j, name, w, f in found:  # the whirl of the nearest sample
-        near = int(np.argmin(np.abs(speeds - w)))
-        rows.append((j, name, w, f, str(whirl[near, j - 1])))
+    rows = tracked_rows(found, speeds, tracked, order)
+    near = [int(np.argmin(np.abs(speeds - r[2]))) for r in rows]  # whirl of the nearest
     modes = {
-        "frequency": (("speed", "mode"), freq, {"units": "Hz"}),
+        "frequency": (("speed", "mode"), tracked, {"units": "Hz"}),
         "damping_ratio": (("speed", "mode"), zeta, {"units": "1"}),
-        "whirl": (("speed", "mode"), whirl.astype(str)),
-        "stable": (("speed", "mode"), stable),
+        "log_decrement": (("speed", "mode"), log_decrement(zeta), {"units": "1"}),
+        "whirl": (("speed", "mode"), whirl),
+        "stable": (("speed", "mode"), take(stable)),
+        "sorted_mode": (("speed", "mode"), order + 1, {"long_name": "sorted mode number"}),
     }
     data = campbell_dataset(target, model, speeds, (lo, hi), orders,
                             [r[:4] for r in rows], modes)  # fmt: skip
-    data["crossing_whirl"] = ("crossing", np.array([r[4] for r in rows], dtype=str))
+    data["crossing_whirl"] = (
+        "crossing", np.array([whirl[k, r[0] - 1] for k, r in zip(near, rows, strict=True)],
+                             dtype=str),
+    )  # fmt: skip
+    data["crossing_sorted_mode"] = ("crossing", np.array([r[4] for r in rows], dtype=int))
     return ComplexCampbellResult(data)
 
 
@@ -336,13 +430,20 @@ class ComplexCampbellResult(Result):
     kind: ClassVar[str] = "complex-campbell"
 
     def crossings(self) -> list[dict[str, Any]]:
+        """Crossings: ``mode`` the tracked mode (the line of the diagram),
+        ``sorted_mode`` its number in frequency order at the crossing speed, its whirl."""
         ds = self.data
+        sorted_ = (ds["crossing_sorted_mode"].values if "crossing_sorted_mode" in ds
+                   else ds["crossing_mode"].values)  # fmt: skip
         return [
-            {"mode": int(m), "excitation": str(e), "speed_rad_s": float(w),
-             "speed_rpm": float(w) * RPM, "frequency_hz": float(f), "whirl": str(h)}
-            for m, e, w, f, h in zip(ds["crossing_mode"].values, ds["crossing_excitation"].values,
-                                     ds["crossing_speed"].values, ds["crossing_frequency"].values,
-                                     ds["crossing_whirl"].values, strict=True)
+            {"mode": int(m), "sorted_mode": int(s), "excitation": str(e),
+             "speed_rad_s": float(w), "speed_rpm": float(w) * RPM, "frequency_hz": float(f),
+             "whirl": str(h)}
+            for m, s, e, w, f, h in zip(ds["crossing_mode"].values, sorted_,
+                                        ds["crossing_excitation"].values,
+                                        ds["crossing_speed"].values,
+                                        ds["crossing_frequency"].values,
+                                        ds["crossing_whirl"].values, strict=True)
         ]  # fmt: skip
 
     def unstable_speeds(self) -> list[float]:
@@ -374,9 +475,10 @@ class ComplexCampbellResult(Result):
     def plot(
         self, components: Sequence[ComponentModes] = (), *, fmax: float | None = None
     ) -> Figure:
-        """Damped frequencies against speed: forward whirl as up-triangles, backward as
-        down-triangles, unstable points as red crosses; excitation lines; crossings;
-        ``components``: body modes drawn as horizontal lines (see
+        """Damped frequencies against speed: each tracked mode coloured by its log
+        decrement, its whirl marked (up-triangles forward, down-triangles backward),
+        unstable points as red crosses; excitation lines; crossings; ``components``:
+        body modes drawn as horizontal lines (see
         :func:`~reducerlab.plot.campbell.plot_complex_campbell`)."""
         from ..plot.campbell import plot_complex_campbell
 

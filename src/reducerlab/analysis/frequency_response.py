@@ -164,7 +164,7 @@ def frequency_response(
             )
             for q, (name, unit, long) in enumerate(QUANTITIES)
         },
-        coords={"branch": names, "p0": ("p0", values, axis_coord(design, axis, values))},
+        coords={"branch": names, "p0": ("p0", values, axis_coord(design, axis, values, model))},
         attrs={
             "title": (design.name if design else model.name) or "frequency response",
             "parameter": axis.path,

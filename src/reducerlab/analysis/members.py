@@ -13,14 +13,14 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from ..design import Design, field_kind
+from ..design import Design
 from ..dynamics.coordinates import elastic_names, rigid_reduction, static_states, to_system
 from ..dynamics.systems import at_rest
 from ..errors import ReducerlabError
 from ..model import Model, NonlinearSystem
 from ..model.rigid import element_blocks
 from ..units import display_unit
-from .parameters import Axis, Evaluator, Target, axis_targets
+from .parameters import Axis, Evaluator, Target, axis_targets, parameter_kind
 from .policies import Continuation
 
 __all__ = [
@@ -75,12 +75,16 @@ def continue_sweep(
     return out
 
 
-def axis_coord(design: Design | None, axis: Axis, values: NDArray) -> dict[str, Any]:
+def axis_coord(
+    design: Design | None, axis: Axis, values: NDArray, model: Model | None = None
+) -> dict[str, Any]:
     """Attributes of a parameter coordinate: its path, its unit inside (SI) and the unit
     figures show it in (``display_unit``, ``display_factor``: rpm for a speed, um or mm
-    for a length, deg for an angle; :func:`reducerlab.units.display_unit`)."""
-    path = axis.path.split("+")[0].strip().removeprefix("design:")
-    kind = field_kind(design, path) if design is not None and ":" not in path else None
+    for a length, deg for an angle, else the SI unit such as N/m;
+    :func:`reducerlab.units.display_unit`), the quantity found for a design field or,
+    with ``model`` given, a model parameter
+    (:func:`reducerlab.analysis.parameters.parameter_kind`)."""
+    kind = parameter_kind(design, model, axis.path)
     unit, factor = display_unit(kind, values)
     return {"path": axis.path, "units": "SI", "display_unit": unit, "display_factor": factor}
 

@@ -1,11 +1,13 @@
 """What a steady motion is: its period from the Poincaré points, its class (period-n,
 quasi-periodic, chaotic, still unsettled), whether two runs hold the same attractor,
-and the spectral peaks of a signal as multiples of the forcing frequency."""
+the spectral peaks of a signal as multiples of the forcing frequency, and the windowed
+spectrum the figures draw."""
 
 from __future__ import annotations
 
 import itertools
 import warnings
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -16,11 +18,14 @@ from ..errors import ReducerlabError
 __all__ = [
     "COEXIST_TOL",
     "SETTLE",
+    "Spectrum",
     "attractor_scale",
     "classify",
+    "coinciding_period",
     "different_attractors",
     "period_of",
     "spectrum_peaks",
+    "windowed_spectrum",
 ]
 
 
@@ -53,6 +58,45 @@ def different_attractors(
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows: diverged runs
         apart = np.abs(np.nanmean(a, axis=-1) - np.nanmean(b, axis=-1)) > COEXIST_TOL * size
     return (np.asarray(labels_a, object) != np.asarray(labels_b, object)) | apart
+
+
+def coinciding_period(
+    points: NDArray, sizes: NDArray, tol: float = 1e-4, max_period: int = 12
+) -> int:
+    """The period n of Poincaré points that coincide every n points to within ``tol`` of
+    the orbit's size (a period-n orbit whose spread is round-off or integration error
+    against the motion), 0 when they do not: every n-th point (each of the n classes)
+    spreads over less than ``tol`` times the size, so that a slow drift whose steps are
+    small but whose course is not does not pass.
+
+    Parameters
+    ----------
+    points : ndarray
+        The Poincaré points (n_points, n_coordinates), e.g. deflection and velocity.
+    sizes : ndarray
+        The orbit's size per coordinate (n_coordinates,), e.g. the peak-to-peak of the
+        phase trajectory; a spread below ``tol`` times it is invisible on axes that show
+        the orbit.
+    tol : float
+        The share of the orbit's size below which points coincide.
+    max_period : int
+        The longest period looked for.
+
+    Returns
+    -------
+    int
+        The smallest such n <= ``max_period``, or 0.
+    """
+    pts = np.atleast_2d(np.asarray(points, float))
+    if pts.shape[0] == 1:
+        pts = pts.T
+    size = np.maximum(np.asarray(sizes, float), 1e-300)
+    if not np.all(np.isfinite(pts)) or pts.shape[0] < 2:
+        return 0
+    for n in range(1, min(max_period, pts.shape[0] - 1) + 1):
+        if all(np.all(np.ptp(pts[k::n], axis=0) <= tol * size) for k in range(n)):
+            return n
+    return 0
 
 
 def period_of(row: NDArray, tol: float, max_period: int) -> int:
@@ -205,3 +249,66 @@ def spectrum_peaks(
     peaks = [i for i in range(1, amp.size - 1) if amp[i] >= amp[i - 1] and amp[i] > amp[i + 1]]
     peaks.sort(key=lambda i: -amp[i])
     return [(float(f[i] / f_ref), float(amp[i])) for i in peaks[:count]]
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """A one-sided amplitude spectrum for display (:func:`windowed_spectrum`).
+
+    Attributes
+    ----------
+    frequency : ndarray
+        Frequencies (Hz), on the zero-padded grid (``resolution / pad`` apart).
+    amplitude : ndarray
+        Amplitude of a sinusoid at that frequency (signal units; exact at a sinusoid's
+        own frequency up to the window's scalloping, < 0.1 % with ``pad`` >= 8).
+    resolution : float
+        The frequency resolution ``1 / record`` (Hz): the bin spacing of the record
+        itself; two sinusoids closer than about two bins merge under the window.
+    record : float
+        The record length ``N dt`` (s).
+    window : str
+        The window's name (``"Hann"``).
+    pad : int
+        The zero-padding factor (the displayed grid is ``pad`` times finer than the
+        resolution: it interpolates the peaks' shape, it resolves nothing more).
+    """
+
+    frequency: NDArray[np.float64]
+    amplitude: NDArray[np.float64]
+    resolution: float
+    record: float
+    window: str
+    pad: int
+
+
+def windowed_spectrum(signal: NDArray[np.float64], dt: float, pad: int = 8) -> Spectrum:
+    """The Hann-windowed, zero-padded one-sided amplitude spectrum of ``signal`` (its
+    windowed mean removed), for display. The Hann window keeps the leakage of a sinusoid
+    that does not fall on a bin in sidelobes below -31 dB that fall by 18 dB per octave
+    (a rectangular window: -13 dB, 6 dB per octave); the amplitudes are divided by the
+    window's sum (coherent gain), so a sinusoid of amplitude A peaks at A.
+
+    Parameters
+    ----------
+    signal : ndarray
+        Samples on a uniform grid (>= 4).
+    dt : float
+        Sample spacing (s), > 0.
+    pad : int
+        Zero-padding factor (>= 1): the spectrum is evaluated ``pad`` times finer than
+        its resolution ``1 / (N dt)``.
+
+    Returns
+    -------
+    Spectrum
+    """
+    x = np.asarray(signal, float)
+    if x.size < 4 or not dt > 0 or not (isinstance(pad, int) and pad >= 1):
+        raise ReducerlabError("windowed_spectrum: need >= 4 samples, dt > 0 and pad >= 1")
+    w = np.hanning(x.size)
+    n_fft = pad * x.size
+    mean = np.sum(x * w) / np.sum(w)  # the windowed mean: no DC left under the window
+    amp = 2.0 * np.abs(np.fft.rfft((x - mean) * w, n=n_fft)) / np.sum(w)
+    record = x.size * dt
+    return Spectrum(np.fft.rfftfreq(n_fft, dt), amp, 1.0 / record, record, "Hann", pad)

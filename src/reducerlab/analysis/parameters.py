@@ -37,6 +37,7 @@ __all__ = [
     "Target",
     "axis_targets",
     "design_keys",
+    "parameter_kind",
     "parse_path_values",
     "parse_values",
     "resolve",
@@ -360,6 +361,68 @@ def resolve(design: Design | None, model: Model, path: str, what: str = "sweep")
         hint = " or a numeric design field" if design is not None else ""
         raise ReducerlabError(f"{what}: unknown parameter path {raw!r}{hint} ({exc})") from None
     return Target("model", path, (), float(value))
+
+
+#: DOF kinds that are rotations (rad); the others (x, y, z, u) are lengths (m).
+_ROTATIONS = frozenset({"rx", "ry", "rz"})
+
+
+def parameter_kind(design: Design | None, model: Model | None, path: str) -> str | None:
+    """The quantity kind of a parameter path (a key of
+    :data:`reducerlab.units.QUANTITIES`: ``"stiffness"`` for N/m, ``"moment of
+    inertia"`` for kg m^2, ...), as :func:`resolve` would find the path; the first of a
+    tied ``a+b`` path. None for a plain number, an unknown path, or a model parameter
+    whose unit its element does not fix (a coupling over both lengths and angles).
+
+    A design field's kind is its declared quantity; a model parameter's follows from its
+    element and the kinds of its DOFs: an inertia's value is a mass on a translation
+    and a moment of inertia on a rotation, a support's or coupling's stiffness and
+    damping are torsional on rotations, a mesh or cubic spring acts along a line (m),
+    a load is a force or a torque, and ``speed`` an angular velocity.
+    """
+    from ..design import field_kind
+
+    path = path.split("+")[0].strip()
+    where = None
+    if path.startswith(("design:", "model:")):
+        where, path = path.split(":", 1)
+    if (
+        where in (None, "design")
+        and design is not None
+        and design_keys(design.model_dump(mode="python"), path) is not None
+    ):
+        return field_kind(design, path)
+    if where == "design" or model is None:
+        return None
+    return _model_kind(model, path)
+
+
+def _model_kind(model: Model, path: str) -> str | None:
+    """:func:`parameter_kind` of a model parameter."""
+    from ..model import Coupling, CubicSpring, Inertia, Load, Mesh, Support
+
+    if path == "speed":
+        return "angular velocity"
+    owners = [e for e in model.elements if path.startswith(e.name + ".")]
+    if not owners:
+        return None
+    elem = max(owners, key=lambda e: len(e.name))
+    field = path[len(elem.name) + 1 :].split(".")[0]
+    kinds = {d.rsplit(".", 1)[-1] in _ROTATIONS for d in elem.dofs}
+    rot = kinds.pop() if len(kinds) == 1 else None
+    if isinstance(elem, Mesh | CubicSpring):  # along a line of action (m)
+        named = {"stiffness": "stiffness", "damping": "damping", "backlash": "length",
+                 "error": "length", "reference_deflection": "length"}  # fmt: skip
+        return named.get(field)
+    if rot is None:
+        return None
+    if isinstance(elem, Inertia) and field == "value":
+        return "moment of inertia" if rot else "mass"
+    if isinstance(elem, Load) and field == "value":
+        return "torque" if rot else "force"
+    if isinstance(elem, Support | Coupling) and field in ("stiffness", "damping"):
+        return f"torsional {field}" if rot else field
+    return None
 
 
 def axis_targets(

@@ -307,8 +307,8 @@ def _assemble(
         },
         coords={
             "branch": job.branches,
-            "p0": ("p0", xv, axis_coord(design, x, xv)),
-            "p1": ("p1", yv, axis_coord(design, y, yv)),
+            "p0": ("p0", xv, axis_coord(design, x, xv, model)),
+            "p1": ("p1", yv, axis_coord(design, y, yv, model)),
             "point": np.arange(keep),
         },
         attrs={

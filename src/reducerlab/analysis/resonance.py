@@ -25,8 +25,8 @@ from ..design import Design, Thresholds
 from ..errors import ReducerlabError, names_source
 from ..model import Model
 from ..units import RPM, TWO_PI
-from .campbell import CampbellResult, campbell, frequencies_over
-from .complex_modal import ComplexCampbellResult, complex_campbell, modes_over, stack_branches
+from .campbell import CampbellResult, campbell
+from .complex_modal import ComplexCampbellResult, complex_campbell, modes_over
 from .components import ComponentModes, as_components
 from .excitation import operating_range
 from .modal import has_skew_terms
@@ -40,6 +40,7 @@ __all__ = [
     "drive_note",
     "excited",
     "format_check",
+    "format_components",
     "percent",
     "resonance_check",
 ]
@@ -199,17 +200,16 @@ def resonance_check(
     grid = np.unique(np.concatenate([speeds, np.linspace(0.0, 1.5 * hi, 201)]))
     _, model = design_and_model(target, "resonance check")
     # gyroscopic, Coriolis or circulatory terms: check the damped, whirl-split branches
-    rows = modes_over(model, speeds)  # complex modes at each speed: stability and branches
+    rows = modes_over(model, speeds)  # complex modes at each speed: stability
     gyroscopic = has_skew_terms(model.with_speed(float(hi)))
     res: CampbellResult | ComplexCampbellResult
-    if gyroscopic:
-        res = complex_campbell(target, grid)
-        freq, _, whirl, _ = stack_branches(rows)
-        freq = np.where(np.isnan(freq), 0.0, freq)
-    else:
-        res = campbell(target, grid)
-        freq, whirl = frequencies_over(model, speeds), None
+    res = complex_campbell(target, grid) if gyroscopic else campbell(target, grid)
     ds = res.data
+    # the checked speeds on the diagram's tracked modes (the grid holds them exactly)
+    at = np.searchsorted(ds["speed"].values, speeds)
+    freq = np.nan_to_num(ds["frequency"].values[at], nan=0.0)
+    sorted_mode = ds["sorted_mode"].values[at]
+    whirl = ds["whirl"].values[at] if gyroscopic else None
     orders = dict(zip([str(e) for e in ds["excitation"].values], ds["order"].values, strict=True))
     near = []
     for name, order in orders.items():
@@ -225,6 +225,7 @@ def resonance_check(
                 near.append(
                     {
                         "mode": j + 1,
+                        "sorted_mode": int(sorted_mode[i, j]),
                         "excitation": name,
                         "speed_rpm": float(speeds[i] * RPM),
                         "natural_hz": float(fn[i]),
@@ -235,7 +236,7 @@ def resonance_check(
                 )
     crossings = [c for c in res.crossings() if lo <= c["speed_rad_s"] <= hi]
     near.sort(key=lambda r: r["distance"])
-    participation(model, crossings + near, orders, gyroscopic)
+    _participation(model, crossings + near, orders, gyroscopic)
     for row in crossings + near:
         row["excited"] = excited(row, mesh_strain_share, forward_whirl_share)
     stability = _stability(rows, speeds)
@@ -259,6 +260,18 @@ def resonance_check(
             report["component_crossings"] or report["component_near"] or report["coincidences"]
         )
     return ResonanceResult(report, res, comps)
+
+
+def _participation(
+    model: Model, rows: list[dict[str, Any]], orders: dict[str, float], gyroscopic: bool
+) -> None:
+    """:func:`~.participation.participation` of rows named by their tracked mode: the
+    shares are read from the mode's number in frequency order at the row's speed
+    (``sorted_mode``), the numbering the participation measures use."""
+    shown = [{**r, "mode": r.get("sorted_mode", r["mode"])} for r in rows]
+    participation(model, shown, orders, gyroscopic)
+    for row, done in zip(rows, shown, strict=True):
+        row.update({k: v for k, v in done.items() if k not in row})
 
 
 def excited(row: dict[str, Any], mesh_strain_share: float, forward_whirl_share: float) -> bool:
@@ -407,6 +420,33 @@ def format_check(report: dict[str, Any]) -> str:
             f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
             f"at {r['speed_rpm']:.5g} rpm{drive_note(r, report)}"
         )
+    lines += format_components(report).splitlines()
+    st = report.get("stability")
+    if st is not None:
+        for u in st["unstable"][:10]:
+            lines.append(
+                f"  UNSTABLE  mode {u['mode']} ({u['frequency_hz']:.5g} Hz) grows at "
+                f"{u['growth_rate']:.4g} 1/s at {u['speed_rpm']:.5g} rpm"
+            )
+        if len(st["unstable"]) > 10:
+            lines.append(f"  ... {len(st['unstable']) - 10} more unstable (mode, speed) pairs")
+        z = st["least_damped"]
+        if z is not None:
+            lines.append(
+                f"  DAMPING   least damped: mode {z['mode']} ({z['frequency_hz']:.5g} Hz), "
+                f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
+            )
+    lines.append(
+        "resonance: no resonance risk" if report["ok"] else "resonance: RESONANCE RISK (see above)"
+    )
+    return "\n".join(lines)
+
+
+def format_components(report: dict[str, Any]) -> str:
+    """The gear-body part of :func:`format_check`: body-mode crossings, near misses,
+    coincidences with system modes and each body's closest approaches (empty without
+    components)."""
+    lines: list[str] = []
     for c in report.get("component_crossings", ()):
         lines.append(
             f"  CROSSING  {_body_mode(c)} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
@@ -439,24 +479,6 @@ def format_check(report: dict[str, Any]) -> str:
                 f"system mode {sy['system_mode']})"
             )
         lines.append(", ".join(parts))
-    st = report.get("stability")
-    if st is not None:
-        for u in st["unstable"][:10]:
-            lines.append(
-                f"  UNSTABLE  mode {u['mode']} ({u['frequency_hz']:.5g} Hz) grows at "
-                f"{u['growth_rate']:.4g} 1/s at {u['speed_rpm']:.5g} rpm"
-            )
-        if len(st["unstable"]) > 10:
-            lines.append(f"  ... {len(st['unstable']) - 10} more unstable (mode, speed) pairs")
-        z = st["least_damped"]
-        if z is not None:
-            lines.append(
-                f"  DAMPING   least damped: mode {z['mode']} ({z['frequency_hz']:.5g} Hz), "
-                f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
-            )
-    lines.append(
-        "resonance: no resonance risk" if report["ok"] else "resonance: RESONANCE RISK (see above)"
-    )
     return "\n".join(lines)
 
 

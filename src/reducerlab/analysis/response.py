@@ -21,7 +21,7 @@ from ..model import Model
 from ..model.laws import evaluate_flat, flat_mean
 from ..results import Result, provenance
 from .impacts import contact_states, mesh_mode
-from .motion import spectrum_peaks
+from .motion import Spectrum, spectrum_peaks, windowed_spectrum
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -59,6 +59,14 @@ class ResponseResult(Result):
         if np.ptp(x) <= NOISE_M:
             return []
         return spectrum_peaks(x, dt, self.data.attrs["forcing_hz"], count)
+
+    def spectrum(self, pad: int = 8) -> Spectrum:
+        """The Hann-windowed spectrum of the mesh deflection the figures draw: over the
+        whole kept history (its resolution 1 / record length, ``history`` periods),
+        zero-padded ``pad`` times (:func:`reducerlab.analysis.motion.windowed_spectrum`).
+        The labelled peaks (:meth:`peaks`) come from the same record unpadded."""
+        x, dt = self.uniform_deflection()
+        return windowed_spectrum(x, dt, pad)
 
     def plot(self) -> Figure:
         """Phase trajectory, Poincaré map and labelled spectrum (paper 004 Fig. 8)."""

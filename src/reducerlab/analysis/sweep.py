@@ -35,9 +35,9 @@ from ..errors import ReducerlabError, names_source
 from ..model import Model
 from ..model.rigid import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
 from ..results import Result, provenance
-from ..units import TWO_PI
+from ..units import TWO_PI, display_unit
 from .batch import eigh_batch
-from .parameters import Axis, Evaluator, Target, axis_targets
+from .parameters import Axis, Evaluator, Target, axis_targets, parameter_kind
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
 from .tracking import find_events, track_modes
 from .workers import check_workers, dask_client, worker_pool
@@ -450,7 +450,12 @@ def _assemble(
     shape = tuple(len(c) for c in columns)
     n = model.n
     coords: dict[str, Any] = {
-        d: (d, c, {"path": a.path, "design_value": t.base, "scale": a.scale})
+        d: (
+            d,
+            c,
+            {"path": a.path, "design_value": t.base, "scale": a.scale}
+            | _display(design, model, a.path, c),
+        )
         for d, c, a, t in zip(dims, columns, axes, targets, strict=True)
     }
     coords.update(mode=np.arange(1, n + 1), dof=model.dof_names)
@@ -471,6 +476,13 @@ def _assemble(
         },
     )
     return SweepResult(data)
+
+
+def _display(design: Design | None, model: Model, path: str, values: NDArray) -> dict[str, Any]:
+    """The unit figures show a parameter in (``display_unit``, ``display_factor``: N/m for
+    a stiffness, kg m^2 for an inertia, rpm for a speed; ``""`` for a plain number)."""
+    unit, factor = display_unit(parameter_kind(design, model, path), values)
+    return {"display_unit": unit, "display_factor": factor}
 
 
 def _add_tracking(result: SweepResult, ev: _Points, params: NDArray) -> None:

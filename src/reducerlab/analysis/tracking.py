@@ -28,7 +28,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
-__all__ = ["Event", "Tracking", "find_events", "track_modes"]
+__all__ = [
+    "Event",
+    "Tracking",
+    "branch_of",
+    "find_events",
+    "renumber",
+    "track_complex",
+    "track_modes",
+]
 
 
 #: Relative eigenvalue gap below which modes form one repeated eigenvalue.
@@ -436,3 +444,97 @@ def find_events(
         events.append(Event("veering", p, (m + 1, m + 2), float(hi[k] - lo[k])))
     events.sort(key=lambda e: e.param)
     return events
+
+
+def track_complex(
+    freq: NDArray[np.float64], shapes: NDArray[np.complex128], mass: NDArray[np.float64]
+) -> NDArray[np.intp]:
+    """Follow complex (damped, gyroscopic) modes along a sweep by shape.
+
+    The complex modes of a non-symmetric problem are not mass-orthogonal, so the steps
+    of :func:`track_modes` do not apply; between neighbouring points the modes are
+    assigned one-to-one (Hungarian algorithm) on the complex MAC
+    ``|a^H M b|^2 / ((a^H M a)(b^H M b))``, which is blind to each shape's phase, less
+    a small penalty on the relative frequency change that only decides between shapes
+    the MAC cannot tell apart (a repeated eigenvalue).
+
+    Parameters
+    ----------
+    freq : ndarray, shape (n_points, n_mode)
+        Frequencies (Hz) at each point; NaN for a mode missing at a point.
+    shapes : ndarray, shape (n_points, n_dof, n_mode)
+        Complex shapes; zero where a mode is missing.
+    mass : ndarray, shape (n_dof, n_dof)
+        Mass matrix (kg, kg m^2) weighting the MAC.
+
+    Returns
+    -------
+    ndarray of int, shape (n_points, n_mode)
+        Column (mode index, 0-based) of each track at each point; track ``t`` is
+        column ``t`` at the first point.
+    """
+    n_pts, n_modes = freq.shape
+    order = np.empty((n_pts, n_modes), dtype=np.intp)
+    order[0] = np.arange(n_modes)
+    f = np.nan_to_num(freq, nan=-1.0)
+    for i in range(n_pts - 1):
+        a, b = shapes[i], shapes[i + 1]
+        cross = np.abs(a.conj().T @ mass @ b) ** 2
+        na = np.real(np.einsum("dm,de,em->m", a.conj(), mass, a))
+        nb = np.real(np.einsum("dm,de,em->m", b.conj(), mass, b))
+        den = np.outer(na, nb)
+        mac = np.divide(cross, den, out=np.zeros_like(cross), where=den > 0)
+        fa, fb = f[i][:, None], f[i + 1][None, :]
+        scale = np.maximum(np.maximum(np.abs(fa), np.abs(fb)), np.finfo(float).tiny)
+        df = np.minimum(np.abs(fa - fb) / scale, 1.0)
+        rows, cols = linear_sum_assignment(-mac + 0.1 * df)
+        perm = np.empty(n_modes, dtype=np.intp)
+        perm[rows] = cols
+        order[i + 1] = perm[order[i]]
+    return order
+
+
+def renumber(order: NDArray[np.intp], at: int) -> NDArray[np.intp]:
+    """Tracks (columns of ``order``, as :func:`track_modes` or :func:`track_complex`
+    give them) reordered so that track ``j`` is sorted mode ``j`` at point ``at``."""
+    return order[:, np.argsort(order[at], kind="stable")]
+
+
+def branch_of(
+    sorted_mode: int,
+    speed: float,
+    frequency: float,
+    params: NDArray[np.float64],
+    tracked: NDArray[np.float64],
+    order: NDArray[np.intp],
+) -> int:
+    """The track (0-based) a point of a sorted branch lies on.
+
+    Parameters
+    ----------
+    sorted_mode : int
+        Sorted mode number (1-based) at ``speed``.
+    speed, frequency : float
+        The point (parameter value, Hz), e.g. a crossing with an excitation line.
+    params : ndarray (n_points,)
+        Sampled parameter values, increasing.
+    tracked : ndarray (n_points, n_track)
+        Frequencies (Hz) along each track.
+    order : ndarray (n_points, n_track)
+        Sorted mode index (0-based) of each track at each point.
+
+    Returns
+    -------
+    int
+        The track whose frequency, interpolated at ``speed``, is nearest ``frequency``;
+        between equally near tracks (a repeated eigenvalue), the one that is sorted mode
+        ``sorted_mode`` at the nearest sample, so that each of them keeps its own row.
+    """
+    i = int(np.clip(np.searchsorted(params, speed) - 1, 0, params.size - 2))
+    t = (speed - params[i]) / (params[i + 1] - params[i])
+    f = np.nan_to_num(tracked[i] + t * (tracked[i + 1] - tracked[i]), nan=np.inf)
+    dist = np.abs(f - frequency)
+    near = dist <= dist.min() + 1e-6 * max(abs(frequency), 1e-300)
+    k = i + int(t > 0.5)
+    same = np.nonzero(near & (order[k] == sorted_mode - 1))[0]
+    return int(same[0]) if same.size else int(np.argmin(dist))

@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -40,6 +42,7 @@ def plot_ball_track(result: Any) -> Figure:
     ax2.plot(t, n.mean(axis=1), "C3-s", ms=3, label="loaded balls (mean)")
     ax2.set_ylabel("loaded balls", color="C3")
     ax2.set_ylim(0, a["balls"] + 1)
+    ax.set_ylim(0, 1.08 * max(float(kt.max()) / 1e3, 1e-300))  # both zeros on the baseline
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
     ax.legend(h1 + h2, l1 + l2, loc="lower right", fontsize=8)
@@ -72,4 +75,4 @@ def plot_ball_track(result: Any) -> Figure:
     polar.set_title(f"ball forces at {t[i]:.3g} N m (max {fmax:.3g} N)")
     polar.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4, fontsize=7)
     fig.colorbar(sc, ax=polar, label="force (N)", shrink=0.8)
-    return fig
+    return plain_figure(fig)

@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import parameter_axis, plain_axes, plain_axis, pretty_unit
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -39,8 +41,6 @@ def plot_bifurcation(result: BifurcationResult) -> Figure:
     """
     from matplotlib.figure import Figure
 
-    from ..analysis.members import axis_label, shown_values
-
     ds = result.data
     fig = Figure(figsize=(7.5, 5.0), layout="constrained")
     has_imp = "impact_class" in ds
@@ -52,7 +52,7 @@ def plot_bifurcation(result: BifurcationResult) -> Figure:
     ax = axes[0]
     band = axes[1] if "exponent" in ds else None
     imp_band = axes[-1] if has_imp else None
-    x = shown_values(ds["p0"])
+    x, xlabel = parameter_axis(ds["p0"], ds.attrs["parameter"])
     p = np.repeat(x, ds.sizes["point"])
     way = ds.attrs.get("continuation")
     first = {"up": "ascending sweep", "both": "ascending sweep", "down": "descending sweep"}
@@ -76,8 +76,11 @@ def plot_bifurcation(result: BifurcationResult) -> Figure:
         _class_band(band, edges, result.labels(), "motion", "C")
     if imp_band is not None:
         _class_band(imp_band, edges, result.impacts(), "teeth", "tab:")
-    axes[-1].set_xlabel(axis_label(ds["p0"], ds.attrs["parameter"]))
-    ax.set_ylabel(f"Poincaré points of mesh deflection ({ds['poincare'].attrs['units']})")
+    axes[-1].set_xlabel(xlabel)
+    plain_axes(ax)
+    plain_axis(axes[-1].xaxis)
+    unit = str(ds["poincare"].attrs["units"])
+    ax.set_ylabel(f"Poincaré points of mesh deflection ({pretty_unit(unit)})")
     ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
     ax.grid(alpha=0.3)
     return fig
@@ -126,7 +129,6 @@ def plot_regime_map(result: RegimeMapResult) -> Figure:
     from matplotlib.patches import Patch
 
     from ..analysis.impacts import IMPACT_CLASSES
-    from ..analysis.members import axis_label, shown_values
     from ..analysis.regime_map import motion_order
 
     ds = result.data
@@ -135,7 +137,7 @@ def plot_regime_map(result: RegimeMapResult) -> Figure:
     fig = Figure(figsize=(4.2 * nb + 2.4, 6.6), layout="constrained")
     axes = np.atleast_2d(fig.subplots(2, nb, sharex=True, sharey=True, squeeze=False))
     cx, cy = ds["p0"], ds["p1"]
-    X, Y = shown_values(cx), shown_values(cy)
+    (X, xlabel), (Y, ylabel) = parameter_axis(cx, ds.attrs["x"]), parameter_axis(cy, ds.attrs["y"])
     lab_m, lab_i = result.labels(), result.impacts()
     co = result.coexisting()
     m_classes = motion_order(np.unique(lab_m).tolist())
@@ -187,9 +189,11 @@ def plot_regime_map(result: RegimeMapResult) -> Figure:
                                   bbox_to_anchor=(1.02, 0.5), frameon=False)  # fmt: skip
 
     for ax in axes[-1]:
-        ax.set_xlabel(axis_label(cx, ds.attrs["x"]))
+        ax.set_xlabel(xlabel)
     for ax in axes[:, 0]:
-        ax.set_ylabel(axis_label(cy, ds.attrs["y"]))
+        ax.set_ylabel(ylabel)
+    for ax in axes.ravel():
+        plain_axes(ax, xbins=4)
     fig.suptitle(f"regime map: {ds.attrs.get('title', '')}", fontsize=9)
     return fig
 
@@ -209,10 +213,8 @@ def plotly_bifurcation(result: BifurcationResult) -> Any:
     """
     import plotly.graph_objects as go
 
-    from ..analysis.members import axis_label, shown_values
-
     ds = result.data
-    x = shown_values(ds["p0"])
+    x, xlabel = parameter_axis(ds["p0"], ds.attrs["parameter"])
     fig = go.Figure()
     runs = [("poincare", "Poincaré points", "black")]
     if "poincare_down" in ds:
@@ -232,8 +234,8 @@ def plotly_bifurcation(result: BifurcationResult) -> Any:
             )
         )
     fig.update_layout(
-        xaxis_title=axis_label(ds["p0"], ds.attrs["parameter"]),
-        yaxis_title=f"Poincaré points ({ds['poincare'].attrs.get('units', '')})",
+        xaxis_title=xlabel,
+        yaxis_title=f"Poincaré points ({pretty_unit(str(ds['poincare'].attrs.get('units', '')))})",
         height=480,
         template="plotly_white",
         margin=dict(t=30, l=70, r=20, b=50),
@@ -255,10 +257,11 @@ def plotly_regime_map(result: RegimeMapResult) -> Any:
     """
     import plotly.graph_objects as go
 
-    from ..analysis.members import axis_label, shown_values
-
     ds = result.data
-    X, Y = shown_values(ds["p0"]), shown_values(ds["p1"])
+    (X, xlabel), (Y, ylabel) = (
+        parameter_axis(ds["p0"], ds.attrs["x"]),
+        parameter_axis(ds["p1"], ds.attrs["y"]),
+    )
     lab = np.asarray(result.labels())[0]
     classes = sorted(set(lab.ravel().tolist()))
     idx = np.vectorize(classes.index)(lab)
@@ -277,8 +280,8 @@ def plotly_regime_map(result: RegimeMapResult) -> Any:
         )
     )
     fig.update_layout(
-        xaxis_title=axis_label(ds["p0"], ds.attrs["x"]),
-        yaxis_title=axis_label(ds["p1"], ds.attrs["y"]),
+        xaxis_title=xlabel,
+        yaxis_title=ylabel,
         height=480,
         template="plotly_white",
         margin=dict(t=30, l=70, r=20, b=50),

@@ -1,7 +1,8 @@
 """Figures of component (gear-body) modes against the drive's natural frequencies.
 
-:func:`plot_component_comparison` is paper 000's Table 5 as a figure: for each order
-1..N, the system natural frequency next to each gear body's. :func:`draw_component_lines`
+:func:`plot_component_comparison` is paper 000's Table 5 as a figure: the system's and
+every gear body's modes on one frequency axis with the excitation frequencies over the
+operating range (what lies near what, never mode i beside body mode i). :func:`draw_component_lines`
 adds the body modes to a Campbell diagram (:func:`~reducerlab.plot.campbell.plot_campbell`
 with ``components``): a body mode is a constant frequency, a horizontal line, and it
 meets the excitation line ``order * speed / 2 pi`` at ``speed = 2 pi f / order``.
@@ -11,7 +12,6 @@ Figures are plain :class:`matplotlib.figure.Figure` objects (no pyplot, Agg-safe
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -80,33 +80,47 @@ def _as_components(components: Any) -> list[ComponentModes]:
     return out
 
 
+#: Marker of each gear-body mode type in :func:`plot_component_comparison`.
+TYPE_MARKERS = {"torsional": "o", "radial": "s", "folding": "^", "umbrella": "v",
+                "axial": "D", "bending": "P", "": "d"}  # fmt: skip
+
+
 def plot_component_comparison(
     data: Mapping[str, Any] | Sequence[float] | Any,
     components: Sequence[ComponentModes] | None = None,
     *,
-    count: int | None = None,
+    orders: Mapping[str, float] | None = None,
+    speed_range_rpm: tuple[float, float] | None = None,
     log: bool = False,
     title: str | None = None,
 ) -> Figure:
-    """Natural frequencies of the drive and of each component, order by order (paper
-    000's Table 5): a group of bars per order 1..N, the system's first, each component
-    bar labelled with its mode type.
+    """The drive's natural frequencies, the gear bodies' modes and the excitation
+    frequencies on one frequency axis (paper 000's Table 5 as a figure): a row of
+    markers per body (marker by mode type), a row for the system's modes (each as the
+    band of frequencies it takes over the operating range, its value at the top speed
+    marked and numbered), and each excitation's frequencies over the operating range as
+    a shaded band (a line at one operating speed) across every row. What lies near
+    what is read along the axis; no mode is paired with another by its index.
 
     Parameters
     ----------
     data : dict or sequence of float
-        A :func:`~reducerlab.analysis.resonance.resonance_check` report made with
-        components (its ``system`` frequencies at the top speed of the range and its
-        ``components``), or the system natural frequencies (Hz, ascending; rigid modes
-        0) with ``components`` given, or a ``(system frequencies, components)`` pair.
+        A :func:`~reducerlab.analysis.resonance.resonance_check` result made with
+        components (its ``system`` frequencies over the range, its ``components``, and
+        from its diagram the excitation orders and the range), or the system natural
+        frequencies (Hz; rigid modes 0) with ``components`` given, or a ``(system
+        frequencies, components)`` pair.
     components : sequence of ComponentModes, optional
         The bodies; with a report, they replace the report's.
-    count : int, optional
-        Orders shown (1..count); default: the most modes of a component.
+    orders : mapping, optional
+        Excitation name -> order; default the resonance result's (none otherwise).
+    speed_range_rpm : tuple of float, optional
+        Operating range (rpm) of the excitation bands; default the report's.
     log : bool
-        Logarithmic frequency axis (0 Hz bars are then left out).
+        Logarithmic frequency axis (0 Hz left out).
+    title : str, optional
     """
-    speed_note = ""
+    lo_hz = hi_hz = None
     if isinstance(data, Mapping):
         if "system" not in data or "components" not in data:
             raise ReducerlabError(
@@ -114,11 +128,15 @@ def plot_component_comparison(
                 "resonance_check with components"
             )
         system = data["system"]["frequencies_hz"]
-        rpm = data["system"].get("speed_rpm")
-        if rpm:
-            speed_note = f" at {rpm[-1]:.6g} rpm"
+        lo_hz, hi_hz = data["system"].get("min_hz"), data["system"].get("max_hz")
         comps = _as_components(components if components is not None else data["components"])
         title = title if title is not None else data.get("title", "")
+        speed_range_rpm = speed_range_rpm or tuple(data.get("speed_range_rpm", ())) or None
+        diagram = getattr(data, "campbell", None)
+        if orders is None and diagram is not None:
+            ds = diagram.data
+            orders = dict(zip(map(str, ds["excitation"].values), map(float, ds["order"].values),
+                              strict=True))  # fmt: skip
     else:
         if (
             components is None
@@ -136,58 +154,65 @@ def plot_component_comparison(
     system = np.asarray(system, dtype=float).ravel()
     if not comps:
         raise ReducerlabError("plot_component_comparison: no components to compare")
-    n = max(len(c.frequencies) for c in comps)
-    if count is not None:
-        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-            raise ReducerlabError(f"count must be a positive integer, got {count!r}")
-        n = count
-    x = np.arange(1, n + 1)
-    groups = 1 + len(comps)
-    width = 0.84 / groups
-    fig = _figure(figsize=(min(12.0, max(6.0, 0.45 * n * groups + 2.0)), 4.6), layout="constrained")
+    from .campbell_style import excitation_label, excitation_styles
+
+    rows = len(comps) + 1
+    fig = _figure(figsize=(9.5, 1.6 + 0.55 * rows), layout="constrained")
     ax = fig.subplots()
-
-    def heights(values: Sequence[float]) -> Any:
-        h = np.full(n, np.nan)
-        m = min(n, len(values))
-        h[:m] = np.asarray(values[:m], dtype=float)
-        if log:
-            h[~(h > 0)] = np.nan
-        return h
-
-    offset = (np.arange(groups) - (groups - 1) / 2) * width
-    hs = heights(system)
-    ax.bar(x + offset[0], hs, width, color="0.55", label=f"system{speed_note}")
-    top = np.nanmax(hs) if np.any(np.isfinite(hs)) else 0.0
+    every = [f for c in comps for f in c.frequencies] + [f for f in system if f > 0]
+    top = 1.08 * max(every) if every else 1.0
+    y0 = rows - 1  # the system's row on top
+    for j, f in enumerate(system):
+        if not f > 0:
+            continue
+        if lo_hz is not None and hi_hz is not None and hi_hz[j] > lo_hz[j]:
+            ax.plot([lo_hz[j], hi_hz[j]], [y0, y0], color="0.35", lw=5, alpha=0.5,
+                    solid_capstyle="butt", gid="system-band")  # fmt: skip
+        ax.plot([f], [y0], "|", color="k", ms=14, mew=2, gid="system-mode")
+        ax.annotate(str(j + 1), (f, y0), xytext=(0, 9), textcoords="offset points",
+                    ha="center", fontsize=6.5)  # fmt: skip
+    types_seen: dict[str, str] = {}
     for i, c in enumerate(comps):
-        h = heights(c.frequencies)
-        top = max(top, np.nanmax(h) if np.any(np.isfinite(h)) else 0.0)
-        ax.bar(x + offset[i + 1], h, width, color=_colour(i), label=c.label)
-        for k in range(min(n, len(c.frequencies))):
-            if not math.isfinite(h[k]):
+        y = rows - 2 - i
+        for f, kind in zip(c.frequencies, c.types, strict=True):
+            mk = TYPE_MARKERS.get(kind, "d")
+            types_seen.setdefault(kind or "(type not given)", mk)
+            ax.plot([f], [y], mk, color=_colour(i), ms=7, mec="k", mew=0.5, gid="body-mode")
+    if orders:
+        lo_rpm, hi_rpm = speed_range_rpm if speed_range_rpm else (0.0, 0.0)
+        styles = excitation_styles(len(orders))
+        for (name, q), (colour, dash, _) in zip(orders.items(), styles, strict=True):
+            f0, f1 = q * lo_rpm / 60.0, q * hi_rpm / 60.0  # Hz at the range's ends
+            if f0 > top or f1 <= 0:
                 continue
-            kind = c.types[k]
-            ax.text(x[k] + offset[i + 1], h[k], f" {c.frequencies[k]:.5g}" +
-                    (f" {kind}" if kind else ""), rotation=90, ha="center", va="bottom",
-                    fontsize=6, clip_on=True)  # fmt: skip
-    for k in range(min(n, hs.size)):
-        if math.isfinite(hs[k]):
-            ax.text(x[k] + offset[0], hs[k], f" {hs[k]:.5g}", rotation=90, ha="center",
-                    va="bottom", fontsize=6, color="0.3", clip_on=True)  # fmt: skip
+            label = excitation_label(name, q)
+            if f1 > f0:
+                ax.axvspan(f0, min(f1, top), color=colour, alpha=0.15, lw=0, gid="excitation",
+                           label=f"{label}: {f0:.4g}-{f1:.4g} Hz")  # fmt: skip
+            else:
+                ax.axvline(f0, color=colour, linestyle=dash, lw=1.3, gid="excitation",
+                           label=f"{label}: {f0:.4g} Hz")  # fmt: skip
+    from matplotlib.lines import Line2D
+
+    handles, _ = ax.get_legend_handles_labels()
+    handles += [Line2D([], [], marker=mk, color="0.5", mec="k", ls="none", label=kind)
+                for kind, mk in types_seen.items()]  # fmt: skip
     if log:
-        ax.set_yscale("log")
-        ax.set_ylim(top=top * 3.0 if top > 0 else 10.0)
+        ax.set_xscale("log")
+        ax.set_xlim(min(every) / 1.5 if every else 1.0, top * 1.5)
     else:
-        ax.set_ylim(0, top * 1.3 if top > 0 else 1.0)
-    ax.set_xticks(x)
-    ax.set_xlabel("order")
-    ax.set_ylabel("natural frequency (Hz)")
+        ax.set_xlim(0, top)
+    ax.set_ylim(-0.7, rows - 0.3)
+    ax.set_yticks(range(rows))
+    rng = f" ({speed_range_rpm[0]:.4g}-{speed_range_rpm[1]:.4g} rpm)" if speed_range_rpm else ""
+    ax.set_yticklabels([c.label for c in reversed(comps)] + [f"system{rng}"])
+    ax.set_xlabel("frequency (Hz)")
     ax.set_title(
-        "Natural frequencies of the drive and the gear bodies" + (f"\n{title}" if title else ""),
-        fontsize=9,
-    )
-    ax.legend(fontsize=7, ncol=min(groups, 5))
-    ax.grid(alpha=0.3, axis="y")
+        "Natural frequencies of the drive and the gear bodies against the excitations"
+        + (f"\n{title}" if title else ""), fontsize=9,
+    )  # fmt: skip
+    ax.legend(handles=handles, fontsize=6.5, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.grid(alpha=0.3, axis="x")
     return fig
 
 

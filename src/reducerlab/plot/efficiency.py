@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -37,5 +39,5 @@ def plot_efficiency(result: Any) -> Figure:
     bx.set_xlabel("mesh cycle")
     bx.set_ylabel("friction power (W)")
     bx.set_ylim(bottom=0.0)
-    bx.legend(title="torque")
-    return fig
+    bx.legend(title="torque", loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False)
+    return plain_figure(fig)

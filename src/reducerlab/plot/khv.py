@@ -8,6 +8,7 @@ import numpy as np
 
 from ..errors import ReducerlabError
 from ..geometry import InternalGearPair
+from .axes import plain_figure, scaled_unit
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -95,7 +96,7 @@ def plot_closed_graph(
     )
     ax.legend(handles=handles + ax.get_legend_handles_labels()[0], fontsize=7, loc="upper left")
     ax.grid(alpha=0.3)
-    return fig
+    return plain_figure(fig)
 
 
 def plot_mesh_stiffness(laws: dict[str, object], periods: float = 2.0) -> Figure:
@@ -103,19 +104,20 @@ def plot_mesh_stiffness(laws: dict[str, object], periods: float = 2.0) -> Figure
     against time in mesh periods; each law's mean dashed."""
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(7.0, 4.0), layout="constrained")
+    fig = Figure(figsize=(7.0, 4.6), layout="constrained")
     ax = fig.subplots()
+    s = np.linspace(0, periods, 2001)
+    curves = {label: law(s * law.period) for label, law in laws.items()}  # type: ignore[attr-defined,operator]
+    factor, unit = scaled_unit(np.concatenate([*curves.values(), [0.0]]), "N/m")
     for k, (label, law) in enumerate(laws.items()):
-        T = law.period  # type: ignore[attr-defined]
-        s = np.linspace(0, periods, 2001)
-        ax.plot(s, law(s * T) / 1e8, color=f"C{k}", label=label)  # type: ignore[operator]
-        ax.axhline(law.mean / 1e8, color=f"C{k}", ls="--", lw=0.8)  # type: ignore[attr-defined]
+        ax.plot(s, curves[label] * factor, color=f"C{k}", label=label)
+        ax.axhline(law.mean * factor, color=f"C{k}", ls="--", lw=0.8)  # type: ignore[attr-defined]
     ax.set_xlabel("time (mesh periods)")
-    ax.set_ylabel("mesh stiffness (1e8 N/m)")
+    ax.set_ylabel(f"mesh stiffness ({unit})")
     ax.set_title("time-varying mesh stiffness (dashed: mean)", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), frameon=False)
     ax.grid(alpha=0.3)
-    return fig
+    return plain_figure(fig)
 
 
 def plot_clearances(rolls: np.ndarray, teeth: list[int], clearance: np.ndarray) -> Figure:
@@ -140,7 +142,7 @@ def plot_clearances(rolls: np.ndarray, teeth: list[int], clearance: np.ndarray) 
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7, ncol=2)
     ax.set_title("unloaded drive-flank clearances of the tooth pairs over one mesh cycle")
-    return fig
+    return plain_figure(fig)
 
 
 def plot_load_sharing(result, shown: int = 3) -> Figure:
@@ -201,4 +203,4 @@ def plot_load_sharing(result, shown: int = 3) -> Figure:
     for a in (a1, a2, a3, a4):
         a.grid(alpha=0.3)
     fig.suptitle(f"KHV pair load sharing, pairs {ds.attrs['pairs_examined']}", fontsize=10)
-    return fig
+    return plain_figure(fig)

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ..errors import ReducerlabError
+from .axes import plain_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -40,4 +41,4 @@ def plot_angular_velocity(result: KinematicsResult) -> Figure:
     fig.suptitle(
         f"{ds.attrs.get('title', '')}: nutating gear, ratio {result.ratio:.6g}", fontsize=10
     )
-    return fig
+    return plain_figure(fig)

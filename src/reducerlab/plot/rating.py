@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -58,15 +60,14 @@ def plot_rating(result: RatingResult) -> Figure:
         floor = float(cond.get(key, 1.0))
         colors = ["tab:red" if v < floor else "tab:green" for v in values]
         ax.barh(y, values, color=colors, height=0.6)
-        ax.axvline(floor, color="k", lw=1.2, ls="--", label=f"{key} = {floor:g}")
+        ax.axvline(floor, color="k", lw=1.2, ls="--")
         for yi, v in zip(y, values, strict=True):
             ax.annotate(f"{v:.2f}", (v, yi), xytext=(3, 0), textcoords="offset points",
                         va="center", fontsize=8)  # fmt: skip
-        ax.set_xlabel(what)
+        ax.set_xlabel(f"{what} (dashed: {key} = {floor:g})")  # no legend over the bars
         ax.set_xlim(0, max(max(values) * 1.18, floor * 1.5))
-        ax.legend(loc="lower right", fontsize=8)
         ax.grid(axis="x", alpha=0.3)
     axes[0].set_yticks(y, labels)
     axes[0].invert_yaxis()
     fig.suptitle(str(result.data.attrs.get("title", "Load capacity")), fontsize=10)
-    return fig
+    return plain_figure(fig)

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -44,7 +46,14 @@ def plot_te_sweep(result: Any) -> Figure:
     ax.set_ylabel(f"transmission error at r = {1e3 * ds.attrs['te_radius_m']:.4g} mm (um)")
     ax.set_title("Loaded TE over one mesh cycle")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, title="torque on " + ds.attrs["gear_a"], title_fontsize=8)
+    ax.legend(  # beside the panel: the curves fill its width
+        fontsize=8,
+        title="torque on " + ds.attrs["gear_a"],
+        title_fontsize=8,
+        loc="center left",
+        bbox_to_anchor=(1.0, 0.5),
+        frameon=False,
+    )
     bx.plot(T, 1e6 * ds["peak_to_peak"].values, "k-o", label="peak-to-peak")
     for r in ds["order"].values:
         amp = 1e6 * ds["harmonic_amplitude"].sel(order=r).values
@@ -55,7 +64,7 @@ def plot_te_sweep(result: Any) -> Figure:
     bx.set_title("Peak-to-peak TE and mesh harmonics")
     bx.grid(alpha=0.3)
     bx.legend(fontsize=8)
-    return fig
+    return plain_figure(fig)
 
 
 def plot_layout(result: Any) -> Figure:
@@ -97,4 +106,4 @@ def plot_layout(result: Any) -> Figure:
         fontsize=10,
     )
     ax.legend(fontsize=8, loc="upper right")
-    return fig
+    return plain_figure(fig)

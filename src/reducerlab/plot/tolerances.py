@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -40,9 +42,15 @@ def plot_tolerances(result: Any) -> Figure:
         bottom.axhline(0.95, color="C3", lw=0.6, ls=":")
         top.set_title(label, fontsize="medium")
         top.set_ylabel("samples")
-        top.legend(fontsize="small")
+        bottom.set_xlim(top.get_xlim())  # one value axis per column
+        bottom.legend(fontsize="small", loc="lower right")  # under the rising CDF: free
+        if span == 0:  # every sample the same: no spread to draw
+            top.text(0.5, 0.5, f"every sample {x[0]:.4g} {unit}:\nno toleranced field "
+                     "changes it", transform=top.transAxes, ha="center", va="center",
+                     fontsize="small", color="0.3",
+                     bbox={"facecolor": "white", "edgecolor": "none"})  # fmt: skip
         bottom.set_xlabel(f"{label} ({unit})")
         bottom.set_ylabel("fraction of samples below")
         bottom.set_ylim(0, 1.02)
     fig.suptitle(f"Monte-Carlo over tolerances: {a['samples']} samples, seed {a['seed']}")
-    return fig
+    return plain_figure(fig)

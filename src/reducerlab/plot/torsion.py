@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -67,7 +69,7 @@ def plot_torsion_loop(result: Any) -> Figure:
     ax.axvline(0.0, color="0.6", lw=0.5)
     ax.grid(True, lw=0.3)
     ax.legend(fontsize=7, loc="upper left")
-    return fig
+    return plain_figure(fig)
 
 
 def _friction_note(res: Any) -> str:

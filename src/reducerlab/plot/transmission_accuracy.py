@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .axes import plain_figure
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -73,7 +75,12 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     )
     bx.set_ylabel("amplitude (arcsec)")
     bx.set_ylim(bottom=0.0)
-    return fig
+    if not np.any(ds["error"].values):  # nothing to draw but a line at zero: say why
+        for panel in (ax, bx):
+            panel.text(0.5, 0.5, "no manufacturing or assembly error given:\nthe output "
+                       "angle error is zero", transform=panel.transAxes, ha="center",
+                       va="center", fontsize=9, color="0.35")  # fmt: skip
+    return plain_figure(fig)
 
 
 def _loaded_zoom(fig: Figure, ax: Any, ds: Any, deg: Any) -> None:

@@ -8,12 +8,20 @@ from typing import Any
 
 import numpy as np
 
+from ...analysis.resonance import format_components
 from ...plot.campbell import plotly_campbell
+from ...plot.campbell_style import excitation_label, modes_text, unique_crossings
 from ...plot.modal import plotly_mode_shapes, plotly_sensitivity
 from ..blocks import Block, Section, figure, interactive, note, pre, table, verdict
 from ..context import Context
 
-__all__ = ["bodies_section", "campbell_section", "modal_section", "sensitivity_section"]
+__all__ = [
+    "bodies_section",
+    "campbell_section",
+    "crossing_rows",
+    "modal_section",
+    "sensitivity_section",
+]
 
 
 def modal_section(ctx: Context) -> Section | None:
@@ -159,65 +167,96 @@ def campbell_section(ctx: Context) -> Section | None:
             div_id="campbell",
         )
     )
-    head = ["mode", "excitation", "speed (rpm)", "frequency (Hz)", "drive (%)", "excited"]
-    rows = [
-        (c["mode"], c["excitation"], c["speed_rpm"], c["frequency_hz"], _drive(c), c["excited"])
-        + ((c["whirl"],) if gyro else ())
-        for c in check["crossings"]
-    ]
+    rows = crossing_rows(check, gyro)
+    s.values["crossing_table"] = rows
     if rows:
-        s.blocks.append(
-            table(
-                head + (["whirl"] if gyro else []),
-                rows,
-                name="crossings",
-                caption="crossings in the operating range; drive: the mode's mesh strain "
-                "(mesh orders) or forward whirl (1x input) share",
-            )
-        )
-    near = [
-        (
-            r["mode"],
-            r["excitation"],
-            r["speed_rpm"],
-            r["natural_hz"],
-            r["excitation_hz"],
-            100 * r["distance"],
-            _drive(r),
-            r["excited"],
-        )
-        + ((r["whirl"],) if gyro else ())
-        for r in check["near"]
-    ]
-    if near:
         s.blocks.append(
             table(
                 [
                     "mode",
                     "excitation",
+                    "kind",
                     "speed (rpm)",
-                    "natural (Hz)",
-                    "excitation (Hz)",
+                    "frequency (Hz)",
                     "margin (%)",
                     "drive (%)",
                     "excited",
                 ]
                 + (["whirl"] if gyro else []),
-                near,
-                name="near",
-                caption=f"modes within {100 * check['margin']:g} % of an "
-                "excitation (closest approach)",
+                rows,
+                name="crossings",
+                caption="each crossing of the diagram once (the modes of a repeated "
+                "frequency together), and the modes within "
+                f"{100 * check['margin']:g} % of an excitation in the operating range "
+                "(near: closest approach); margin: a crossing's distance from the "
+                "operating range (relative to its nearest end, 0 inside), a near row's "
+                "distance from the excitation; drive: the mode's mesh strain (mesh "
+                "orders) or forward whirl (1x input) share",
+            )
+        )
+    least = check.get("stability", {}).get("least_damped")
+    if least is not None:
+        s.blocks.append(
+            note(
+                f"Least damped mode over the checked speeds: mode {least['mode']} "
+                f"({least['frequency_hz']:.5g} Hz) at {least['speed_rpm']:.5g} rpm, damping "
+                f"ratio {least['damping_ratio']:.3g}."
             )
         )
     if check.get("components"):
         s.blocks.append(
             figure(
                 check.plot_components(),
-                "gear-body modes against the excitations and the system modes (paper 000 Table 5)",
+                "gear-body modes and the system modes on one frequency axis, with the "
+                "excitation frequencies over the operating range (paper 000 Table 5)",
             )
         )
-    s.blocks.append(pre(v.table()))
+        s.blocks.append(pre(format_components(check)))
     return s
+
+
+def crossing_rows(check: dict, gyro: bool) -> list[tuple]:
+    """One row per crossing of the verdict's diagram (the tracked modes of a repeated
+    frequency in one row) and per near miss that is not a crossing in the range:
+    ``(modes, excitation with its order, kind, speed rpm, frequency Hz, margin %,
+    drive %, excited[, whirl])``."""
+    res = check.campbell
+    ds = res.data
+    orders = dict(zip(map(str, ds["excitation"].values), ds["order"].values, strict=True))
+    lo, hi = check["speed_range_rpm"]
+    judged = {(c["excitation"], f"{c['speed_rpm']:.6g}", c["mode"]): c for c in check["crossings"]}
+    rows: list[tuple] = []
+    for group in unique_crossings(res.crossings()):
+        c = group[0]
+        w = c["speed_rpm"]
+        done = [judged.get((r["excitation"], f"{r['speed_rpm']:.6g}", r["mode"])) for r in group]
+        done = [d for d in done if d is not None]
+        if lo <= w <= hi:
+            kind, margin = "crossing in range", 0.0
+        else:
+            edge = lo if w < lo else hi
+            kind = "crossing outside range"
+            margin = 100 * (w - edge) / edge if edge > 0 else float("nan")
+        shares = [_drive(d) for d in done]
+        drive = max((x for x in shares if x == x), default=float("nan"))
+        label = excitation_label(c["excitation"], orders[c["excitation"]])
+        judged_text = "yes" if any(d["excited"] for d in done) else ("no" if done else "")
+        rows.append(
+            (modes_text(group).split(" ", 1)[1], label, kind, w, c["frequency_hz"], margin,
+             drive, judged_text)
+            + ((c.get("whirl", ""),) if gyro else ())
+        )  # fmt: skip
+    crossed = {(c["mode"], c["excitation"]) for c in check["crossings"]}
+    for r in check["near"]:
+        if (r["mode"], r["excitation"]) in crossed:
+            continue  # listed as its crossing
+        rows.append(
+            (str(r["mode"]), excitation_label(r["excitation"], orders[r["excitation"]]), "near",
+             r["speed_rpm"], r["natural_hz"], 100 * r["distance"], _drive(r),
+             "yes" if r["excited"] else "no")
+            + ((r.get("whirl", ""),) if gyro else ())
+        )  # fmt: skip
+    return rows
 
 
 def _drive(row: dict) -> float:

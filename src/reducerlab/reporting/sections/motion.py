@@ -89,9 +89,13 @@ def _one_response(s: Section, res: Any, several: bool) -> None:
     ]
     name = f"response-{line}" if several else "response"
     s.blocks.append(table([f"{head}quantity", "value"], rows, digits=6, name=name))
+    sp = res.spectrum()
     s.blocks.append(
         figure(
-            res.plot(), f"{head}phase trajectory, Poincaré map and spectrum of the mesh deflection"
+            res.plot(),
+            f"{head}phase trajectory, Poincaré map and spectrum of the mesh deflection; the "
+            f"spectrum over the last {sp.record * float(a['forcing_hz']):.3g} periods under a "
+            f"{sp.window} window, its resolution Δf = 1 / record = {sp.resolution:.3g} Hz",
         )
     )
     s.blocks.append(

@@ -1,0 +1,201 @@
+"""The common style of the Campbell diagrams (:mod:`.campbell`): mode colours distinct
+for any number of modes, a colour and dash per excitation line with its name and order,
+the whirl markers and what they mean, the damping colour scale, the frequency axis
+(every excitation line's frequency over the operating range, up to :data:`CAP` times
+the highest natural frequency, naming the lines left off) and the crossings grouped
+where they are one point of the diagram."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import ReducerlabError
+from ..units import TWO_PI
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = [
+    "CAP",
+    "CROSSING_COLOUR",
+    "OUTSIDE_COLOUR",
+    "WHIRL",
+    "FrequencyAxis",
+    "damping_scale",
+    "excitation_label",
+    "excitation_styles",
+    "frequency_axis",
+    "mode_colours",
+    "modes_text",
+    "sig",
+    "spread",
+    "unique_crossings",
+    "whirl_marks",
+]
+
+#: Whirl class -> (matplotlib marker, plotly symbol, what it means).
+WHIRL = {
+    "forward": ("^", "triangle-up", "forward whirl (orbit turns with the spin)"),
+    "backward": ("v", "triangle-down", "backward whirl (orbit turns against the spin)"),
+    "planar": ("o", "circle", "planar (straight-line orbit, no whirl)"),
+    "none": ("s", "square", "no lateral motion (no whirl)"),
+    "ccw": ("<", "triangle-left", "ccw: anticlockwise orbit about +z, no spin (at rest)"),
+    "cw": (">", "triangle-right", "cw: clockwise orbit about +z, no spin (at rest)"),
+    "rigid": ("_", "line-ew", "rigid-body motion"),
+}
+
+#: Colours of the excitation lines: dark tones, apart from the modes' bright ones, cycled
+#: with :data:`DASHES`.
+EXCITATION_COLOURS = ("#000000", "#8c510a", "#542788", "#1b7837", "#b2182b", "#2166ac",
+                      "#c51b7d", "#4d4d4d")  # fmt: skip
+#: Dashes of the excitation lines: (matplotlib, plotly).
+DASHES = (("--", "dash"), ("-.", "dashdot"), (":", "dot"), ((0, (8, 2, 2, 2, 2, 2)), "longdashdot"))
+
+#: The frequency axis reaches an excitation line's frequency at the top of the operating
+#: range up to this many times the highest natural frequency shown (x 1.1); higher lines
+#: are named in the figure as off the chart.
+CAP = 2.0
+
+#: Colour of a crossing marker in the operating range, and of one outside it.
+CROSSING_COLOUR, OUTSIDE_COLOUR = "#d62728", "#333333"
+
+
+def mode_colours(n: int) -> list[str]:
+    """``n`` distinct colours (hex), one per mode: matplotlib's ten-colour cycle up to
+    ten modes, the ``turbo`` map sampled once per mode beyond."""
+    import matplotlib as mpl
+    from matplotlib.colors import to_hex
+
+    if n <= 10:
+        return [to_hex(f"C{i}") for i in range(n)]
+    cmap = mpl.colormaps["turbo"]
+    return [to_hex(cmap(0.04 + 0.92 * i / (n - 1))) for i in range(n)]
+
+
+def excitation_styles(n: int) -> list[tuple[str, Any, str]]:
+    """``(colour, matplotlib dash, plotly dash)`` of ``n`` excitation lines: a colour
+    each up to eight, then colour and dash together distinct up to 32."""
+    return [(EXCITATION_COLOURS[k % 8], *DASHES[(k + k // 8) % len(DASHES)]) for k in range(n)]
+
+
+def excitation_label(name: str, order: float) -> str:
+    """``"1x mesh (order 30)"``: an excitation line's name and its order (multiple of
+    the input rotation frequency)."""
+    return f"{name} (order {float(order):.4g})"
+
+
+@dataclass(frozen=True)
+class FrequencyAxis:
+    """The top of a Campbell diagram's frequency axis (Hz) and the excitation lines left
+    off: ``(name, frequency at the top of the operating range in Hz)``."""
+
+    top: float
+    clipped: tuple[tuple[str, float], ...]
+
+    def note(self, rpm: float) -> str:
+        """``"off the chart at 1230 rpm: 2x mesh 1353 Hz, 3x mesh 2030 Hz"`` (empty
+        when nothing is)."""
+        if not self.clipped:
+            return ""
+        parts = ", ".join(f"{n} {f:.4g} Hz" for n, f in self.clipped)
+        return f"off the chart at {rpm:.4g} rpm: {parts}"
+
+
+def frequency_axis(ds: xr.Dataset, fmax: float | None = None) -> FrequencyAxis:
+    """The frequency axis of a Campbell diagram.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A Campbell dataset (``frequency``, ``excitation``, ``order``, the operating
+        range in its attributes).
+    fmax : float, optional
+        Top of the axis (Hz); default 1.1 x the highest natural frequency, raised to
+        take in every excitation line's frequency at the top of the operating range up
+        to :data:`CAP` times that.
+
+    Returns
+    -------
+    FrequencyAxis
+    """
+    f = ds["frequency"].values
+    good = f[np.isfinite(f)]
+    base = 1.1 * float(good.max()) if good.size and good.max() > 0 else 1.0
+    hi = float(ds.attrs.get("operating_max_rad_s", 0.0) or 0.0)
+    exc = {str(n): float(q) * hi / TWO_PI for n, q in
+           zip(ds["excitation"].values, ds["order"].values, strict=True)}  # fmt: skip
+    if fmax is not None:
+        if isinstance(fmax, bool) or not (isinstance(fmax, int | float) and 0 < fmax < np.inf):
+            raise ReducerlabError(f"fmax must be a positive frequency (Hz), got {fmax!r}")
+        top = float(fmax)
+    else:
+        within = [v for v in exc.values() if v <= CAP * base]
+        top = max([base] + [1.05 * v for v in within])
+    return FrequencyAxis(top, tuple((n, v) for n, v in exc.items() if v > top))
+
+
+def unique_crossings(rows: Sequence[Mapping[str, Any]]) -> list[list[Mapping[str, Any]]]:
+    """Crossing rows grouped where they are one point of the diagram (one excitation,
+    the same speed and frequency to 1e-6: the modes of a repeated eigenvalue), in the
+    order of their first row."""
+    groups: dict[tuple, list[Mapping[str, Any]]] = {}
+    for r in rows:
+        key = (str(r["excitation"]), float(f"{r['speed_rpm']:.6g}"),
+               float(f"{r['frequency_hz']:.6g}"))  # fmt: skip
+        groups.setdefault(key, []).append(r)
+    return list(groups.values())
+
+
+def modes_text(group: Sequence[Mapping[str, Any]]) -> str:
+    """``"mode 3"`` or ``"modes 1, 2"`` of a group of crossing rows."""
+    modes = sorted({int(r["mode"]) for r in group})
+    return ("mode " if len(modes) == 1 else "modes ") + ", ".join(map(str, modes))
+
+
+def spread(values: list[float], gap: float) -> list[float]:
+    """Label positions (in the order given) pushed apart to at least ``gap``, upward."""
+    order = np.argsort(values, kind="stable")
+    out = list(values)
+    last = -np.inf
+    for i in order:
+        out[i] = max(values[i], last + gap)
+        last = out[i]
+    return out
+
+
+def damping_scale(ds: xr.Dataset) -> tuple[np.ndarray, Any]:
+    """Log decrement (speed, mode) and its colour normalisation."""
+    from matplotlib.colors import Normalize
+
+    from ..analysis.complex_modal import log_decrement
+
+    d = (ds["log_decrement"].values if "log_decrement" in ds
+         else log_decrement(ds["damping_ratio"].values))  # fmt: skip
+    ok = d[np.isfinite(d) & (ds["frequency"].values > 0)]
+    lo, hi = (float(ok.min()), float(ok.max())) if ok.size else (0.0, 1.0)
+    if hi - lo < 1e-9 * max(abs(hi), 1.0):
+        lo, hi = lo - 0.5 * max(abs(lo), 1e-3), hi + 0.5 * max(abs(hi), 1e-3)
+    return d, Normalize(lo, hi)
+
+
+def whirl_marks(whirl: np.ndarray) -> np.ndarray:
+    """Sample indices where a branch's whirl is marked: about 24 along it and every
+    sample where its whirl changes."""
+    n = whirl.size
+    idx = set(range(0, n, max(1, n // 24)))
+    idx |= set((np.nonzero(whirl[1:] != whirl[:-1])[0] + 1).tolist())
+    return np.array(sorted(idx), dtype=int)
+
+
+def sig(a: Any, digits: int = 4) -> list[Any]:
+    """Values rounded to ``digits`` significant digits, NaN as None (compact JSON)."""
+    a = np.asarray(a, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mag = np.where(np.isfinite(a) & (a != 0), np.floor(np.log10(np.abs(a))), 0)
+    scale = 10.0 ** (digits - 1 - mag)
+    r = np.round(a * scale) / scale
+    return [None if not np.isfinite(v) else float(f"{v:.{digits}g}") for v in r]
