@@ -290,3 +290,25 @@ def test_unmeshable_solid_is_a_clear_error(monkeypatch):
     with pytest.raises(MeshError, match="the tooth space loft failed"):
         mesh_gear(crown, bevel, sizes=coarse(2))
     assert not gmsh.isInitialized()  # the session was closed
+
+
+def test_report_renders_the_ring_interactively_decimated_and_small(free_ring, tmp_path):
+    """Issue 32: the report's gear-body section draws the modes as one plotly Mesh3d of
+    the surface decimated to at most MAX_FACES closed triangles, one dropdown entry per
+    mode, the page well under 1 MB."""
+    from reducerlab.plot.body_plotly import MAX_FACES, plotly_body_modes
+    from reducerlab.reporting import PLOTLY_FILE, report
+
+    mesh = free_ring.mesh
+    fig = plotly_body_modes(mesh.points, mesh.tets[:, :4], free_ring.shapes,
+                            free_ring.frequencies, free_ring.labels, "ring")  # fmt: skip
+    tris = np.c_[fig.data[0].i, fig.data[0].j, fig.data[0].k]
+    assert len(tris) <= MAX_FACES
+    e = np.sort(np.r_[tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]], axis=1)
+    assert set(np.unique(e, axis=0, return_counts=True)[1].tolist()) == {2}  # closed
+    assert len(fig.layout.updatemenus[0].buttons) == 4
+    r = report(RING, results=[free_ring], only=["bodies"])
+    block = next(b for b in r.section("bodies").blocks if b.kind == "interactive")
+    assert '"type":"mesh3d"' in block.html and block.html.count('"label":"mode ') == 4
+    page = r.write(tmp_path / "ring.html", plotly=tmp_path / PLOTLY_FILE)
+    assert page.stat().st_size < 5e5

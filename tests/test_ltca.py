@@ -258,7 +258,8 @@ def test_cli_contact_writes_results_and_a_fitted_design(tmp_path):
     r = CliRunner().invoke(app, args)
     assert r.exit_code == 0, r.output
     names = {p.name for p in out.iterdir()}
-    assert names == {"contact.nc", "contact.json", "contact.txt", "contact.png", "pressure.png"}
+    assert names == {"contact.nc", "contact.json", "contact.txt", "contact.png", "pressure.png",
+                     "pattern.png"}  # fmt: skip
     assert load_design(fitted).mesh1.harmonics
 
 

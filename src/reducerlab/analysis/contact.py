@@ -497,6 +497,8 @@ def contact_analysis(
         fe_dofs=0 if comp_a is None else comp_a.dofs + comp_b.dofs,
         seconds=time.perf_counter() - t0,
         frame=FRAMES[setup.kind],
+        flank_u_range=[float(x) for x in mp.flank_a.u_range],
+        flank_tip_end=int(getattr(mp.flank_a, "tip_end", 1)),
     )  # fmt: skip
     ds = add_load_exponent(ds, runs, low, arm)
     if root_stress:

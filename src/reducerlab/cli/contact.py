@@ -212,8 +212,10 @@ def contact(
                 files.path("contact.txt").write_text("\n".join([res.table(), *lines]) + "\n")
                 savefig(res.figure(), files.path("contact.png"), res.data.attrs)
                 from ..plot.contact import plot_pressure_map
+                from ..plot.contact_pattern import plot_bearing_pattern
 
                 savefig(plot_pressure_map(res), files.path("pressure.png"), res.data.attrs)
+                savefig(plot_bearing_pattern(res), files.path("pattern.png"), res.data.attrs)
         if write_design is not None:
             text = design_with_mesh(design, res)
             write_file(write_design, lambda tmp: tmp.write_text(text))

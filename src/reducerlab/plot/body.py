@@ -34,6 +34,8 @@ __all__ = [
     "AZIM",
     "DEFORMATION",
     "ELEV",
+    "body_surface",
+    "feature_edges",
     "plot_body_mode",
     "plot_body_modes_grid",
     "view_elevation",
@@ -97,12 +99,12 @@ def plot_body_mode(
     """
     from matplotlib.figure import Figure
 
-    p, faces = _geometry(points, tets_or_faces)
+    p, faces = body_surface(points, tets_or_faces)
     u = _displacement("displacement", displacement, len(p))
     if not isinstance(title, str):
         raise ReducerlabError(f"title: must be a str, got {title!r}")
     scale = _scale(scale)
-    edges = _feature_edges(p, faces)
+    edges = feature_edges(p, faces)
     elev = view_elevation(p, faces) if elev is None else _angle("elev", elev)
     azim = _angle("azim", azim)
     aspect = _aspect(p, faces, elev, azim)
@@ -135,6 +137,7 @@ def plot_body_modes_grid(
     ncols: int = 5,
     elev: float | None = None,
     azim: float = AZIM,
+    side: float = 2.8,
 ) -> Figure:
     """Small renders of many mode shapes of one body, one panel per mode (``ncols``
     across: 2 x 5 for ten modes), for a report.
@@ -156,10 +159,12 @@ def plot_body_modes_grid(
         Panels per row (1..10).
     elev, azim : float
         View angles (deg), by default as :func:`plot_body_mode`.
+    side : float
+        Width of a panel (in, 1..6): 2.8 for a page, 1.6 for a report's still.
     """
     from matplotlib.figure import Figure
 
-    p, faces = _geometry(points, tets_or_faces)
+    p, faces = body_surface(points, tets_or_faces)
     s = finite_array("shapes", shapes)
     if s.ndim == 2:
         s = s[:, :, None]
@@ -180,13 +185,15 @@ def plot_body_modes_grid(
         raise ReducerlabError(f"title: must be a str, got {title!r}")
     if isinstance(ncols, bool) or not isinstance(ncols, int) or not 1 <= ncols <= 10:
         raise ReducerlabError(f"ncols: must be an integer in 1..10, got {ncols!r}")
+    if isinstance(side, bool) or not isinstance(side, int | float) or not 1.0 <= side <= 6.0:
+        raise ReducerlabError(f"side: must be a width in 1..6 in, got {side!r}")
     ncol = min(ncols, modes)
     nrow = math.ceil(modes / ncol)
-    edges = _feature_edges(p, faces)
+    edges = feature_edges(p, faces)
     elev = view_elevation(p, faces) if elev is None else _angle("elev", elev)
     azim = _angle("azim", azim)
     aspect = _aspect(p, faces, elev, azim)
-    side, head, label, foot, bar = 2.8, 0.45, 0.4, 0.1, 0.9  # inches
+    head, label, foot, bar = 0.45, 0.4, 0.1, 0.9  # inches
     cell = side * aspect
     w, h = ncol * side + bar, head + nrow * (label + cell) + foot
     fig = Figure(figsize=(w, h))
@@ -359,12 +366,12 @@ def _draw(
     return scale, pct
 
 
-def _feature_edges(
+def feature_edges(
     p: Array, faces: NDArray[np.int64]
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Edges (e, 2) of the surface where it bends by more than :data:`FEATURE_ANGLE` and
-    its open edges (used by one face), with the two faces (e, 2) at each (the same face
-    twice at an open edge)."""
+    """Feature edges: edges (e, 2) of the surface where it bends by more than
+    :data:`FEATURE_ANGLE` and its open edges (used by one face), with the two faces
+    (e, 2) at each (the same face twice at an open edge)."""
     e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
     owner = np.tile(np.arange(len(faces)), 3)
     key = e[:, 0] * (int(faces.max()) + 1) + e[:, 1]
@@ -410,8 +417,10 @@ def _scale(scale: float | None) -> float | None:
     return float(scale)
 
 
-def _geometry(points: ArrayLike, tets_or_faces: ArrayLike) -> tuple[Array, NDArray[np.int64]]:
-    """The points and the outward boundary triangles."""
+def body_surface(points: ArrayLike, tets_or_faces: ArrayLike) -> tuple[Array, NDArray[np.int64]]:
+    """The checked points (m) and the outward boundary triangles of a body given by
+    its linear tetrahedra (m, 4) or its boundary triangles (k, 3), as
+    :func:`plot_body_mode` takes them."""
     from ..fe.vtu import boundary_faces, checked_points, checked_tets
 
     p = checked_points(points)

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..blocks import Section, figure, note, table
+from ..blocks import Section, figure, interactive, note, table
 from ..context import Context
 
 __all__ = ["ball_track_section", "closed_graph_section", "contact_section", "surfaces_section"]
@@ -130,6 +130,7 @@ def contact_section(ctx: Context) -> Section | None:
     if not given and not sharing:
         return None
     from ...plot.contact import plot_contact
+    from ...plot.contact_pattern import plotly_bearing_pattern
 
     s = Section("contact", "Loaded tooth contact")
     for r in given:
@@ -153,10 +154,21 @@ def contact_section(ctx: Context) -> Section | None:
                 caption=str(r.attrs.get("title", "")),
             )
         )
+        pair = int(r.attrs.get("pair", len(s.blocks)))
+        s.blocks.append(
+            interactive(
+                plotly_bearing_pattern(r),
+                None,  # its still is panel (a) of the overview below
+                "bearing pattern: the highest contact pressure over the mesh cycle on the "
+                "developed flank, inside its outline (hover for values)",
+                div_id=f"bearing-pattern-{pair}",
+            )
+        )
         s.blocks.append(
             figure(
                 plot_contact(r),
-                "contact pattern, mesh stiffness and transmission error over the mesh cycle",
+                "bearing pattern, mesh stiffness (with the Eq. 8 law the dynamic model uses), "
+                "transmission error and stresses over one mesh period",
             )
         )
     _sharing_blocks(s, sharing)

@@ -4,6 +4,8 @@ modes given to the report."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ...analysis.resonance import format_components
@@ -12,7 +14,7 @@ from ...plot.campbell import plotly_campbell
 from ...plot.campbell_style import excitation_label, modes_text, unique_crossings
 from ...plot.drive_shape import plotly_drive_shapes
 from ...plot.modal import plotly_mode_shapes, plotly_sensitivity
-from ..blocks import Section, figure, interactive, note, pre, table, verdict
+from ..blocks import Block, Section, figure, interactive, note, pre, table, verdict
 from ..context import Context
 
 __all__ = [
@@ -286,6 +288,26 @@ def _shown(x: object) -> object:
     return "" if x is None else x
 
 
+def _body_render(r: Any, label: str, bodies: int) -> Block:
+    """A body's modes as an interactive 3-D render (its surface decimated so that the
+    report's bodies stay within a few hundred kB together) over the static grid of
+    renders."""
+    from ...plot.body import plot_body_modes_grid
+    from ...plot.body_plotly import MAX_FACES, plotly_body_modes
+
+    a = r.data.attrs
+    title = f"Gear {a.get('gear')} body modes ({a.get('boundary')})"
+    args = (r.mesh.points, r.mesh.tets[:, :4], r.shapes, r.frequencies, r.labels, title)
+    faces = max(MAX_FACES // 3, 2 * MAX_FACES // (bodies + 1))
+    return interactive(
+        plotly_body_modes(*args, max_faces=faces),
+        plot_body_modes_grid(*args, side=1.6 if bodies == 1 else 1.2),  # without scripts
+        f"{label}: mode shapes, the surface coloured by the displacement magnitude: "
+        "choose a mode, drag to turn",
+        div_id=f"body-modes-{a.get('gear', 0)}",
+    )
+
+
 def bodies_section(ctx: Context) -> Section | None:
     """Gear-body (finite-element) modes given to the report."""
     given = ctx.given("body-modal")
@@ -316,7 +338,7 @@ def bodies_section(ctx: Context) -> Section | None:
             )
         )
         if r.mesh is not None and r.shapes is not None:  # computed here, or by a run
-            s.blocks.append(figure(r.figure(), f"{label}: mode shapes"))
+            s.blocks.append(_body_render(r, label, len(given)))
         mass = ds.attrs.get("mass_kg")
         if mass is not None:
             s.values.setdefault("mass_kg", []).append(float(mass))
