@@ -456,7 +456,7 @@ def check_report(path: Path, plotly_file: str, timeout: float) -> list[str]:
     problems = []
     size = path.stat().st_size
     if size > MAX_REPORT:
-        problems.append(f"{size / 1e6:.2f} MB, over the {MAX_REPORT / 1e6:.1f} MB bound")
+        problems.append(f"{size} bytes, over the {MAX_REPORT:.0f} byte bound")
     problems += [f"remote resource: {r}" for r in remote_resources(page)]
     for s in local_scripts(page):
         if not (path.parent / s).is_file():
@@ -533,7 +533,9 @@ def contact_sheet(
     return out
 
 
-def write_index(out: Path, reports: dict[str, dict], checked: Sequence[Checked]) -> Path:
+def write_index(
+    out: Path, reports: dict[str, dict], checked: Sequence[Checked], shared: str = ""
+) -> Path:
     """``index.md``: each report (size, checks) and each figure (type, caption, bytes in
     the report, ink, screenshot, pass/fail)."""
     lines = [
@@ -541,6 +543,7 @@ def write_index(out: Path, reports: dict[str, dict], checked: Sequence[Checked])
         "",
         f"{dt.datetime.now(dt.UTC):%Y-%m-%d %H:%M} UTC, {_machine()}",
         "",
+        *([f"Shared by the reports: {shared}", ""] if shared else []),
         "| report | bytes | figures | failed | problems |",
         "|---|---:|---:|---:|---|",
     ]
@@ -715,7 +718,9 @@ def check_reports(
             out / f"{name}-sheet.png",
         )
         checked += mine
-    write_index(out, reports, checked)
+    js = out / PLOTLY_FILE
+    shared = f"`{PLOTLY_FILE}`, {js.stat().st_size} bytes" if js.is_file() else ""
+    write_index(out, reports, checked, shared)
     return reports, checked
 
 
@@ -752,6 +757,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     print(f"date: {dt.datetime.now(dt.UTC):%Y-%m-%d %H:%M} UTC; machine: {_machine()}")
     paths = write_reports(out, examples, results=not args.no_results, variants=variants)
     t1 = time.perf_counter()
+    from reducerlab.reporting import PLOTLY_FILE
+
     reports, checked = check_reports(out, paths, timeout=args.timeout)
     t2 = time.perf_counter()
     kinds = Counter(c.block.type for c in checked)
@@ -775,6 +782,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     over = {n: r for n, r in reports.items() if r["problems"]}
     for n, r in over.items():
         print(f"FAILED report {n}: {'; '.join(r['problems'])}")
+    js = out / PLOTLY_FILE
+    if js.is_file():
+        print(f"shared by the reports: {PLOTLY_FILE}, {js.stat().st_size} bytes")
     print(f"index: {out / 'index.md'}")
     return 1 if bad or over else 0
 

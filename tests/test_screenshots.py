@@ -116,21 +116,30 @@ def test_contact_sheet_of_checked_figures(tmp_path):
     "(apt-get install -y chromium; `make screenshots` installs it as root)",
 )
 def test_report_figures_render_offline_and_are_not_blank(tmp_path):
-    """The KHV report's modal, Campbell, closed-graph and response sections (plotly and
-    matplotlib figures) with plotly.js shared beside it: every figure's standalone page
-    is offline, drawn, not blank; the report itself opens with every plotly figure."""
+    """The KHV report's modal, Campbell and closed-graph sections (plotly and matplotlib
+    figures) with plotly.js shared beside it: every figure's standalone page is offline,
+    drawn, not blank; the report itself opens with every plotly figure. Without the
+    shared plotly.js, a plotly figure fails its check."""
     from reducerlab.examples import example_dir
     from reducerlab.reporting import PLOTLY_FILE, report
 
-    r = report(example_dir() / "khv.toml", only=["modal", "campbell", "closed-graph", "response"])
+    r = report(example_dir() / "khv.toml", only=["modal", "campbell", "closed-graph"])
     path = r.write(tmp_path / "khv.html", plotly=tmp_path / PLOTLY_FILE)
     reports, checked = shots.check_reports(tmp_path, {"khv": path}, timeout=60, log=lambda s: None)
     assert reports["khv"]["problems"] == [], reports
     kinds = {c.block.interactive for c in checked}
     assert kinds == {True, False}, "both plotly and static figures"
-    assert len(checked) >= 5
+    assert len(checked) >= 4
     for c in checked:
         assert c.ok, (c.block.type, c.problems)
         assert c.ink > shots.MIN_INK and c.png is not None and c.png.is_file()
         assert shots.remote_resources(c.page.read_text()) == []
     assert (tmp_path / "khv-sheet.png").is_file() and (tmp_path / "index.md").is_file()
+    # the same plotly figure without its script: not drawn, and said so
+    (tmp_path / PLOTLY_FILE).unlink()
+    plot = next(c.block for c in checked if c.block.interactive)
+    style = "<style>body { background: #fff; }</style>"
+    bad = shots.check_block(plot, tmp_path / "pages" / "bare", style, PLOTLY_FILE, 60)
+    assert not bad.ok
+    assert any("not found" in p for p in bad.problems)
+    assert any("main-svg" in p for p in bad.problems)
