@@ -22,7 +22,7 @@ the bound.
 
 Run: ``make screenshots`` or
 ``MPLBACKEND=Agg .venv/bin/python benchmarks/screenshots.py -o screenshots-output``
-(about 5 minutes on 2 cores; Chromium: ``apt-get install -y chromium``).
+(about 6 minutes on 2 cores; Chromium: ``apt-get install -y chromium``).
 """
 
 from __future__ import annotations
