@@ -349,6 +349,35 @@ def test_given_contact_result_is_reported_with_its_numbers(tmp_path):
         report(path, results=[modal(rl.build_model(rl.load_design(path)))])
 
 
+def test_given_gear_pair_contact_fills_its_mesh_and_refuses_another_design(tmp_path):
+    """A gear_pair's contact result handed to the report (it failed with "mesh1: unknown
+    field": the k(t) went to a nutation drive's [meshN] table): the contact section is
+    built, the report's dynamics take the contact's k(t) in [mesh]'s
+    stiffness_harmonics; a result of other teeth is refused naming the field, while a
+    field of the lumped model only (the mesh damping) is not one the contact depends on."""
+    from reducerlab.analysis.contact import contact_analysis, design_with_mesh
+
+    path = example_dir() / "gear_pair.toml"
+    res = contact_analysis(rl.load_design(path), 1, torque=60.0, positions=5, order=2,
+                           rigid=True)  # fmt: skip
+    nc = res.save(tmp_path / "contact.nc")
+    r = report(path, results=[nc], only=["contact"])
+    assert parse(r.html).sections["contact"] == "ok", r.section("contact").error
+    amp, phase = res.harmonics()
+    assert r.design.mesh.stiffness == pytest.approx(res.mean_stiffness)
+    assert r.design.mesh.stiffness_harmonics == pytest.approx(amp)
+    assert r.design.mesh.stiffness_phases == pytest.approx(phase)
+    assert report(path, overrides=["mesh.damping=700 N*s/m"], results=[nc],
+                  only=["contact"]).design.mesh.damping == 700.0  # fmt: skip
+    refused = r"contact\.nc was computed for .*pinion\.teeth 25 ≠ 26"
+    with pytest.raises(ReducerlabError, match=refused):
+        report(path, overrides=["pinion.teeth=26"], results=[nc], only=["contact"])
+    # contact --write-design: the same table and field names, a valid design file
+    out = tmp_path / "filled.toml"
+    out.write_text(design_with_mesh(path, res))
+    assert rl.load_design(out).mesh.stiffness_harmonics == pytest.approx(amp, rel=1e-5)
+
+
 def test_regime_map_asked_by_the_design(tmp_path):
     """[report.regime_map] on the KHV drive, a 3 x 2 grid of short runs: the report's
     classes are those of the API's regime map."""

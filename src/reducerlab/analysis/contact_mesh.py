@@ -11,21 +11,39 @@ from typing import Any
 from ..design import Design
 from ..errors import ReducerlabError
 
-__all__ = ["design_with_contact", "design_with_mesh", "mesh_table"]
+__all__ = ["design_with_contact", "design_with_mesh", "mesh_fields"]
 
 
-def mesh_table(result: Any) -> str:
-    """The design table that takes a contact result's mesh stiffness: ``meshN`` for
-    pair ``N`` of a nutation design, ``mesh`` for the KHV drive's internal pair (its one
-    ``[mesh]`` table, ``drives.khv.MeshSpec``)."""
-    a = result.data.attrs
-    return "mesh" if a.get("pair_kind") == "internal" else f"mesh{int(a['pair'])}"
+def mesh_fields(kind: str | None, pair: int) -> tuple[str, str, str, str]:
+    """Where a design of type ``kind`` takes pair ``pair``'s mesh stiffness (paper 000
+    Eq. 8): its table and, in it, the fields of the mean ``k_m``, the harmonics ``k_r``
+    and their phases ``phi_r``. A nutation design's ``[meshN]`` (``harmonics``,
+    ``phases``), the KHV drive's one ``[mesh]`` (``drives.khv.MeshSpec``, the same
+    names), a ``gear_pair``'s ``[mesh]`` (``stiffness_harmonics``,
+    ``stiffness_phases``, ``drives.gear_pair.GearMesh``).
+
+    Raises
+    ------
+    ReducerlabError
+        A drive without a loaded contact analysis, or a pair it does not have.
+    """
+    if kind == "nutation" and pair in (1, 2):
+        return f"mesh{pair}", "stiffness", "harmonics", "phases"
+    if kind == "khv" and pair == 1:
+        return "mesh", "stiffness", "harmonics", "phases"
+    if kind == "gear_pair" and pair == 1:
+        return "mesh", "stiffness", "stiffness_harmonics", "stiffness_phases"
+    raise ReducerlabError(
+        f"contact: a {kind} design has no gear pair {pair} to take a loaded contact's "
+        "mesh stiffness (nutation: pairs 1 and 2; khv and gear_pair: pair 1)"
+    )
 
 
 def design_with_contact(design: Design, results: Any) -> Design:
     """``design`` with each given pair's mesh stiffness from its loaded contact:
     ``[meshN]`` ``stiffness`` = k_m, ``harmonics`` = k_r and ``phases`` = phi_r of paper
-    000's Eq. 8 (N = the result's pair; the KHV drive's ``[mesh]``, :func:`mesh_table`).
+    000's Eq. 8 (N = the result's pair; the KHV drive's ``[mesh]``, a ``gear_pair``'s
+    ``[mesh]`` ``stiffness_harmonics`` and ``stiffness_phases``: :func:`mesh_fields`).
     Damping, backlash and error amplitude are kept. A table with ``exponent =
     "contact"`` takes the contact's load exponent ``p`` and reference deflection
     (:func:`reducerlab.analysis.contact_law.force_law`) and ``p`` times its stiffness
@@ -34,7 +52,7 @@ def design_with_contact(design: Design, results: Any) -> Design:
     Parameters
     ----------
     design : Design
-        A design with ``[meshN]`` tables (the nutation drive) or a KHV design.
+        A design with a loaded contact analysis: nutation, KHV or ``gear_pair``.
     results : iterable of ContactResult
         At most one per pair.
 
@@ -57,7 +75,7 @@ def design_with_contact(design: Design, results: Any) -> Design:
             )
         pairs.append(pair)
         amp, phase = res.harmonics()
-        table = mesh_table(res)
+        table, stiffness, harmonics, phases = mesh_fields(design.type, pair)
         tables.append(table)
         scale = 1.0
         if getattr(getattr(design, table, None), "exponent", 1.0) == "contact":
@@ -70,9 +88,9 @@ def design_with_contact(design: Design, results: Any) -> Design:
             p, d, scale = law
             changes[f"{table}.exponent"] = p
             changes[f"{table}.reference_deflection"] = d
-        changes[f"{table}.stiffness"] = scale * res.mean_stiffness
-        changes[f"{table}.harmonics"] = [scale * a for a in amp]
-        changes[f"{table}.phases"] = phase
+        changes[f"{table}.{stiffness}"] = scale * res.mean_stiffness
+        changes[f"{table}.{harmonics}"] = [scale * a for a in amp]
+        changes[f"{table}.{phases}"] = phase
     if not changes:
         return design
     shown = ", ".join(sorted(tables))
@@ -81,9 +99,10 @@ def design_with_contact(design: Design, results: Any) -> Design:
 
 def design_with_mesh(path: Any, result: Any) -> str:
     """The design file at ``path`` as TOML text whose ``[meshN]`` table (``N`` = the
-    result's pair; a KHV design's ``[mesh]``) takes the contact analysis' mesh
-    stiffness: ``stiffness = k_m``,
-    ``harmonics = k_r`` and ``phases = phi_r`` of paper 000's Eq. 8 (time origin: tooth
+    result's pair; a KHV or ``gear_pair`` design's ``[mesh]``, :func:`mesh_fields`)
+    takes the contact analysis' mesh stiffness: ``stiffness = k_m``,
+    ``harmonics = k_r`` and ``phases = phi_r`` of paper 000's Eq. 8 (a ``gear_pair``'s
+    ``stiffness_harmonics`` and ``stiffness_phases``; time origin: tooth
     pair 0 at mid-mesh). Damping, backlash and error amplitude are kept. Comments of
     the original file are not carried over; a header names the source."""
     import tomli_w
@@ -92,12 +111,12 @@ def design_with_mesh(path: Any, result: Any) -> str:
 
     data = read_toml(path)
     pair = int(result.data.attrs["pair"])
-    name = mesh_table(result)
+    name, stiffness, harmonics, phases = mesh_fields(data.get("type"), pair)
     amp, phase = result.harmonics()
     table = dict(data.get(name, {}))
-    table["stiffness"] = f"{result.mean_stiffness:.6g} N/m"
-    table["harmonics"] = [f"{a:.6g} N/m" for a in amp]
-    table["phases"] = [f"{math.degrees(p):.6g} deg" for p in phase]
+    table[stiffness] = f"{result.mean_stiffness:.6g} N/m"
+    table[harmonics] = [f"{a:.6g} N/m" for a in amp]
+    table[phases] = [f"{math.degrees(p):.6g} deg" for p in phase]
     data[name] = table
     a = result.data.attrs
     head = (

@@ -64,7 +64,10 @@ def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[
     Not the masses, supports, meshes or speeds: a changed damping or stiffness of the
     lumped model does not make the contact of the same teeth another result. The load,
     grid and misalignment are the result's own attributes. A KHV design's internal pair:
-    ``[gears]`` and ``[material]`` (and the load with a crowned layout). None (the whole
+    ``[gears]`` and ``[material]`` (and the load with a crowned layout). A ``gear_pair``:
+    each gear's ``teeth``, ``shift`` and ``modifications``, ``[mesh]``'s tooth geometry
+    (module, pressure angle, face width, rack, ``flank_modifications``) and
+    ``[material]`` (and the load with a crowned layout). None (the whole
     design) for a result of another drive type or without a pair number.
 
     Parameters
@@ -86,6 +89,19 @@ def contact_inputs(design: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[
         if (design.get("gears") or {}).get("flank_modifications") == "crowned":
             mods = ["load_torque", "output_power", "input_speed"]
         return ["gears", "material", *mods]
+    if design.get("type") == "gear_pair" and pair == 1:
+        # the spur pair's teeth (drives.gear_pair.GearPairDesign.spur_pair), their
+        # modifications and material; the crowned layout's load (a torque, or a power
+        # at the speed)
+        mesh = design.get("mesh") or {}
+        mods = []
+        if mesh.get("flank_modifications") == "crowned":
+            mods = ["operating.torque", "operating.power", "operating.speed"]
+        each = ("teeth", "shift", "modifications")
+        gears = [f"{g}.{f}" for g in ("pinion", "gear") for f in each]
+        rack = ("module", "pressure_angle", "face_width", "addendum", "dedendum", "root_fillet",
+                "flank_modifications")  # fmt: skip
+        return [*gears, *(f"mesh.{f}" for f in rack), "material", *mods]
     if design.get("type") != "nutation" or pair not in (1, 2):
         return None
     # the flank modifications: each gear's table, and the design load that sizes the
