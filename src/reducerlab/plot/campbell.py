@@ -195,8 +195,8 @@ def plot_campbell(
         if not np.any(f[:, j] > 0):
             continue  # rigid throughout
         label = f"mode {int(m)}" if int(m) not in above else "_above"  # named in the note
-        ax.plot(rpm, f[:, j], color=colours[j], lw=1.5, label=label, gid="mode",
-                linestyle=SHARED_DASHES[min(dashes[j], 2)])  # fmt: skip
+        ax.plot(rpm, f[:, j], color=colours[j], lw=1.6 if dashes[j] else 2.4, label=label,
+                gid="mode", linestyle=SHARED_DASHES[min(dashes[j], 2)])  # fmt: skip
         ends.append((float(f[-1, j]), str(int(m)), colours[j]))
     _excitations(ax, ds, rpm, axis.top, ends)
     _crossings(ax, ds, result.crossings())

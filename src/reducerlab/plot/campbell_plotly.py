@@ -164,7 +164,7 @@ def _modes(go: Any, fig: Any, ds: Any, x: list, rpm: np.ndarray,
         fig.add_trace(go.Scatter(
             x=x, y=sig(f), mode="lines", name=MODES_NAME if first else name,
             legendgroup="modes", showlegend=first, text=text,
-            line=dict(color=colours[j], width=1.8 if complex_ else 2.2,
+            line=dict(color=colours[j], width=(1.8 if complex_ else 2.2) + 0.8 * (not dashes[j]),
                       dash=SHARED_DASHES[min(dashes[j], 2)]),
             hovertemplate=hover + f"<extra>{name}</extra>",
         ))  # fmt: skip

@@ -80,14 +80,15 @@ CROSSING_COLOUR, OUTSIDE_COLOUR = "#d62728", "#333333"
 
 def mode_colours(n: int) -> list[str]:
     """``n`` distinct colours (hex), one per mode: matplotlib's ten-colour cycle up to
-    ten modes, the ``turbo`` map sampled once per mode beyond."""
+    ten modes, the ``turbo`` map beyond, sampled in golden-ratio steps so that
+    neighbouring modes (the ones that lie close or repeat) get far-apart hues."""
     import matplotlib as mpl
     from matplotlib.colors import to_hex
 
     if n <= 10:
         return [to_hex(f"C{i}") for i in range(n)]
-    cmap = mpl.colormaps["turbo"]
-    return [to_hex(cmap(0.04 + 0.92 * i / (n - 1))) for i in range(n)]
+    cmap = mpl.colormaps["turbo"].resampled(4096)
+    return [to_hex(cmap(0.04 + 0.92 * ((0.5 + i * 0.6180339887) % 1.0))) for i in range(n)]
 
 
 def excitation_styles(n: int) -> list[tuple[str, Any, str]]:
