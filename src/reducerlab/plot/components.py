@@ -170,7 +170,7 @@ def plot_component_comparison(
     from .campbell_style import excitation_label, excitation_styles
 
     rows = len(comps) + 1
-    fig = _figure(figsize=(10.0, 1.9 + 0.6 * rows), layout="constrained")
+    fig = _figure(figsize=(9.0, 1.7 + 0.6 * rows), layout="constrained")
     ax = fig.subplots()
     every = [f for c in comps for f in c.frequencies] + [f for f in system if f > 0]
     top = 1.08 * max(every) if every else 1.0
@@ -214,7 +214,9 @@ def plot_component_comparison(
         ax.set_xlim(min(every) / 1.5 if every else 1.0, top * 1.5)
     else:
         ax.set_xlim(0, top)
-    ax.set_ylim(-0.7, rows - 0.3)
+    ax.set_ylim(-0.7, rows - 0.05)  # room above the system row for two rows of numbers
+    legend_rows = -(-len(handles) // 2) if len(handles) > 3 else len(handles)
+    fig.set_size_inches(9.0, 2.0 + 0.55 * rows + 0.18 * legend_rows)
     ax.set_yticks(range(rows))
     rng = f" ({speed_range_rpm[0]:.4g}-{speed_range_rpm[1]:.4g} rpm)" if speed_range_rpm else ""
     ax.set_yticklabels([c.label for c in reversed(comps)] + [f"system{rng}"])
@@ -223,7 +225,12 @@ def plot_component_comparison(
         "Natural frequencies of the drive and the gear bodies against the excitations"
         + (f"\n{title}" if title else ""), fontsize=9,
     )  # fmt: skip
-    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    from matplotlib.transforms import ScaledTranslation
+
+    below = ax.transAxes + ScaledTranslation(0, -34 / 72, fig.dpi_scale_trans)  # under the label
+    ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+              bbox_transform=below, borderaxespad=0, ncol=2 if len(handles) > 3 else 1,
+              frameon=False)  # the legend below: the axis keeps the figure's width  # fmt: skip
     ax.grid(alpha=0.3, axis="x")
     return fig
 
