@@ -12,17 +12,20 @@ import pytest
 
 from reducerlab.analysis.campbell import campbell
 from reducerlab.analysis.complex_modal import complex_campbell, steady_whirl
+from reducerlab.analysis.components import ComponentModes
 from reducerlab.analysis.resonance import resonance_check
 from reducerlab.drives import load_design
 from reducerlab.examples import example_dir
 from reducerlab.model import Centripetal, Coupling, Dof, Inertia, Model, Support
 from reducerlab.plot.campbell import plot_campbell, plot_complex_campbell, plotly_campbell
 from reducerlab.plot.campbell_style import (
+    coincident_dash,
     excitation_styles,
     frequency_axis,
     mode_colours,
     unique_crossings,
 )
+from reducerlab.plot.components import BODY_COLOUR, plot_component_comparison
 from reducerlab.reporting.sections.modes import crossing_rows
 
 DISC = example_dir() / "spinning_disc.toml"
@@ -143,7 +146,8 @@ def test_one_operating_speed_is_drawn_and_the_mesh_line_is_on_the_chart():
     assert vline.x0 == pytest.approx(1230)
     texts = [a.text for a in fig.layout.annotations]
     assert any("operating speed 1230 rpm" in t for t in texts)
-    assert any("off the chart" in t and "3x mesh" in t for t in texts)
+    title = fig.layout.title.text  # what the axis leaves off: above the diagram
+    assert "off the chart" in title and "3x mesh" in title
 
 
 def test_each_crossing_is_marked_and_listed_once(disc):
@@ -197,11 +201,18 @@ def test_complex_figure_shows_whirl_and_damping(disc):
     assert np.all(np.isin(np.round(sc[0].get_array(), 12), np.round(dec, 12)))
     # the numbers at the branch ends do not overlap
     # (the translation pair ends at one frequency: one label for both)
+    # the axis ends 10 % above the 1x line at the top of the range (100 Hz): the
+    # forward branch (mode 4, 138-322 Hz) is named above it, 1x input leaves at the top
     ends = [t for t in ax.texts if t.get_gid() == "end-label"]
-    assert sorted(t.get_text().strip() for t in ends) == ["1, 2", "1x input", "3", "4"]
+    assert sorted(t.get_text().strip() for t in ends) == ["1, 2", "3"]
+    assert [t.get_text().strip() for t in ax.texts if t.get_gid() == "excitation-label"] == [
+        "1x input"
+    ]
+    assert "mode 4 above 110 Hz: 140-320 Hz" in ax.get_title()
     ys = sorted(t.get_position()[1] for t in ends)
     top = ax.get_ylim()[1]
-    assert np.all(np.diff(ys) >= 0.035 * top * (1 - 1e-9))
+    assert top == pytest.approx(110.0)
+    assert np.all(np.diff(ys) >= 0.04 * top * (1 - 1e-9))
     p = plotly_campbell(disc)
     assert p.layout.coloraxis.colorbar.title.text == "log dec"
     symbols = {s for t in p.data if t.marker and isinstance(t.marker.symbol, tuple)
@@ -215,3 +226,118 @@ def test_plotly_data_stay_compact(disc):
     fig = plotly_campbell(disc)
     ys = [y for t in fig.data if t.y is not None for y in t.y if y is not None]
     assert ys and all(len(f"{y:.12g}".replace(".", "").lstrip("0-")) <= 5 for y in ys)
+
+
+NUT2 = example_dir() / "nutation_double_sided.toml"
+SURFACE = example_dir() / "nutation_surface.toml"
+GEAR2 = ComponentModes("gear 2", (1900.0, 1900.0, 2900.0, 8860.0),
+                       ("bending", "bending", "umbrella", "torsional"))  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def nut2():
+    return campbell(load_design(NUT2))
+
+
+def _shown_in_legend(fig) -> list[str]:
+    return [t.name for t in fig.data if t.name and t.showlegend is not False]
+
+
+def test_plotly_legend_is_compact_and_below_with_modes_named_at_their_ends(nut2):
+    # 12 modes and 7 excitations: one legend entry for all modes, the legend in rows
+    # below the diagram (it keeps the page's width), mode numbers and excitation names
+    # at the lines' right ends
+    fig = plotly_campbell(nut2)
+    legend = fig.layout.legend
+    assert legend.orientation == "h" and legend.y < 0
+    names = _shown_in_legend(fig)
+    assert sum(n.startswith("natural frequencies") for n in names) == 1
+    assert not any(n.startswith("mode ") for n in names)
+    assert len(names) <= nut2.data.sizes["excitation"] + 4
+    ends = [a.text.strip() for a in fig.layout.annotations if a.name == "end-label"]
+    assert {"mode 2", "modes 3, 4", "1x mesh 1", "1x input"} <= set(ends)
+    assert fig.layout.margin.r >= 100  # room for the end labels
+    ys = sorted(a.y for a in fig.layout.annotations if a.name == "end-label")
+    assert np.all(np.diff(ys) >= 0.04 * fig.layout.yaxis.range[1] * (1 - 1e-3))
+
+
+def test_coincident_modes_are_drawn_so_that_both_show(nut2):
+    # modes 3 and 4 of the double-sided drive differ by 0.008 %: mode 4 is dashed over
+    # mode 3 (matplotlib and plotly), the two share one end label
+    f = nut2.data["frequency"].values
+    assert coincident_dash(f)[2:4] == [0, 1]
+    ax = plot_campbell(nut2).axes[0]
+    lines = {ln.get_label(): ln for ln in ax.lines if ln.get_gid() == "mode"}
+    assert lines["mode 3"].get_linestyle() == "-" and lines["mode 4"].get_linestyle() == "--"
+    assert lines["mode 3"].get_color() != lines["mode 4"].get_color()
+    ends = [t.get_text().strip() for t in ax.texts if t.get_gid() == "end-label"]
+    assert "3, 4" in ends and "3" not in ends and "4" not in ends
+    fig = plotly_campbell(nut2)
+    dash = {t.hovertemplate.split("<extra>")[1][:-8]: t.line.dash for t in fig.data
+            if t.legendgroup == "modes" and t.mode == "lines"}  # fmt: skip
+    assert dash["mode 3"] == "solid" and dash["mode 4"] == "dash"
+
+
+def test_frequency_axis_ends_where_excitations_can_meet_modes(nut2):
+    # nutation_surface at 1500 rpm: the excitations stay under 2 kHz, the lowest
+    # elastic mode is at 5.08 kHz, the others up to 16 kHz: the axis ends 10 % above
+    # mode 2 and names modes 3-8
+    res = campbell(load_design(SURFACE))
+    axis = frequency_axis(res.data)
+    f = res.data["frequency"].values
+    assert axis.top == pytest.approx(1.1 * f[0, 1])
+    assert [m for m, _, _ in axis.above] == [3, 4, 5, 6, 7, 8]
+    note = axis.note(1500.0)
+    assert note == "modes 3-8 above 5.6 kHz: 8.2-16 kHz"
+    ax = plot_campbell(res).axes[0]
+    assert ax.get_ylim()[1] == pytest.approx(axis.top) and note in ax.get_title()
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "mode 2" in legend and "mode 3" not in legend
+    fig = plotly_campbell(res)
+    assert fig.layout.yaxis.range[1] == pytest.approx(axis.top, rel=1e-3)
+    assert note in fig.layout.title.text
+    # double-sided, 1000-2000 rpm: 10 % above 3x mesh 2 (order 89.14) at 2000 rpm
+    axis = frequency_axis(nut2.data)
+    assert axis.top == pytest.approx(1.1 * 2000 / 60 * 624 / 7)
+    assert axis.note(2000.0).startswith("modes 5-12 above 3.3 kHz: 3.5-9.6 kHz")
+
+
+def test_body_modes_are_drawn_apart_from_the_system_modes(nut2):
+    # grey dash-dot, named at the line "gear 2 body: f Hz (type)", one legend entry;
+    # a repeated body mode labelled once, those above the axis named in the title
+    ax = plot_campbell(nut2, [GEAR2]).axes[0]
+    body = [ln for ln in ax.lines if ln.get_gid() == "component-mode"]
+    modes = {ln.get_color() for ln in ax.lines if ln.get_gid() == "mode"}
+    assert len(body) == 3 and all(ln.get_color() == BODY_COLOUR for ln in body)
+    assert all(ln.get_linestyle() == "-." for ln in body) and BODY_COLOUR not in modes
+    labels = sorted(t.get_text().strip() for t in ax.texts if t.get_gid() == "component-label")
+    assert labels == ["gear 2 body: 1900 Hz (bending) x 2", "gear 2 body: 2900 Hz (umbrella)"]
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert sum("gear-body modes" in t for t in legend) == 1
+    assert "gear 2 body modes above 3.3 kHz: 8860 Hz" in ax.get_title()
+    check = {"components": [{"label": "gear 2", "frequencies": list(GEAR2.frequencies),
+                             "types": list(GEAR2.types)}]}  # fmt: skip
+    fig = plotly_campbell(nut2, check)
+    hlines = [s for s in fig.layout.shapes if s.type == "line" and s.line.dash == "dashdot"]
+    assert len(hlines) == 3 and {s.line.color for s in hlines} == {BODY_COLOUR}
+    assert sum("gear-body modes" in n for n in _shown_in_legend(fig)) == 1
+    texts = [a.text for a in fig.layout.annotations]
+    assert "gear 2 body: 2900 Hz (umbrella)" in texts
+    assert "gear 2 body modes above 3.3 kHz: 8860 Hz" in fig.layout.title.text
+
+
+def test_component_figure_groups_close_mode_numbers_in_readable_text():
+    # system modes 3/4, 7/8, 9/10 repeated: one label each ("9, 10", never "910"),
+    # labels that would touch staggered, every text at least 8 pt
+    system = [0.0, 2239.0, 2565.8, 2566.0, 3450.9, 4068.2, 4696.7, 4696.7, 5611.1, 5611.1,
+              7779.2, 9594.3]  # fmt: skip
+    fig = plot_component_comparison(system, [GEAR2], orders={"1x mesh": 26.0},
+                                    speed_range_rpm=(1000.0, 2000.0))  # fmt: skip
+    ax = fig.axes[0]
+    labels = [t for t in ax.texts if t.get_gid() == "system-label"]
+    assert [t.get_text() for t in labels] == ["2", "3, 4", "5", "6", "7, 8", "9, 10", "11", "12"]
+    fig.canvas.draw()
+    boxes = [t.get_window_extent() for t in labels]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
+    texts = ax.texts + ax.get_legend().get_texts() + ax.get_yticklabels()
+    assert min(t.get_fontsize() for t in texts) >= 8

@@ -25,14 +25,27 @@ if TYPE_CHECKING:
 
     from ..analysis.components import ComponentModes
 
-__all__ = ["component_label", "draw_component_lines", "plot_component_comparison"]
+__all__ = [
+    "BODY_COLOUR",
+    "bodies_above",
+    "body_label",
+    "close_groups",
+    "component_label",
+    "draw_component_lines",
+    "group_label",
+    "plot_component_comparison",
+]
 
 #: Colour map of the components (the excitation lines use the default cycle).
 CMAP = "Dark2"
-#: Line style of a body mode in a Campbell diagram.
-BODY_STYLE = (0, (6, 3))
+#: Line style and colour of a body mode in a Campbell diagram: grey dash-dot, apart from
+#: the system modes' solid colours and the excitation lines' dark dashes.
+BODY_STYLE = "-."
+BODY_COLOUR = "#6e6e6e"
 #: Body modes closer than this fraction of the frequency axis share one label.
 CLOSE = 0.02
+#: System modes closer than this fraction of the frequency axis share one number.
+LABEL_GAP = 0.012
 
 
 def _figure(**kw: object) -> Figure:
@@ -157,7 +170,7 @@ def plot_component_comparison(
     from .campbell_style import excitation_label, excitation_styles
 
     rows = len(comps) + 1
-    fig = _figure(figsize=(9.5, 1.6 + 0.55 * rows), layout="constrained")
+    fig = _figure(figsize=(9.0, 1.7 + 0.6 * rows), layout="constrained")
     ax = fig.subplots()
     every = [f for c in comps for f in c.frequencies] + [f for f in system if f > 0]
     top = 1.08 * max(every) if every else 1.0
@@ -169,8 +182,7 @@ def plot_component_comparison(
             ax.plot([lo_hz[j], hi_hz[j]], [y0, y0], color="0.35", lw=5, alpha=0.5,
                     solid_capstyle="butt", gid="system-band")  # fmt: skip
         ax.plot([f], [y0], "|", color="k", ms=14, mew=2, gid="system-mode")
-        ax.annotate(str(j + 1), (f, y0), xytext=(0, 9), textcoords="offset points",
-                    ha="center", fontsize=6.5)  # fmt: skip
+    _system_labels(ax, system, y0, top)
     types_seen: dict[str, str] = {}
     for i, c in enumerate(comps):
         y = rows - 2 - i
@@ -202,7 +214,9 @@ def plot_component_comparison(
         ax.set_xlim(min(every) / 1.5 if every else 1.0, top * 1.5)
     else:
         ax.set_xlim(0, top)
-    ax.set_ylim(-0.7, rows - 0.3)
+    ax.set_ylim(-0.7, rows - 0.05)  # room above the system row for two rows of numbers
+    legend_rows = -(-len(handles) // 2) if len(handles) > 3 else len(handles)
+    fig.set_size_inches(9.0, 2.0 + 0.55 * rows + 0.18 * legend_rows)
     ax.set_yticks(range(rows))
     rng = f" ({speed_range_rpm[0]:.4g}-{speed_range_rpm[1]:.4g} rpm)" if speed_range_rpm else ""
     ax.set_yticklabels([c.label for c in reversed(comps)] + [f"system{rng}"])
@@ -211,9 +225,30 @@ def plot_component_comparison(
         "Natural frequencies of the drive and the gear bodies against the excitations"
         + (f"\n{title}" if title else ""), fontsize=9,
     )  # fmt: skip
-    ax.legend(handles=handles, fontsize=6.5, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    from matplotlib.transforms import ScaledTranslation
+
+    below = ax.transAxes + ScaledTranslation(0, -34 / 72, fig.dpi_scale_trans)  # under the label
+    ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+              bbox_transform=below, borderaxespad=0, ncol=2 if len(handles) > 3 else 1,
+              frameon=False)  # the legend below: the axis keeps the figure's width  # fmt: skip
     ax.grid(alpha=0.3, axis="x")
     return fig
+
+
+def _system_labels(ax: Axes, system: np.ndarray, y: float, top: float) -> None:
+    """The system modes' numbers above their marks: modes closer than a label's width
+    share one label (``"3, 4"``), and neighbouring labels that would still touch are
+    staggered in height."""
+    rows = [(float(f), str(j + 1)) for j, f in enumerate(system) if f > 0]
+    last_x, last_w, level = -np.inf, 0.0, 0
+    for group in close_groups(rows, LABEL_GAP * top):
+        x = float(np.mean([f for f, _ in group]))
+        text = ", ".join(sorted((m for _, m in group), key=int))
+        w = LABEL_GAP * top * len(text)  # about a character per LABEL_GAP of the axis
+        level = 1 - level if x - last_x < 0.5 * (w + last_w) + 0.5 * LABEL_GAP * top else 0
+        ax.annotate(text, (x, y), xytext=(0, 9 + 10 * level), textcoords="offset points",
+                    ha="center", fontsize=8, gid="system-label")  # fmt: skip
+        last_x, last_w = x, w
 
 
 def draw_component_lines(
@@ -223,50 +258,71 @@ def draw_component_lines(
     rpm_range: tuple[float, float],
     fmax: float,
 ) -> list[Any]:
-    """Draw each body mode below ``fmax`` as a horizontal dashed line over
-    ``rpm_range`` (labelled ``"gear N: f Hz (type)"``) and mark its crossings with the
-    excitation lines ``order * speed / 2 pi`` (at ``speed = 60 f / order`` rpm).
+    """Draw each body mode below ``fmax`` as a horizontal line over ``rpm_range`` in
+    the body-mode style (:data:`BODY_COLOUR`, :data:`BODY_STYLE`: grey dash-dot, never
+    a system mode's colour), labelled at the line ``"gear N body: f Hz (type)"``, and
+    mark its crossings with the excitation lines ``order * speed / 2 pi`` (at
+    ``speed = 60 f / order`` rpm, open diamonds).
 
-    Returns one legend proxy per component that has a mode in the range.
+    Returns one legend proxy for all the body modes shown (none when none is).
     """
     from matplotlib.lines import Line2D
 
     comps = _as_components(components)
     r0, r1 = rpm_range
-    proxies = []
+    shown = []
     for i, c in enumerate(comps):
-        col = _colour(i)
         xs, ys = [], []
         rows = [(f, kind) for f, kind in zip(c.frequencies, c.types, strict=True) if f <= fmax]
         for f, kind in rows:
-            ax.plot([r0, r1], [f, f], linestyle=BODY_STYLE, color=col, lw=0.9,
-                    label=component_label(c.label, f, kind), gid="component-mode")  # fmt: skip
+            ax.plot([r0, r1], [f, f], linestyle=BODY_STYLE, color=BODY_COLOUR, lw=1.0,
+                    label=body_label(c.label, f, kind), gid="component-mode")  # fmt: skip
             for order in orders:
                 rpm = 60.0 * f / float(order)  # 2 pi f / order rad/s in rpm
                 if r0 <= rpm <= r1:
                     xs.append(rpm)
                     ys.append(f)
-        right = len(proxies) % 2 == 0  # alternate sides between the bodies shown
-        for group in _close_groups(rows, CLOSE * fmax):
-            text = _group_label(c.label, group)
-            ax.text(r1 if right else r0, group[0][0], text + " " if right else " " + text,
-                    fontsize=6, color=col, ha="right" if right else "left", va="bottom",
-                    clip_on=True)  # fmt: skip
+        left = i % 2 == 0  # alternate sides between the bodies (the modes end right)
+        for group in close_groups(rows, CLOSE * fmax):
+            text = group_label(c.label + " body", group)
+            ax.text(r0 if left else r1, group[0][0], " " + text + " ", fontsize=7.5,
+                    color=BODY_COLOUR, ha="left" if left else "right", va="bottom",
+                    clip_on=True, gid="component-label")  # fmt: skip
         if xs:
-            ax.plot(xs, ys, "D", ls="none", mfc="none", color=col, ms=6, mew=1.3,
+            ax.plot(xs, ys, "D", ls="none", mfc="none", color=BODY_COLOUR, ms=6, mew=1.3,
                     gid="component-crossing")  # fmt: skip
         if rows:
-            proxy = Line2D([], [], linestyle=BODY_STYLE, color=col, lw=0.9, marker="D",
-                           mfc="none", label=f"{c.label} body modes")  # fmt: skip
-            proxies.append(proxy)
-    return proxies
+            shown.append(c.label)
+    if not shown:
+        return []
+    label = f"gear-body modes, FE ({', '.join(shown)}): named at the line"
+    return [Line2D([], [], linestyle=BODY_STYLE, color=BODY_COLOUR, lw=1.0, marker="D",
+                   mfc="none", label=label)]  # fmt: skip
 
 
-def _close_groups(rows: list[tuple[float, str]], gap: float) -> list[list[tuple[float, str]]]:
+def bodies_above(components: Sequence[Any], fmax: float) -> str:
+    """``"gear 2 body modes above 3.3 kHz: 3746, 5790, 8860 Hz"`` (empty when none is)."""
+    from .campbell_style import hz
+
+    parts = []
+    for c in _as_components(components):
+        fs = sorted({float(f"{f:.4g}") for f in c.frequencies if f > fmax})
+        if fs:
+            parts.append(f"{c.label} body modes above {hz(fmax)}: "
+                         + ", ".join(f"{f:g}" for f in fs) + " Hz")  # fmt: skip
+    return "; ".join(parts)
+
+
+def body_label(label: str, frequency: float, kind: str = "") -> str:
+    """``"gear 2 body: 3746.3 Hz (bending)"``."""
+    return component_label(label + " body", frequency, kind)
+
+
+def close_groups(rows: list[tuple[float, str]], gap: float) -> list[list[tuple[float, str]]]:
     """Ascending (frequency, type) rows in runs whose neighbours are within ``gap`` Hz
     (their labels would overlap)."""
     groups: list[list[tuple[float, str]]] = []
-    for row in rows:
+    for row in sorted(rows):
         if groups and row[0] - groups[-1][-1][0] <= gap:
             groups[-1].append(row)
         else:
@@ -274,11 +330,10 @@ def _close_groups(rows: list[tuple[float, str]], gap: float) -> list[list[tuple[
     return groups
 
 
-def _group_label(label: str, group: list[tuple[float, str]]) -> str:
-    """``"gear 1: 4162.7 Hz (torsional)"``, or for close modes
-    ``"gear 1: 5466.4 / 5468.2 Hz (folding)"``."""
-    if len(group) == 1:
-        return component_label(label, *group[0])
+def group_label(label: str, group: list[tuple[float, str]]) -> str:
+    """``"gear 1: 4162.7 Hz (torsional)"``, for close modes ``"gear 1: 5466.4 / 5468.2
+    Hz (folding)"``, for a repeated one ``"gear 1: 3746.3 Hz (bending) x 2"``."""
+    freqs = list(dict.fromkeys(f"{f:.5g}" for f, _ in group))
     kinds = list(dict.fromkeys(k for _, k in group if k))
-    freqs = " / ".join(f"{f:.5g}" for f, _ in group)
-    return f"{label}: {freqs} Hz" + (f" ({', '.join(kinds)})" if kinds else "")
+    text = f"{label}: {' / '.join(freqs)} Hz" + (f" ({', '.join(kinds)})" if kinds else "")
+    return text + (f" x {len(group)}" if len(freqs) == 1 and len(group) > 1 else "")
