@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -36,6 +37,8 @@ if TYPE_CHECKING:
     from ..drives.places import DriveLayout
 
 __all__ = [
+    "SHOWN",
+    "MapCells",
     "ModalResult",
     "SensitivityResult",
     "eigenvalue_derivatives",
@@ -43,6 +46,10 @@ __all__ = [
     "mac",
     "modal",
 ]
+
+#: The smallest relative sensitivity ``|(p/f) df/dp|`` the maps write (two decimals): a
+#: parameter below it on every elastic mode is left out of the maps and named.
+SHOWN = 0.005
 
 #: Relative gap below which two eigenvalues are treated as one repeated eigenvalue.
 DEGENERACY_TOL = 1e-7
@@ -410,10 +417,68 @@ def frequency_sensitivity(
     return SensitivityResult(data)
 
 
+@dataclass(frozen=True)
+class MapCells:
+    """The rows and columns a sensitivity map draws, and what it leaves out."""
+
+    #: Row indices: the elastic modes (a rigid-body mode has no frequency to move).
+    modes: list[int]
+    #: Column indices: the parameters of at least :data:`SHOWN` on some elastic mode.
+    parameters: list[int]
+    #: Mode numbers of the rigid-body modes left out.
+    rigid: list[int]
+    #: Parameters under :data:`SHOWN` on every elastic mode, and the largest of them.
+    negligible: list[str]
+    largest: float
+    #: Parameters of value 0: their relative sensitivity is 0 by definition.
+    at_zero: list[str]
+
+    def note(self) -> str:
+        """What the map leaves out, in words ("" when nothing)."""
+        out = []
+        if self.rigid:
+            modes = ", ".join(str(m) for m in self.rigid)
+            out.append(f"rigid-body modes left out (0 Hz): {modes}.")
+        if self.negligible:
+            out.append(
+                f"No effect on any mode (|(p/f) df/dp| < {SHOWN:g} on every mode, at most "
+                f"{self.largest:.2g}): {', '.join(self.negligible)}."
+            )
+        if self.at_zero:
+            out.append(
+                "Parameters of value 0 (relative sensitivity 0 by definition; see df/dp): "
+                f"{', '.join(self.at_zero)}."
+            )
+        text = " ".join(out)
+        return text[:1].upper() + text[1:]
+
+
 class SensitivityResult(Result):
     """Frequency sensitivities (``dfdp``, ``relative``) per mode and parameter."""
 
     kind: ClassVar[str] = "sensitivity"
+
+    def map_cells(self) -> MapCells:
+        """The cells of the sensitivity maps: the elastic modes against the parameters
+        that move one of them by at least :data:`SHOWN` (relative); the rest named."""
+        ds = self.data
+        rel = ds["relative"].values
+        rigid = ~np.all(np.isfinite(rel), axis=1) | (ds["frequency"].values == 0.0)
+        rows = [i for i in range(rel.shape[0]) if not rigid[i]]
+        params = [str(p) for p in ds["parameter"].values]
+        values = ds["value"].values
+        big = np.max(np.abs(rel[rows]), axis=0) if rows else np.zeros(len(params))
+        cols = [j for j in range(len(params)) if big[j] >= SHOWN]
+        zero = [j for j in range(len(params)) if big[j] < SHOWN and values[j] == 0.0]
+        small = [j for j in range(len(params)) if big[j] < SHOWN and values[j] != 0.0]
+        return MapCells(
+            modes=rows,
+            parameters=cols,
+            rigid=[int(m) for m, r in zip(ds["mode"].values, rigid, strict=True) if r],
+            negligible=[params[j] for j in small],
+            largest=float(max((big[j] for j in small), default=0.0)),
+            at_zero=[params[j] for j in zero],
+        )
 
     def table(self) -> str:
         """Relative sensitivities ``(p/f) df/dp`` as plain text."""

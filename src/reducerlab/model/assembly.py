@@ -357,12 +357,8 @@ class Model:
                 )
             obj = getattr(obj, f)
         if isinstance(obj, TimeLaw):
+            # the law's mean: a field, or derived (a piecewise polynomial, scaled to it)
             fields.append("mean")
-            if "mean" not in {x.name for x in dataclasses.fields(obj)}:  # type: ignore[arg-type]
-                raise ModelError(
-                    f"parameter path {path!r}: the mean of {type(obj).__name__} is derived "
-                    "from its other parameters; vary those instead"
-                )
         elif not isinstance(obj, int | float | complex | np.number) or isinstance(obj, bool):
             raise ModelError(f"parameter path {path!r}: not a scalar parameter ({obj!r})")
         return elem, fields
@@ -372,6 +368,8 @@ class Model:
         """Copy of ``obj`` with the nested field set, skipping validation (complex step)."""
         new = copy.copy(obj)
         if len(fields) == 1:
+            # a derived mean (a cached property) is shadowed on the copy: the mean
+            # matrices read only the mean
             object.__setattr__(new, fields[0], value)
         else:
             inner = Model._replace_unchecked(getattr(obj, fields[0]), fields[1:], value)
@@ -380,6 +378,8 @@ class Model:
 
     @staticmethod
     def _replace(obj: Any, fields: list[str], value: Any) -> Any:
+        if fields == ["mean"] and isinstance(obj, TimeLaw):
+            return obj.with_mean(value)
         if len(fields) == 1:
             return dataclasses.replace(obj, **{fields[0]: value})
         inner = Model._replace(getattr(obj, fields[0]), fields[1:], value)

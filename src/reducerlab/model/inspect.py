@@ -23,7 +23,7 @@ def _scalars(obj: Any, prefix: str) -> list[tuple[str, float]]:
             continue
         if isinstance(v, int | float | np.floating):
             out.append((f"{prefix}.{f.name}", float(v)))
-        elif isinstance(v, TimeLaw) and "mean" in {x.name for x in dataclasses.fields(v)}:
+        elif isinstance(v, TimeLaw):  # its mean, a field or derived (piecewise law)
             out.append((f"{prefix}.{f.name}", float(v.mean)))
     return out
 

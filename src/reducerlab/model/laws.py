@@ -11,7 +11,7 @@ from __future__ import annotations
 import copy
 import math
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from itertools import pairwise
 
@@ -75,6 +75,12 @@ class TimeLaw(ABC):
         returned unchanged.
         """
         return self
+
+    def with_mean(self, value: float) -> TimeLaw:
+        """The law with its mean set to ``value`` (what a parameter path ending on the
+        law changes): the other parameters held; a law that derives its mean
+        (:class:`PiecewisePolynomial`) is scaled, its shape held."""
+        return replace(self, mean=value)  # type: ignore[type-var]
 
     @abstractmethod
     def flat(self) -> tuple[int, NDArray[np.float64]]:
@@ -341,6 +347,15 @@ class PiecewisePolynomial(TimeLaw):
         upper = (edges[1:, None] ** p) / p
         lower = (edges[:-1, None] ** p) / p
         return float(np.sum(c * (upper - lower)))
+
+    def with_mean(self, value: float) -> TimeLaw:
+        """The law scaled to the mean ``value`` (the single/double-tooth shape held)."""
+        mean = self.mean
+        if mean == 0:
+            raise ModelError("PiecewisePolynomial: a law of mean 0 cannot be scaled to a mean")
+        f = value / mean
+        rows = tuple(tuple(f * c for c in row) for row in self.coefficients)
+        return replace(self, coefficients=rows)
 
     def breakpoints(self, t0: float, t1: float) -> NDArray[np.float64]:
         n0 = math.floor((t0 - self.t0) / self.period)

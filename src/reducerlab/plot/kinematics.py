@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
+
+import numpy as np
 
 from ..errors import ReducerlabError
 from .axes import plain_figure
@@ -35,8 +38,13 @@ def plot_angular_velocity(result: KinematicsResult) -> Figure:
         ax.set_title(f"{frame} frame", fontsize=9)
         ax.set_xlabel("input angle (deg)")
         ax.set_xlim(x[0], x[-1])
+        # a turn in quarters: the labels, fixed, are spaced as the panels' gap allows
+        ax.set_xticks(np.arange(math.ceil(x[0] / 90), math.floor(x[-1] / 90) + 1) * 90.0)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
+    # the gap between the panels holds the last label of the left one ("360") and the
+    # first of the right one ("0") apart
+    fig.get_layout_engine().set(wspace=0.08)
     axes[0].set_ylabel("angular velocity (rad/s)")
     fig.suptitle(
         f"{ds.attrs.get('title', '')}: nutating gear, ratio {result.ratio:.6g}", fontsize=10

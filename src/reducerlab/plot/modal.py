@@ -23,6 +23,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "SCALES",
+    "energy_columns",
     "plot_complex_modes",
     "plot_energy",
     "plot_mode_shapes",
@@ -194,59 +195,147 @@ def _annotate(
             ax.text(c, r, text, ha="center", va="center", fontsize=size, color=colour)
 
 
-def plot_energy(result: ModalResult) -> Figure:
-    """Heat maps of kinetic-energy share per (body, DOF family) (top) and strain-energy
-    share per element (below), for every mode, shares of 5 % and more written in per
-    cent; at most :data:`REPORT_WIDTH` wide, with text of :data:`TEXT` pt."""
+#: The narrowest heat-map column (in) whose cells still carry their number at TEXT pt,
+#: and the narrowest that still takes a tick label.
+CELL_TEXT_WIDTH = 0.3
+TICK_WIDTH = 0.17
+#: Left over beside the heat maps (in): mode labels, colour bar.
+MAP_MARGIN = 2.4
+#: The most columns a heat map draws at :data:`REPORT_WIDTH` with TEXT-pt tick labels.
+MAX_COLUMNS = int((REPORT_WIDTH - MAP_MARGIN) / TICK_WIDTH)
+
+
+def energy_columns(
+    result: ModalResult,
+) -> tuple[np.ndarray, list[str], np.ndarray, list[str], list[str]]:
+    """The columns of the energy maps: kinetic-energy shares per (body, DOF family), per
+    body where those are more than :data:`MAX_COLUMNS`; strain-energy shares per element
+    that takes 0.5 % of some mode; in each, the smallest columns beyond
+    :data:`MAX_COLUMNS` summed as "other DOFs" or "other elements".
+
+    Returns
+    -------
+    kinetic : ndarray (mode, column), its labels; strain : ndarray (mode, column), its
+    labels; the elements left out (under 0.5 % in every mode).
+    """
     ds = result.data
     bodies = [str(b) for b in ds["body"].values]
     fams = [str(f) for f in ds["family"].values]
-    cells = list(dict.fromkeys(zip(bodies, fams, strict=True)))
+    keys = list(zip(bodies, fams, strict=True))
+    if len(dict.fromkeys(keys)) > MAX_COLUMNS:
+        keys = [(b, "") for b in bodies]
+    cells = list(dict.fromkeys(keys))
     ke = ds["kinetic_energy"].values  # (mode, dof)
-    grid = np.zeros((ke.shape[0], len(cells)))
-    for i, cell in enumerate(zip(bodies, fams, strict=True)):
-        grid[:, cells.index(cell)] += ke[:, i]
-    ee = ds["element_energy"].values
+    kinetic = np.zeros((ke.shape[0], len(cells)))
+    for i, key in enumerate(keys):
+        kinetic[:, cells.index(key)] += ke[:, i]
+    labels = [f"{b}\n{f}" if f else b for b, f in cells]
+    kinetic, labels = _top_columns(kinetic, labels, "DOFs")
+    ee = np.nan_to_num(ds["element_energy"].values)
     elements = [str(e) for e in ds["element"].values]
-    ncol = max(len(cells), len(elements), 1)
-    rows = ke.shape[0]
-    width = min(REPORT_WIDTH, max(6.0, 2.4 + 0.5 * ncol))
-    # narrow columns (many elements) write smaller numbers, never under 7 pt
-    size = max(7.0, min(TEXT, 72 * (width - 2.4) / ncol / 2.2))
-    fig = _figure(figsize=(width, 2.2 * 1.6 + 2 * 0.3 * rows), layout="constrained")
+    peak = np.max(np.abs(ee), axis=0) if ee.size else np.zeros(len(elements))
+    kept = [j for j in range(len(elements)) if peak[j] >= 0.005]
+    dropped = [elements[j] for j in range(len(elements)) if peak[j] < 0.005]
+    strain, names = _top_columns(ee[:, kept], [elements[j] for j in kept], "elements")
+    return kinetic, labels, strain, names, dropped
+
+
+def _top_columns(data: np.ndarray, labels: list[str], what: str) -> tuple[np.ndarray, list]:
+    """At most :data:`MAX_COLUMNS` columns: the largest shares in their order, the
+    rest summed in a last column "other WHAT (n)"."""
+    if len(labels) <= MAX_COLUMNS:
+        return data, labels
+    order = np.argsort(-np.max(np.abs(data), axis=0), kind="stable")
+    top = sorted(order[: MAX_COLUMNS - 1])
+    rest = order[MAX_COLUMNS - 1 :]
+    out = np.column_stack([data[:, top], data[:, rest].sum(axis=1)])
+    return out, [labels[j] for j in top] + [f"other {what} ({len(rest)})"]
+
+
+def plot_energy(result: ModalResult) -> Figure:
+    """Heat maps of kinetic-energy share per (body, DOF family) (top) and strain-energy
+    share per element (below), for every mode (columns: :func:`energy_columns`), shares
+    of 5 % and more written in per cent where a column is :data:`CELL_TEXT_WIDTH` wide
+    (else read on the colour bar); at most :data:`REPORT_WIDTH` wide, all text
+    :data:`TEXT` pt or more."""
+    import textwrap
+
+    ds = result.data
+    kinetic, kin_labels, strain, elements, dropped = energy_columns(result)
+    ncol = max(kinetic.shape[1], len(elements), 1)
+    rows = kinetic.shape[0]
+    width = min(REPORT_WIDTH, max(6.0, MAP_MARGIN + 0.5 * ncol))
+    cell_text = (width - MAP_MARGIN) / ncol >= CELL_TEXT_WIDTH
+    foot = ""
+    if dropped:
+        foot = f"elements under 0.5 % strain energy in every mode: {', '.join(dropped)}"
+    lines = textwrap.wrap(foot, int(width * 72 / (0.55 * TEXT)))
+    height = 2.2 * 1.6 + 2 * 0.3 * rows + 0.2 * len(lines)
+    fig = _figure(figsize=(width, height), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, gridspec_kw={"height_ratios": [1, 1]})
     ylabels = _mode_labels(ds)
+    how = "" if cell_text else " (values on the colour bar)"
     for ax, data, xl, title in (
-        (ax1, grid, [f"{b}\n{f}" for b, f in cells], "kinetic energy share (%)"),
-        (ax2, ee, elements, "strain energy share (%)"),
+        (ax1, kinetic, kin_labels, "kinetic energy share (%)" + how),
+        (ax2, strain, elements, "strain energy share (%)" + how),
     ):
         shown = np.nan_to_num(np.clip(data, 0, 1))
         im = ax.imshow(shown, vmin=0, vmax=1, cmap="viridis", aspect="auto")
         ax.set_xticks(np.arange(len(xl)), xl, rotation=90, fontsize=TEXT)
         ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=TEXT)
         ax.set_title(title, fontsize=TEXT + 1)
-        _annotate(ax, im, data, lambda v: f"{100 * v:.0f}" if v >= 0.05 else None, size)
+        if cell_text:
+            _annotate(ax, im, data, lambda v: f"{100 * v:.0f}" if v >= 0.05 else None, TEXT)
     fig.colorbar(im, ax=[ax1, ax2], shrink=0.6, label="share").ax.tick_params(labelsize=TEXT)
     fig.suptitle(ds.attrs.get("title", ""), fontsize=TEXT + 1)
+    if lines:
+        fig.supxlabel("\n".join(lines), fontsize=TEXT, ha="left", x=0.01)
     return fig
 
 
-def plot_sensitivity(result: SensitivityResult) -> Figure:
-    """Heat map of relative sensitivities ``(p/f) df/dp`` (mode x parameter), each value
-    of at least 0.005 written in black or white by its cell's luminance."""
+def _sensitivity_cells(result: SensitivityResult) -> tuple[np.ndarray, list[str], list[str], str]:
+    """The relative sensitivities the maps draw (elastic modes x parameters that show),
+    their row and column labels and the note naming what is left out."""
     ds = result.data
-    rel = ds["relative"].values
-    params = [str(p) for p in ds["parameter"].values]
-    fig = _figure(figsize=(2.5 + 0.9 * len(params), 1.6 + 0.3 * rel.shape[0]), layout="constrained")
+    cells = result.map_cells()
+    rel = ds["relative"].values[np.ix_(cells.modes, cells.parameters)]
+    params = [str(ds["parameter"].values[j]) for j in cells.parameters]
+    modes = [
+        f"{int(ds['mode'].values[i])}: {float(ds['frequency'].values[i]):.5g} Hz"
+        for i in cells.modes
+    ]
+    return rel, modes, params, cells.note()
+
+
+def plot_sensitivity(result: SensitivityResult) -> Figure:
+    """Heat map of relative sensitivities ``(p/f) df/dp`` (elastic mode x parameter),
+    each value of at least 0.005 written in black or white by its cell's luminance;
+    rigid-body modes and parameters under 0.005 on every mode left out and named below
+    the map (:meth:`SensitivityResult.map_cells`); text of :data:`TEXT` pt."""
+    import textwrap
+
+    rel, modes, params, left_out = _sensitivity_cells(result)
+    width = min(REPORT_WIDTH, max(6.0, 3.2 + 0.75 * len(params)))
+    lines = textwrap.wrap(left_out, int(width * 72 / (0.55 * TEXT)))
+    longest = max((len(p) for p in params), default=4)
+    height = 1.0 + 0.32 * max(len(modes), 1) + 0.075 * longest + 0.2 * len(lines)
+    fig = _figure(figsize=(width, height), layout="constrained")
     ax = fig.subplots()
-    lim = float(np.nanmax(np.abs(rel))) if np.any(np.isfinite(rel)) else 1.0
-    im = ax.imshow(np.nan_to_num(rel), cmap="RdBu_r", vmin=-lim, vmax=lim, aspect="auto")
-    ax.set_xticks(np.arange(len(params)), params, rotation=90, fontsize=8)
-    ylabels = _mode_labels(ds)
-    ax.set_yticks(np.arange(len(ylabels)), ylabels, fontsize=8)
-    _annotate(ax, im, rel, lambda v: f"{v:.2f}" if abs(v) >= 0.005 else None, 8)
-    fig.colorbar(im, ax=ax, label="(p/f) df/dp")
-    ax.set_title("relative frequency sensitivity", fontsize=9)
+    if not modes or not params:
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "no elastic mode moves by 0.5 %", ha="center", transform=ax.transAxes)
+    else:
+        lim = float(np.max(np.abs(rel)))
+        im = ax.imshow(rel, cmap="RdBu_r", vmin=-lim, vmax=lim, aspect="auto")
+        ax.set_xticks(np.arange(len(params)), params, rotation=90, fontsize=TEXT)
+        ax.set_yticks(np.arange(len(modes)), modes, fontsize=TEXT)
+        _annotate(ax, im, rel, lambda v: f"{v:.2f}" if abs(v) >= 0.005 else None, TEXT)
+        bar = fig.colorbar(im, ax=ax, label="(p/f) df/dp")
+        bar.ax.tick_params(labelsize=TEXT)
+    ax.set_title("relative frequency sensitivity (p/f) df/dp", fontsize=TEXT + 1)
+    if lines:
+        fig.get_layout_engine().set(h_pad=0.1)
+        fig.supxlabel("\n".join(lines), fontsize=TEXT, ha="left", x=0.01)
     return fig
 
 
@@ -372,8 +461,11 @@ def plotly_mode_shapes(result: ModalResult, scale: str = "mass") -> Any:
 
 def plotly_sensitivity(result: SensitivityResult) -> Any:
     """Interactive heat map (plotly) of the relative sensitivities ``(p/f) df/dp``
-    (mode x parameter), symmetric colour scale, values of at least 0.005 written in
-    the cells (in black or white by the cell's colour).
+    (elastic mode x parameter, as :func:`plot_sensitivity`: rigid-body modes and
+    parameters under 0.005 on every mode left out, :meth:`SensitivityResult.map_cells`
+    names them), symmetric colour scale, values of at least 0.005 written in the cells
+    (in black or white by the cell's colour); the height follows the rows, the top
+    margin holds the mode bar.
 
     Parameters
     ----------
@@ -382,39 +474,40 @@ def plotly_sensitivity(result: SensitivityResult) -> Any:
     Returns
     -------
     plotly.graph_objects.Figure
+        ``layout.meta["left_out"]``: the note naming what the map leaves out.
     """
     import plotly.graph_objects as go
 
-    ds = result.data
-    rel = ds["relative"].values
-    lim = float(np.nanmax(np.abs(rel))) if np.any(np.isfinite(rel)) else 1.0
-    modes = [
-        f"{int(m)}: {f:.5g} Hz"
-        for m, f in zip(ds["mode"].values, ds["frequency"].values, strict=True)
-    ]
+    rel, modes, params, left_out = _sensitivity_cells(result)
+    lim = float(np.max(np.abs(rel))) if rel.size else 1.0
     fig = go.Figure(
         go.Heatmap(
             z=rel,
-            x=[str(p) for p in ds["parameter"].values],
+            x=params,
             y=modes,
             zmin=-lim,
             zmax=lim,
             colorscale="RdBu_r",
-            colorbar=dict(title="(p/f) df/dp"),
+            colorbar=dict(title="(p/f) df/dp", len=1.0, lenmode="fraction"),
             # plotly writes cell text black or white by the cell's colour (auto colour)
-            text=[
-                [f"{v:.2f}" if np.isfinite(v) and abs(v) >= 0.005 else "" for v in row]
-                for row in rel
-            ],
+            text=[[f"{v:.2f}" if abs(v) >= 0.005 else "" for v in row] for row in rel],
             texttemplate="%{text}",
-            textfont=dict(size=11),
+            textfont=dict(size=12),
             hovertemplate="mode %{y}<br>%{x}<br>(p/f) df/dp = %{z:.4f}<extra></extra>",
         )
     )
+    # tick labels at -45 degrees: about 7 px a character of 12 px type, times sin 45
+    longest = max((len(p) for p in params), default=4)
+    bottom = 30 + int(7 * 0.71 * longest)
+    top = 40  # the mode bar sits here, over no cell
     fig.update_layout(
-        height=max(320, 60 + 28 * len(modes)),
+        # rows of 30 px, at least 180 px of them (room for the colour bar's ticks)
+        height=top + bottom + max(180, 30 * len(modes)),
         template="plotly_white",
-        margin=dict(t=20, l=120, r=20, b=160),
-        yaxis_autorange="reversed",
+        font=dict(size=12),
+        margin=dict(t=top, l=110, r=20, b=bottom),
+        xaxis=dict(tickangle=-45, automargin=True),
+        yaxis=dict(autorange="reversed", automargin=True),
+        meta={"left_out": left_out},
     )
     return fig

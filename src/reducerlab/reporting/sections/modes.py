@@ -115,14 +115,25 @@ def sensitivity_section(ctx: Context) -> Section | None:
             name="sensitivity",
         )
     )
-    s.blocks.append(
-        interactive(
-            plotly_sensitivity(res),
-            res.plot(),
-            "relative sensitivities (p/f) df/dp, every mode and parameter: hover for values",
-            div_id="sensitivity-map",
+    cells = res.map_cells()
+    s.values["map_left_out"] = {
+        "rigid_modes": cells.rigid,
+        "negligible": cells.negligible,
+        "at_zero": cells.at_zero,
+    }
+    if cells.modes and cells.parameters:
+        s.blocks.append(
+            interactive(
+                plotly_sensitivity(res),
+                res.plot(),
+                "relative sensitivities (p/f) df/dp of the elastic modes (rigid-body modes "
+                "left out), every parameter that moves a mode by 0.005 or more: hover for "
+                "values",
+                div_id="sensitivity-map",
+            )
         )
-    )
+    if cells.negligible or cells.at_zero:
+        s.blocks.append(note(cells.note()))
     return s
 
 
