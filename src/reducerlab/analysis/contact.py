@@ -210,6 +210,10 @@ class ContactResult(Result):
 
 
 def _plain(v: Any) -> Any:
+    """An attribute as plain Python: a numpy scalar as its number, an array (a range
+    read back from netCDF) as a list."""
+    if hasattr(v, "tolist"):
+        return v.tolist()
     return v.item() if hasattr(v, "item") else v
 
 
