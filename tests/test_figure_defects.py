@@ -254,3 +254,31 @@ def test_bifurcation_diagrams_have_a_title_and_a_named_axis():
     mfig = drawn(plot_bifurcation(_Bif()))
     assert mfig.axes[0].get_title().startswith("KHV drive (paper 004)\nbifurcation diagram")
     assert mfig.axes[-1].get_xlabel() == "profile shift coefficient x1"
+
+
+# --- contact overview panel (d) (defect 9) -----------------------------------------------
+
+
+def test_contact_panel_d_legend_handles_match_the_drawn_lines():
+    from reducerlab.analysis.contact import contact_analysis
+    from reducerlab.plot.contact import plot_contact
+
+    res = contact_analysis(
+        load_design("examples/nutation_surface.toml"), 1, torque=19.1, positions=3, order=1,
+        rigid=True,
+    )  # fmt: skip
+    fig = drawn(plot_contact(res))
+    (ax,) = [a for a in fig.axes if a.get_title().startswith("(d)")]
+    legend = ax.get_legend()
+    drawn_lines = {
+        line.get_label(): line
+        for a in [ax, *[t for t in fig.axes if t.bbox.bounds == ax.bbox.bounds and t is not ax]]
+        for line in a.get_lines()
+    }
+    for handle, text in zip(legend.legend_handles, legend.texts, strict=True):
+        line = drawn_lines[text.get_text()]
+        assert handle.get_linestyle() == line.get_linestyle(), text.get_text()
+        assert handle.get_marker() == line.get_marker(), text.get_text()
+    pairs = drawn_lines["tooth pairs in contact"]
+    # a dashed line whose legend handle shows its dashes: no marker over them
+    assert pairs.get_linestyle() == "--" and pairs.get_marker() in ("None", "", None)
