@@ -282,3 +282,31 @@ def test_contact_panel_d_legend_handles_match_the_drawn_lines():
     pairs = drawn_lines["tooth pairs in contact"]
     # a dashed line whose legend handle shows its dashes: no marker over them
     assert pairs.get_linestyle() == "--" and pairs.get_marker() in ("None", "", None)
+
+
+# --- the tooth sector render (defect 8) --------------------------------------------------
+
+
+def test_tooth_sector_oblique_tight_and_readable():
+    from matplotlib.text import Text
+
+    from reducerlab.geometry.solid import build_gear_solid
+    from reducerlab.plot.surface import ELEVATION, plot_tooth
+
+    d = load_design("examples/nutation_double_sided.toml")
+    crown, bevel = d.tooth_generation(1)  # the internal gear: seen from above before
+    solid = build_gear_solid(crown, bevel, n_profile=9, n_face=9, n_land=3, n_space=5,
+                             rim=d.surface.rim)  # fmt: skip
+    fig = drawn(plot_tooth(solid))
+    ax = fig.axes[0]
+    assert ELEVATION[0] <= abs(ax.elev) <= ELEVATION[1]
+    pts = solid.tooth_mesh().vertices * 1e3
+    spans = np.ptp(pts, axis=0)
+    limits = np.array([ax.get_xlim(), ax.get_ylim(), ax.get_zlim()])
+    assert np.all(np.ptp(limits, axis=1) <= 1.2 * np.maximum(spans, 0.08 * spans.max()))
+    r = fig.canvas.get_renderer()
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        boxes = [Text.get_window_extent(t, r) for t in axis.get_ticklabels() if t.get_text()]
+        for i, a in enumerate(boxes):
+            for b in boxes[i + 1 :]:
+                assert not overlaps(a, b)
