@@ -310,3 +310,36 @@ def test_tooth_sector_oblique_tight_and_readable():
         for i, a in enumerate(boxes):
             for b in boxes[i + 1 :]:
                 assert not overlaps(a, b)
+
+
+# --- safety factors (defect 4) -----------------------------------------------------------
+
+
+class _Rating:
+    """Safety factors as the figure reads them: the nutation pairs' S_H (0.92, 0.94)
+    end just short of S_Hmin = 1."""
+
+    data = xr.Dataset(attrs={"conditions": json.dumps({"S_Hmin": 1.0, "S_Fmin": 1.4})})
+
+    def pairs(self):
+        return {
+            "pair 1": {"gears": ["gear 2", "gear 1"], "S_H": [0.94, 0.94], "S_F": [4.46, 4.88]},
+            "pair 2": {"gears": ["gear 4", "gear 3"], "S_H": [0.92, 0.92], "S_F": [4.7, 1.45]},
+        }
+
+
+def test_safety_factor_labels_are_not_struck_through_by_the_minimum():
+    from matplotlib.text import Text
+
+    from reducerlab.plot.rating import plot_rating
+
+    fig = drawn(plot_rating(_Rating()))
+    r = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        (floor,) = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+        x = ax.transData.transform((floor.get_xdata()[0], 0))[0]
+        for t in ax.texts:
+            box = Text.get_window_extent(t, r)
+            assert not box.x0 < x < box.x1, t.get_text()
+            assert box.x1 <= ax.get_window_extent(r).x1 + 1
+        assert ax.get_legend() is None
