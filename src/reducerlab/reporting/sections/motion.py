@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ReducerlabError
+from ...plot.axes import parameter_label
 from ...plot.bifurcation import plotly_bifurcation, plotly_regime_map
 from ...plot.response import orbit_note, plot_transmission_error
 from ..blocks import Section, figure, interactive, note, table
@@ -145,7 +146,8 @@ def bifurcation_section(ctx: Context) -> Section | None:
             interactive(
                 plotly_bifurcation(r),
                 r.plot(),
-                f"bifurcation diagram over {r.data.attrs['parameter']}: drag to zoom",
+                f"bifurcation diagram over {parameter_label(r.data.attrs['parameter'])} "
+                f"({r.data.attrs['parameter']}): drag to zoom",
                 div_id=f"bifurcation-{len(s.values['periods'])}",
             )
         )
