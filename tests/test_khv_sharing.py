@@ -269,3 +269,17 @@ def test_cli_sharing_refuses_bad_options(tmp_path):
         assert msg in r.output, (args, r.output)
     r = run(app, ["khv", "sharing", str(example_dir() / "gear_pair.toml"), "-o", str(tmp_path)])
     assert r.exit_code != 0 and "not a KHV design" in r.output
+
+
+def test_load_sharing_legends_are_off_the_curves(sharing):
+    # issue 32: the share panel's legend in its top left covered the curves
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from reducerlab.plot.khv import plot_load_sharing
+
+    fig = plot_load_sharing(sharing)
+    FigureCanvasAgg(fig)
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    for ax in fig.axes[:2]:  # the share and the TE panels: the curves fill them
+        assert ax.get_legend().get_window_extent(r).y1 <= ax.get_window_extent(r).y0 + 1

@@ -180,17 +180,17 @@ def test_speed_axis_is_shown_in_rpm():
     assert c.values * c.attrs["display_factor"] == pytest.approx([600, 700], rel=1e-12)
     assert res.data["p1"].attrs["display_unit"] == ""
     assert res.data["p0"].values[0] == pytest.approx(600 * 2 * math.pi / 60, rel=1e-12)
-    assert res.plot().axes[-1].get_xlabel() == "input_speed (rpm)"
+    assert res.plot().axes[-1].get_xlabel() == "input speed (rpm)"
     # the bifurcation diagram and the frequency response draw the speed in rpm too
     from reducerlab.analysis.frequency_response import frequency_response
 
     b = bifurcation(d, x, periods=40, keep=4)
     assert b.data["p0"].attrs["display_unit"] == "rpm"
-    assert b.plot().axes[-1].get_xlabel() == "input_speed (rpm)"
+    assert b.plot().axes[-1].get_xlabel() == "input speed (rpm)"
     fr = frequency_response(d, x, periods=20, history=2)
-    assert fr.plot().axes[-1].get_xlabel() == "input_speed (rpm)"
+    assert fr.plot().axes[-1].get_xlabel() == "input speed (rpm)"
     backlash = bifurcation(d, Axis("mesh.half_backlash", ("1 um", "2 um")), periods=20, keep=2)
-    assert backlash.plot().axes[-1].get_xlabel() == "mesh.half_backlash (um)"
+    assert backlash.plot().axes[-1].get_xlabel() == "mesh half backlash (um)"
 
 
 runner = CliRunner()

@@ -20,6 +20,7 @@ __all__ = [
     "ROUND_OFF_SPAN",
     "fit_limits",
     "parameter_axis",
+    "parameter_label",
     "plain_axes",
     "plain_axis",
     "plain_figure",
@@ -149,6 +150,42 @@ def fit_limits(values: Any, margin: float = 0.08, floor: float = 0.0) -> tuple[f
     return mid - half, mid + half
 
 
+#: Readable names of the design and model fields figures sweep, by the path's last part.
+PARAMETER_WORDS = {
+    "x1": "profile shift coefficient x1",
+    "x2": "profile shift coefficient x2",
+    "shift": "profile shift coefficient",
+    "input_speed": "input speed",
+    "speed": "speed",
+    "half_backlash": "half backlash",
+    "output_torque": "output torque",
+    "output_power": "output power",
+    "torque": "torque",
+    "power": "power",
+    "face_width": "face width",
+    "pressure_angle": "pressure angle",
+    "k": "stiffness",
+    "c": "damping",
+}
+
+#: Parents of a path that add nothing to its name (the design's groups).
+_GROUPS = ("gears", "operating", "design", "report")
+
+
+def parameter_label(path: str) -> str:
+    """A parameter's name as an axis shows it, from its path: ``"gears.x1"`` ->
+    ``"profile shift coefficient x1"``, ``"input_speed"`` -> ``"input speed"``,
+    ``"mesh.half_backlash"`` -> ``"mesh half backlash"`` (the readable words of
+    :data:`PARAMETER_WORDS`, else the path's parts with spaces)."""
+    parts = [p for p in str(path).replace(":", ".").split(".") if p]
+    if not parts:
+        return str(path)
+    leaf = parts[-1]
+    words = PARAMETER_WORDS.get(leaf, leaf.replace("_", " "))
+    owners = [p.replace("_", " ") for p in parts[:-1] if p not in _GROUPS]
+    return " ".join([*owners, words])
+
+
 def parameter_axis(coord: Any, name: str) -> tuple[Any, str]:
     """A swept parameter's values and axis label as figures show them: the coordinate's
     display unit (``display_unit``, ``display_factor``: rpm for a speed, deg for an
@@ -161,7 +198,7 @@ def parameter_axis(coord: Any, name: str) -> tuple[Any, str]:
         The parameter coordinate (values in SI, display attributes as
         :func:`reducerlab.analysis.members.axis_coord` writes them).
     name : str
-        The parameter's name (its path).
+        The parameter's path (shown by its readable name, :func:`parameter_label`).
 
     Returns
     -------
@@ -170,6 +207,7 @@ def parameter_axis(coord: Any, name: str) -> tuple[Any, str]:
     label : str
         ``"name (unit)"``, or ``"name"`` for a plain number.
     """
+    name = parameter_label(name)
     unit = str(coord.attrs.get("display_unit", ""))
     x = np.asarray(coord.values, dtype=float) * float(coord.attrs.get("display_factor", 1.0))
     if not unit:

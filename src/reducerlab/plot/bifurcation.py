@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .axes import parameter_axis, plain_axes, plain_axis, pretty_unit
+from .axes import parameter_axis, parameter_label, plain_axes, plain_axis, pretty_unit
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -18,7 +18,14 @@ if TYPE_CHECKING:
     from ..analysis.bifurcation import BifurcationResult
     from ..analysis.regime_map import RegimeMapResult
 
-__all__ = ["plot_bifurcation", "plot_regime_map", "plotly_bifurcation", "plotly_regime_map"]
+__all__ = [
+    "MOTION_COLOURS",
+    "motion_colours",
+    "plot_bifurcation",
+    "plot_regime_map",
+    "plotly_bifurcation",
+    "plotly_regime_map",
+]
 
 
 def plot_bifurcation(result: BifurcationResult) -> Figure:
@@ -81,9 +88,51 @@ def plot_bifurcation(result: BifurcationResult) -> Figure:
     plain_axis(axes[-1].xaxis)
     unit = str(ds["poincare"].attrs["units"])
     ax.set_ylabel(f"Poincaré points of mesh deflection ({pretty_unit(unit)})")
-    ax.set_title(f"bifurcation diagram: {ds.attrs.get('title', '')}", fontsize=9)
+    ax.set_title(_bifurcation_title(ds, "\n"), fontsize=9)
     ax.grid(alpha=0.3)
     return fig
+
+
+def _drive(ds: Any) -> str:
+    """The drive's name a result's figures title with: its ``title``, else the design's
+    name, else ``""``."""
+    import json
+
+    title = str(ds.attrs.get("title", "") or "")
+    if title:
+        return title
+    try:
+        return str(json.loads(ds.attrs.get("design", "{}")).get("name", ""))
+    except (TypeError, ValueError):
+        return ""
+
+
+def _bifurcation_title(ds: Any, sep: str = ": ") -> str:
+    """``"DRIVE: bifurcation diagram: Poincaré points of the mesh deflection over NAME"``
+    (``sep`` between the drive and the rest: a line break where the width is short)."""
+    what = "bifurcation diagram: Poincaré points of the mesh deflection over " + parameter_label(
+        ds.attrs["parameter"]
+    )
+    drive = _drive(ds)
+    return f"{drive}{sep}{what}" if drive else what
+
+
+#: The special motion classes' colours; the period-n classes take :data:`PERIOD_COLOURS`.
+MOTION_COLOURS = {
+    "quasi-periodic": "#9467bd",
+    "chaotic": "#d62728",
+    "unsettled": "#d3d3d3",
+    "diverged": "#000000",
+}
+PERIOD_COLOURS = ("#1f77b4", "#2ca02c", "#ff7f0e", "#bcbd22", "#17becf", "#8c564b",
+                  "#e377c2", "#aec7e8", "#98df8a", "#ffbb78", "#dbdb8d", "#9edae5",
+                  "#c49c94", "#f7b6d2")  # fmt: skip
+
+
+def motion_colours(classes: list[str]) -> list[str]:
+    """One colour a motion class, the same in the matplotlib and the plotly maps."""
+    return [MOTION_COLOURS.get(k, PERIOD_COLOURS[i % len(PERIOD_COLOURS)])
+            for i, k in enumerate(classes)]  # fmt: skip
 
 
 def _class_band(band: Axes, edges: NDArray, labels: list[str], title: str, palette: str) -> None:
@@ -142,14 +191,7 @@ def plot_regime_map(result: RegimeMapResult) -> Figure:
     co = result.coexisting()
     m_classes = motion_order(np.unique(lab_m).tolist())
     i_classes = [k for k in (*IMPACT_CLASSES, "diverged") if k in set(lab_i.ravel())]
-    palette = {"quasi-periodic": "tab:purple", "chaotic": "tab:red",
-               "unsettled": "lightgrey", "diverged": "black"}  # fmt: skip
-    # period-n classes: distinct colours (none of the special classes' colours)
-    period_colours = ["#1f77b4", "#2ca02c", "#ff7f0e", "#bcbd22", "#17becf", "#8c564b",
-                      "#e377c2", "#aec7e8", "#98df8a", "#ffbb78", "#dbdb8d", "#9edae5",
-                      "#c49c94", "#f7b6d2"]  # fmt: skip
-    m_col = [palette.get(k, period_colours[i % len(period_colours)])
-             for i, k in enumerate(m_classes)]  # fmt: skip
+    m_col = motion_colours(m_classes)
     i_palette = {"no impact": "tab:green", "single-sided impact": "tab:orange",
                  "double-sided impact": "tab:red", "diverged": "black"}  # fmt: skip
     i_col = [i_palette[k] for k in i_classes]
@@ -194,8 +236,15 @@ def plot_regime_map(result: RegimeMapResult) -> Figure:
         ax.set_ylabel(ylabel)
     for ax in axes.ravel():
         plain_axes(ax, xbins=4)
-    fig.suptitle(f"regime map: {ds.attrs.get('title', '')}", fontsize=9)
+    fig.suptitle(_regime_title(ds), fontsize=9)
     return fig
+
+
+def _regime_title(ds: Any) -> str:
+    """``"DRIVE: regime map over NAME X and NAME Y"``."""
+    what = f"regime map over {parameter_label(ds.attrs['x'])} and {parameter_label(ds.attrs['y'])}"
+    drive = _drive(ds)
+    return f"{drive}: {what}" if drive else what
 
 
 def plotly_bifurcation(result: BifurcationResult) -> Any:
@@ -234,11 +283,13 @@ def plotly_bifurcation(result: BifurcationResult) -> Any:
             )
         )
     fig.update_layout(
+        title=dict(text=_bifurcation_title(ds), font=dict(size=14)),
         xaxis_title=xlabel,
-        yaxis_title=f"Poincaré points ({pretty_unit(str(ds['poincare'].attrs.get('units', '')))})",
+        yaxis_title="Poincaré points of mesh deflection "
+        f"({pretty_unit(str(ds['poincare'].attrs.get('units', '')))})",
         height=480,
         template="plotly_white",
-        margin=dict(t=30, l=70, r=20, b=50),
+        margin=dict(t=60, l=70, r=20, b=50),
     )
     return fig
 
@@ -262,9 +313,16 @@ def plotly_regime_map(result: RegimeMapResult) -> Any:
         parameter_axis(ds["p0"], ds.attrs["x"]),
         parameter_axis(ds["p1"], ds.attrs["y"]),
     )
+    from ..analysis.regime_map import motion_order
+
     lab = np.asarray(result.labels())[0]
-    classes = sorted(set(lab.ravel().tolist()))
+    classes = motion_order(sorted(set(lab.ravel().tolist())))
     idx = np.vectorize(classes.index)(lab)
+    n = len(classes)
+    # a discrete colour bar: one band of one colour a class, named at its middle
+    scale = []
+    for k, colour in enumerate(motion_colours(classes)):
+        scale += [[k / n, colour], [(k + 1) / n, colour]]
     fig = go.Figure(
         go.Heatmap(
             x=X,
@@ -272,18 +330,26 @@ def plotly_regime_map(result: RegimeMapResult) -> Any:
             z=idx,
             text=lab,
             hovertemplate="%{x:.4g}, %{y:.4g}: %{text}<extra></extra>",
-            colorscale="Viridis",
+            colorscale=scale,
             showscale=True,
             zmin=-0.5,
-            zmax=len(classes) - 0.5,
-            colorbar=dict(tickvals=list(range(len(classes))), ticktext=classes, title="motion"),
+            zmax=n - 0.5,
+            xgap=1,
+            ygap=1,
+            colorbar=dict(
+                tickvals=list(range(n)), ticktext=classes, title="motion class", ticks=""
+            ),
         )
     )
+    first = str(ds["branch"].values[0]) if "branch" in ds else ""
     fig.update_layout(
+        title=dict(
+            text=_regime_title(ds) + (f" ({first} sweep)" if first else ""), font=dict(size=14)
+        ),
         xaxis_title=xlabel,
         yaxis_title=ylabel,
         height=480,
         template="plotly_white",
-        margin=dict(t=30, l=70, r=20, b=50),
+        margin=dict(t=60, l=70, r=20, b=50),
     )
     return fig

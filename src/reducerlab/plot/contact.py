@@ -220,8 +220,10 @@ def _panel_stress(ax: Axes, ds: xr.Dataset) -> Axes:
     ax.grid(alpha=0.3)
     tw = ax.twinx()
     pairs = np.asarray(ds["pairs"].values, float)
-    tw.plot(ang, pairs, drawstyle="steps-mid", color="0.35", ls="--", lw=1.0, marker="_",
-            ms=8, label="tooth pairs in contact")  # fmt: skip
+    # dashed steps, no marker: a marker in the legend's short handle hid its dashes, so
+    # that it read as a solid line
+    tw.plot(ang, pairs, drawstyle="steps-mid", color="0.35", ls="--", lw=1.0,
+            label="tooth pairs in contact")  # fmt: skip
     hi = int(np.nanmax(pairs)) if np.isfinite(pairs).any() else 1
     tw.set_ylim(0, hi + 1)
     tw.set_yticks(range(hi + 2))
@@ -229,7 +231,7 @@ def _panel_stress(ax: Axes, ds: xr.Dataset) -> Axes:
     tw.tick_params(labelsize=7)
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = tw.get_legend_handles_labels()
-    ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower left")
+    ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower left", handlelength=3.0)
     return tw
 
 

@@ -69,14 +69,35 @@ def plot_closed_graph(
     fig = Figure(figsize=(6.6, 5.6), layout="constrained")
     ax = fig.subplots()
     from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
 
-    feasible = np.ones((n, n), bool)
+    # where no pair can be built (no positive working pressure angle) every margin is
+    # NaN: that region is hatched, and the limit lines are contours of the margins
+    # inside the rest only (a NaN taken as negative drew the region's grid-stepped edge
+    # as a limit)
+    invalid = np.all([np.isnan(m) for m in margins.values()], axis=0)
+    feasible = ~invalid
     handles = []
+    reached = {}
     for k, (name, m) in enumerate(margins.items()):
         feasible &= np.nan_to_num(m, nan=-1.0) >= 0
-        ax.contour(x1, x2, np.nan_to_num(m, nan=-1.0), levels=[0.0], colors=[f"C{k}"])
-        handles.append(Line2D([], [], color=f"C{k}", label=f"{k + 1}: {name} limit"))
+        inside = m[np.isfinite(m)]
+        reached[name] = inside.size > 0 and inside.min() < 0 < inside.max()
+        if reached[name]:
+            ax.contour(x1, x2, np.ma.masked_invalid(m), levels=[0.0], colors=[f"C{k}"],
+                       linewidths=1.6)  # fmt: skip
+            text = f"{k + 1}: {name} limit"
+        else:  # listed, but it has no line to draw here
+            low = float(inside.min()) if inside.size else float("nan")
+            text = f"{k + 1}: {name}: not reached here (margin >= {low:.2g})"
+        handles.append(Line2D([], [], color=f"C{k}", ls="-" if reached[name] else ":",
+                              label=text))  # fmt: skip
     ax.contourf(x1, x2, feasible.astype(float), levels=[0.5, 1.5], colors=["0.85"])
+    if invalid.any():
+        ax.contourf(x1, x2, invalid.astype(float), levels=[0.5, 1.5], colors="none",
+                    hatches=["xx"])  # fmt: skip
+        handles.append(Patch(facecolor="none", edgecolor="0.3", hatch="xx",
+                             label="no pair: no positive working pressure angle"))  # fmt: skip
     if line is not None:
         a1, a2, b1, b2 = line
         xs = np.array(x1_range)
@@ -85,7 +106,9 @@ def plot_closed_graph(
         ax.plot([a1, b1], [a2, b2], "ks", ms=5)
         ax.annotate("M", (a1, a2), xytext=(4, -12), textcoords="offset points")
         ax.annotate("N", (b1, b2), xytext=(4, -12), textcoords="offset points")
-    ax.plot([pair.x1], [pair.x2], "r*", ms=14, label=f"design ({pair.x1:.3f}, {pair.x2:.3f})")
+    where = _on_limits(pair, margins, x1, x2)
+    label = f"design ({pair.x1:.3f}, {pair.x2:.3f}){where}"
+    ax.plot([pair.x1], [pair.x2], "r*", ms=14, label=label)
     ax.set_xlabel("x1 (planet)")
     ax.set_ylabel("x2 (ring)")
     ax.set_xlim(*x1_range)
@@ -94,9 +117,28 @@ def plot_closed_graph(
         f"closed graph z1={pair.z1}, z2={pair.z2}, ha*={pair.addendum:g} (grey: feasible)",
         fontsize=9,
     )
-    ax.legend(handles=handles + ax.get_legend_handles_labels()[0], fontsize=7, loc="upper left")
+    ax.legend(handles=handles + ax.get_legend_handles_labels()[0], fontsize=7,
+              loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, frameon=False)  # fmt: skip
     ax.grid(alpha=0.3)
     return plain_figure(fig)
+
+
+def _on_limits(
+    pair: InternalGearPair, margins: dict[str, np.ndarray], x1: np.ndarray, x2: np.ndarray
+) -> str:
+    """``": on limit 3 (margin 0.003)"`` where the design's margin of a drawn condition
+    is smaller than the change of that margin across one grid cell (the point sits on
+    the line as drawn), else ``""``."""
+    own = {c.name: c.margin for c in pair.conditions()}
+    said = []
+    for k, (name, m) in enumerate(margins.items()):
+        if name not in own or not np.isfinite(own[name]) or not np.isfinite(m).any():
+            continue
+        step = np.nanmax(np.abs(np.concatenate([np.diff(m, axis=0).ravel(),
+                                                np.diff(m, axis=1).ravel()])))  # fmt: skip
+        if abs(own[name]) <= step:
+            said.append(f"on limit {k + 1} (margin {own[name]:.2g})")
+    return ": " + ", ".join(said) if said else ""
 
 
 def plot_mesh_stiffness(laws: dict[str, object], periods: float = 2.0) -> Figure:
@@ -175,11 +217,14 @@ def plot_load_sharing(result, shown: int = 3) -> Figure:
     a1.set_xlabel("mesh position (mesh cycles; pair 0 mid-path at 0.5)")
     a1.set_ylabel("share of the load")
     a1.set_title("load share of each tooth pair", fontsize=9)
-    a1.legend(fontsize=6, ncol=2)
+    # below its panel: the shares fill the panel's width and height
+    a1.legend(fontsize=6, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.16),
+              frameon=False)  # fmt: skip
     a2.set_xlabel("mesh position (mesh cycles)")
     a2.set_ylabel("loaded TE r_b2 psi (um)")
     a2.set_title("loaded transmission error", fontsize=9)
-    a2.legend(fontsize=7)
+    a2.legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.16),
+              frameon=False)  # fmt: skip
     n = ds["pairs"].values[loaded]
     a3.plot(T[loaded], n.min(axis=1), "v-", label="least")
     a3.plot(T[loaded], n.mean(axis=1), "o-", label="mean over the cycle")

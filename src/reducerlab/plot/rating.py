@@ -61,11 +61,15 @@ def plot_rating(result: RatingResult) -> Figure:
         colors = ["tab:red" if v < floor else "tab:green" for v in values]
         ax.barh(y, values, color=colors, height=0.6)
         ax.axvline(floor, color="k", lw=1.2, ls="--")
+        right = max(max(values) * 1.18, floor * 1.5)
+        width = 0.11 * right  # a value label's width ("0.94" at 8 pt), in the axis' units
         for yi, v in zip(y, values, strict=True):
-            ax.annotate(f"{v:.2f}", (v, yi), xytext=(3, 0), textcoords="offset points",
+            # a label the dashed minimum would strike through goes just past it
+            x = floor if v < floor < v + width else v
+            ax.annotate(f"{v:.2f}", (x, yi), xytext=(3, 0), textcoords="offset points",
                         va="center", fontsize=8)  # fmt: skip
         ax.set_xlabel(f"{what} (dashed: {key} = {floor:g})")  # no legend over the bars
-        ax.set_xlim(0, max(max(values) * 1.18, floor * 1.5))
+        ax.set_xlim(0, right)
         ax.grid(axis="x", alpha=0.3)
     axes[0].set_yticks(y, labels)
     axes[0].invert_yaxis()

@@ -17,7 +17,14 @@ if TYPE_CHECKING:
     from ..analysis.frequency_response import FrequencyResponseResult
     from ..analysis.response import ResponseResult
 
-__all__ = ["COINCIDE", "plot_frequency_response", "plot_response", "plot_transmission_error"]
+__all__ = [
+    "COINCIDE",
+    "SMALL_ORBIT",
+    "orbit_note",
+    "plot_frequency_response",
+    "plot_response",
+    "plot_transmission_error",
+]
 
 #: Poincaré points that repeat every n points to within this share of the orbit's size
 #: (the phase trajectory's peak-to-peak) are drawn as the n points they are: on axes
@@ -56,8 +63,38 @@ def plot_response(result: ResponseResult) -> Figure:
     _spectrum(a3, result)
     for ax in (a1, a2, a3):
         ax.grid(alpha=0.3)
-    fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
+    note = orbit_note(ds)
+    title = str(ds.attrs.get("title", ""))
+    fig.suptitle(f"{title}\n{note}" if note else title, fontsize=10)
     return fig
+
+
+#: An orbit smaller than this share of its static deflection is a small vibration about
+#: it: the figure states how small (a tangle drawn on its own scale looks large).
+SMALL_ORBIT = 1e-2
+
+
+def orbit_note(ds: Any) -> str:
+    """What the figure says of an orbit that is small against its static deflection:
+    its peak-to-peak against the mean deflection, and, where it is below what the
+    integration resolves (``accuracy`` x the deflection), that it is; ``""`` otherwise
+    (and for a motion nothing excites, which the figures draw as a still point)."""
+    from ..analysis.response import NOISE_M
+
+    d = ds["delta"].values
+    ptp, mean = float(np.ptp(d)), float(np.abs(np.mean(d)))
+    if ptp <= NOISE_M or mean <= 0.0 or ptp >= SMALL_ORBIT * mean:
+        return ""
+    fo, uo = scaled_unit([ptp], "m")
+    fm, um = scaled_unit([mean], "m")
+    text = (
+        f"orbit {ptp * fo:.3g} {uo} peak to peak: {ptp / mean:.2g} × the static deflection "
+        f"{mean * fm:.3g} {um}"
+    )
+    accuracy = float(ds.attrs.get("accuracy", float("nan")))
+    if np.isfinite(accuracy) and ptp <= accuracy * mean:
+        text += f", below the integration accuracy ({accuracy:g} × the deflection)"
+    return text
 
 
 def _scales(ds: Any) -> tuple[float, str, float, str, float, float]:
@@ -155,27 +192,27 @@ def _poincare(ax: Axes, ds: Any) -> None:
             cause = "integration accuracy"
         else:
             cause = "below what this scale shows"
-        ax.text(
-            0.02, 0.03,
+        note = (
             f"period {n}: {pts.shape[0]} points coincide,\nspread {spread:.1g} m "
-            f"= {rel:.1g} × orbit ({cause})",
-            transform=ax.transAxes, fontsize=7, va="bottom", color="0.25",
-        )  # fmt: skip
+            f"= {rel:.1g} × orbit ({cause})"
+        )
         ax.set_xlim(*fit_limits(d * fd, floor=floor_d * fd))
         ax.set_ylim(*fit_limits(v * fv, floor=floor_v * fv))
         ax.legend(fontsize=7, loc="upper right")
     else:
+        note = ""
         ax.plot(pts[:, 0] * fd, pts[:, 1] * fv, ".k", ms=3)
         ax.set_xlim(*fit_limits(pts[:, 0] * fd, floor=floor_d * fd))
         ax.set_ylim(*fit_limits(pts[:, 1] * fv, floor=floor_v * fv))
         rel = spread_d / max(sizes[0], 1e-300)
         if rel < 0.05:
-            ax.text(0.02, 0.03, f"spread {spread_d:.2g} m = {rel:.2g} × orbit",
-                    transform=ax.transAxes, fontsize=7, va="bottom", color="0.25")  # fmt: skip
+            note = f"spread {spread_d:.2g} m = {rel:.2g} × orbit"
     plain_axes(ax, xbins=4)
     ax.set_xlabel(f"mesh deflection ({ud})")
     ax.set_ylabel(f"velocity ({uv})")
-    ax.set_title(f"Poincaré map ({pts.shape[0]} periods)", fontsize=9)
+    # the note in the title, off the points (in a corner it can cover one)
+    head = f"Poincaré map ({pts.shape[0]} periods)"
+    ax.set_title(f"{head}\n{note}" if note else head, fontsize=9 if not note else 8)
 
 
 def _spectrum(ax: Axes, result: ResponseResult) -> None:
@@ -199,16 +236,13 @@ def _spectrum(ax: Axes, result: ResponseResult) -> None:
     for k in range(1, int(top) + 1):
         ax.axvline(k, color="C1", lw=0.6, ls=":", zorder=0)
     ax.plot(m[shown], amp[shown], lw=0.9, color="C0")
-    for p, _ in peaks:
-        near = np.abs(m - p) <= 0.5 * sp.resolution / fh
-        h = float(amp[near].max()) if np.any(near) else 0.0
-        ax.annotate(f"{p:.2f}×", (p, h), xytext=(2, 2), textcoords="offset points", fontsize=7)
     ax.set_xlim(0, top)
     if log:
         ax.set_yscale("log")
         ax.set_ylim(max(big * 1e-5, min(heights) / 3), big * 3)
     else:
         ax.set_ylim(0, max(big * 1.15, NOISE_M * fa))
+    _peak_labels(ax, m, amp, peaks, sp.resolution / fh, top, log)
     if float(np.ptp(ds["delta"].values)) <= NOISE_M:
         ax.text(0.5, 0.5, f"not excited: the deflection varies by\nless than {NOISE_M:g} m "
                 "(round-off)", transform=ax.transAxes, ha="center", va="center", fontsize=8,
@@ -223,6 +257,41 @@ def _spectrum(ax: Axes, result: ResponseResult) -> None:
         f"(record {sp.record * fh:.3g} periods)",
         fontsize=9,
     )
+
+
+def _peak_labels(
+    ax: Axes, m: Any, amp: Any, peaks: list, resolution: float, top: float, log: bool
+) -> None:
+    """Label each peak ``"2.05×"`` above it, on a white ground (a harmonic line behind
+    it does not strike it through), right-aligned near the right edge (not clipped),
+    and raised above a neighbour's label that it would overlap."""
+    lo, hi = ax.get_ylim()
+    width = 0.12 * top  # a label's width, in orders (five characters at 7 pt, a panel)
+    tall = 0.07  # its height, in shares of the axes' height (10 pt a level)
+
+    def frac(h: float) -> float:
+        if log:
+            return float(np.log10(max(h, lo) / lo) / np.log10(hi / lo))
+        return (h - lo) / (hi - lo)
+
+    placed: list[tuple[float, float, float]] = []  # (x0, x1, y0) of each label
+    for p, _ in sorted(peaks, key=lambda pk: -pk[1]):  # the largest first, lowest
+        near = np.abs(m - p) <= 0.5 * resolution
+        h = float(amp[near].max()) if np.any(near) else 0.0
+        right = p + width > top
+        x0, x1 = (p - width, p) if right else (p, p + width)
+        level = 0
+        while any(
+            x0 < b1 and b0 < x1 and abs(frac(h) + tall * level - y) < tall for b0, b1, y in placed
+        ):
+            level += 1
+        placed.append((x0, x1, frac(h) + tall * level))
+        ax.annotate(
+            f"{p:.2f}×", (p, h), xytext=(-2 if right else 2, 2 + 10 * level),
+            textcoords="offset points", fontsize=7, ha="right" if right else "left",
+            bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.85),
+            arrowprops=dict(arrowstyle="-", color="0.5", lw=0.5) if level else None,
+        )  # fmt: skip
 
 
 def plot_transmission_error(result: ResponseResult) -> Figure:

@@ -58,6 +58,32 @@ def _equal(ax, pts: NDArray[np.float64]) -> None:
     ax.tick_params(labelsize=7, pad=1)
 
 
+def _tight(ax, pts: NDArray[np.float64]) -> None:
+    """Limits hugging ``pts`` (mm) on each axis, one scale on all three (the box's
+    sides in proportion to the ranges: no empty cube around a slender tooth), at most
+    four ticks each, small labels."""
+    from matplotlib.ticker import MaxNLocator
+
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    span = np.maximum(hi - lo, 0.08 * float(np.max(hi - lo)))  # a flat side keeps a depth
+    pad = 0.04 * span
+    for put, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), lo - pad, lo + span + pad,
+                         strict=True):  # fmt: skip
+        put(a, b)
+    for axis, name, n in zip((ax.xaxis, ax.yaxis, ax.zaxis), "xyz", span, strict=True):
+        small = n < 0.35 * float(np.max(span))  # a short side: fewer ticks, no crowding
+        axis.set_major_locator(MaxNLocator(nbins=2 if small else 4, steps=[1, 2, 5, 10]))
+        axis.set_label_text(f"{name} (mm)", fontsize=8)
+        axis.labelpad = 4
+    ax.tick_params(labelsize=7, pad=1)
+    ax.set_box_aspect(tuple(span + 2 * pad), zoom=0.9)
+
+
+#: The tooth sector's view elevation is kept within these (deg): from straight above or
+#: from the side the sector's depth collapses and its tick labels crowd.
+ELEVATION = (18.0, 35.0)
+
+
 def plot_tooth(solid: GearSolid, title: str | None = None) -> Figure:
     """One tooth sector of ``solid`` (its flanks highlighted) in the gear frame, beside
     its dimensioned transverse section at the mean cone distance (:func:`tooth_section`).
@@ -79,7 +105,7 @@ def plot_tooth(solid: GearSolid, title: str | None = None) -> Figure:
         s = solid.parts[key]
         rgb[np.all((idx >= s.start) & (idx < s.stop), axis=1)] = c
     _add(ax, mesh, rgb)
-    _equal(ax, mesh.vertices * 1e3)
+    _tight(ax, mesh.vertices * 1e3)
     # look at the tooth from outside its tip, a little from the heel
     g = solid.gear
     d, psi = g.cone_angle, float(np.arctan2(*solid.loop[nf // 2, solid.parts["land"].start, 1::-1]))
@@ -87,8 +113,10 @@ def plot_tooth(solid: GearSolid, title: str | None = None) -> Figure:
     gen = np.array([math.sin(d) * math.cos(psi), math.sin(d) * math.sin(psi), math.cos(d)])
     v = (out if g.kind == "external" else -out) + 0.5 * gen
     v /= np.linalg.norm(v)
-    ax.view_init(elev=math.degrees(math.asin(v[2])), azim=math.degrees(math.atan2(v[1], v[0])))
-    ax.set_box_aspect((1, 1, 1), zoom=0.85)  # room for the axis labels
+    # an oblique view: the direction's azimuth, its elevation kept in ELEVATION (an
+    # internal gear's tooth, seen along its axis, was drawn nearly from straight above)
+    elev = min(max(math.degrees(math.asin(abs(v[2]))), ELEVATION[0]), ELEVATION[1])
+    ax.view_init(elev=math.copysign(elev, v[2]), azim=math.degrees(math.atan2(v[1], v[0])) + 20)
     ax.set_title("one tooth (flanks A orange, B blue)", fontsize=9)
     _draw_section(fig.add_subplot(grid[1]), solid)
     fig.suptitle(

@@ -91,7 +91,7 @@ def plot_layout(result: Any) -> Figure:
     except (ValueError, RuntimeError):  # collinear candidates: markers only
         sc = ax.scatter(c, r, c=pp, cmap="viridis")
         fig.colorbar(sc, ax=ax, label="TE peak-to-peak (um)")
-    ax.scatter(c[ok], r[ok], marker="o", facecolors="none", edgecolors="w", label="feasible")
+    ax.scatter(c[ok], r[ok], marker="o", facecolors="w", edgecolors="k", label="feasible")
     ax.scatter(c[~ok], r[~ok], marker="x", color="r",
                label="infeasible (pressure or edge contact)")  # fmt: skip
     if np.isfinite(a["best_crowning"]):
@@ -105,5 +105,12 @@ def plot_layout(result: Any) -> Figure:
         f"edge < {100 * a['edge_limit']:.3g} %",
         fontsize=10,
     )
-    ax.legend(fontsize=8, loc="upper right")
+    # the candidates sit on the grid's corners and edges: a margin keeps their markers
+    # whole; the legend goes below the axes, off the map and the best star
+    for lim, v in ((ax.set_xlim, c), (ax.set_ylim, r)):
+        lo, hi = float(np.min(v)), float(np.max(v))
+        pad = 0.06 * (hi - lo) if hi > lo else max(0.5, 0.1 * abs(hi))
+        lim(lo - pad, hi + pad)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3,
+              frameon=False)  # fmt: skip
     return plain_figure(fig)

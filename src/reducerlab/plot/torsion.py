@@ -55,8 +55,8 @@ def plot_torsion_loop(result: Any) -> Figure:
         knots = zero + sign * np.cumsum(seg) / _ARCMIN
         ax.plot(sign * knots_T, knots, "-", color="k", lw=0.8, alpha=0.7,
                 label="K1/K2/K3 secants" if j == 0 else None)  # fmt: skip
-        for t, k in zip((n.T1, n.T2), knots[1:3], strict=True):
-            ax.plot(sign * t, k, "ks", ms=4)
+        ax.plot(sign * np.array([n.T1, n.T2]), knots[1:3], "ks", ms=4,
+                label="T1, T2 (knees of the secants)" if j == 0 else None)  # fmt: skip
     lm = n.lost_motion_3 / _ARCMIN
     ax.set_xlabel("output torque (N m)")
     ax.set_ylabel("output twist (arcmin)")
@@ -69,7 +69,35 @@ def plot_torsion_loop(result: Any) -> Figure:
     ax.axvline(0.0, color="0.6", lw=0.5)
     ax.grid(True, lw=0.3)
     ax.legend(fontsize=7, loc="upper left")
-    return plain_figure(fig)
+    plain_figure(fig)
+    if float(a.get("friction_work", 0.0)) and float(a.get("mu", 0.0)):
+        _loop_inset(ax, T, th, br)
+    else:  # the branches coincide: say why there is no loop
+        ax.text(0.97, 0.05, f"no hysteresis without friction (mu = {float(a.get('mu', 0.0)):g}):"
+                "\nloading and unloading branches coincide", transform=ax.transAxes,
+                ha="right", va="bottom", fontsize=8,
+                bbox=dict(boxstyle="round", fc="lightyellow", ec="0.6"))  # fmt: skip
+    return fig
+
+
+def _loop_inset(ax: Any, T: np.ndarray, th: np.ndarray, br: np.ndarray) -> None:
+    """The friction loop made visible: an inset, in the free lower right corner, of the
+    unloading branch's twist less the loading branch's at the same torque (arcsec), on
+    each side; the loop's width, too small to see on the whole loop's scale."""
+    inset = ax.inset_axes((0.58, 0.07, 0.39, 0.33))
+    for load, unload, side in ((0, 1, "+"), (2, 3, "-")):
+        tl, hl = T[br == load], th[br == load]
+        tu, hu = T[br == unload], th[br == unload]
+        order = np.argsort(tl)
+        gap = (hu - np.interp(tu, tl[order], hl[order])) * 60.0
+        inset.plot(np.abs(tu), gap, "o-", ms=2, lw=0.8, label=f"torque {side}")
+    inset.axhline(0.0, color="0.6", lw=0.5)
+    inset.set_title("friction loop: unloading - loading twist", fontsize=7)
+    inset.set_xlabel("|output torque| (N m)", fontsize=7)
+    inset.set_ylabel("arcsec", fontsize=7)
+    inset.tick_params(labelsize=6)
+    inset.legend(fontsize=6, loc="best")
+    inset.grid(True, lw=0.3)
 
 
 def _friction_note(res: Any) -> str:

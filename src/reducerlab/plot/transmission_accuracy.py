@@ -18,9 +18,15 @@ from .axes import plain_figure
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["plot_transmission_accuracy"]
+__all__ = ["NO_ERROR", "plot_transmission_accuracy"]
 
 ARCSEC = np.pi / (180.0 * 3600.0)
+
+#: What the figure says, without axes, when the result's error is zero throughout.
+NO_ERROR = (
+    "No manufacturing or assembly error given: the output angle error is zero "
+    "(no curve, no spectrum to draw)."
+)
 
 
 def _meshes_zoom(fig: Figure, ax: Any, ds: Any, deg: Any) -> None:
@@ -50,6 +56,11 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     from matplotlib.figure import Figure
 
     ds = result.data
+    if not np.any(ds["error"].values):  # nothing to draw but a zero line: the message only
+        fig = Figure(figsize=(8, 1.6))
+        text = NO_ERROR.replace(": ", ":\n", 1)
+        fig.text(0.5, 0.5, text, ha="center", va="center", fontsize=11, color="0.3")
+        return fig
     loaded = "load_N_m" in ds.attrs  # a third panel: three tooth-mesh cycles
     fig = Figure(figsize=(15 if loaded else 11, 4.2), layout="constrained")
     ax, bx, *zx = fig.subplots(1, 3 if loaded else 2)
@@ -75,11 +86,6 @@ def plot_transmission_accuracy(result: Any) -> Figure:
     )
     bx.set_ylabel("amplitude (arcsec)")
     bx.set_ylim(bottom=0.0)
-    if not np.any(ds["error"].values):  # nothing to draw but a line at zero: say why
-        for panel in (ax, bx):
-            panel.text(0.5, 0.5, "no manufacturing or assembly error given:\nthe output "
-                       "angle error is zero", transform=panel.transAxes, ha="center",
-                       va="center", fontsize=9, color="0.35")  # fmt: skip
     return plain_figure(fig)
 
 

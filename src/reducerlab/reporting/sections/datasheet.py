@@ -159,7 +159,16 @@ def datasheet_section(ctx: Context) -> Section | None:
             "K1/K2/K3 secants, T1/T2 and the +/-3 % band",
         )
     )
-    if acc is not None:
+    if acc is not None and not np.any(acc.data["error"].values):
+        s.blocks.append(
+            note(
+                "Transmission error: no manufacturing or assembly error is given, so the "
+                "output angle error is zero over the revolution (no figure). Give the "
+                "design's error fields (e.g. gears.ring_errors.eccentricity; "
+                "docs/datasheet.md) to see one."
+            )
+        )
+    elif acc is not None:
         s.blocks.append(
             figure(
                 acc.figure(),

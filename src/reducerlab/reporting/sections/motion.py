@@ -10,8 +10,9 @@ from typing import Any
 import numpy as np
 
 from ...errors import ReducerlabError
+from ...plot.axes import parameter_label
 from ...plot.bifurcation import plotly_bifurcation, plotly_regime_map
-from ...plot.response import plot_transmission_error
+from ...plot.response import orbit_note, plot_transmission_error
 from ..blocks import Section, figure, interactive, note, table
 from ..context import Context
 
@@ -90,12 +91,14 @@ def _one_response(s: Section, res: Any, several: bool) -> None:
     name = f"response-{line}" if several else "response"
     s.blocks.append(table([f"{head}quantity", "value"], rows, digits=6, name=name))
     sp = res.spectrum()
+    small = orbit_note(ds)  # a small vibration about the static deflection: how small
     s.blocks.append(
         figure(
             res.plot(),
             f"{head}phase trajectory, Poincaré map and spectrum of the mesh deflection; the "
             f"spectrum over the last {sp.record * float(a['forcing_hz']):.3g} periods under a "
-            f"{sp.window} window, its resolution Δf = 1 / record = {sp.resolution:.3g} Hz",
+            f"{sp.window} window, its resolution Δf = 1 / record = {sp.resolution:.3g} Hz"
+            + (f"; the {small}" if small else ""),
         )
     )
     s.blocks.append(
@@ -143,7 +146,8 @@ def bifurcation_section(ctx: Context) -> Section | None:
             interactive(
                 plotly_bifurcation(r),
                 r.plot(),
-                f"bifurcation diagram over {r.data.attrs['parameter']}: drag to zoom",
+                f"bifurcation diagram over {parameter_label(r.data.attrs['parameter'])} "
+                f"({r.data.attrs['parameter']}): drag to zoom",
                 div_id=f"bifurcation-{len(s.values['periods'])}",
             )
         )
