@@ -35,13 +35,7 @@ def modal_section(ctx: Context) -> Section | None:
     s = Section("modal", "Natural frequencies and mode shapes")
     freq = [float(f) for f in ds["frequency"].values]
     s.values["frequencies_hz"] = freq
-    rows = [
-        (int(m), f, str(c))
-        for m, f, c in zip(ds["mode"].values, freq, ds["classification"].values, strict=True)
-    ]
-    s.blocks.append(
-        table(["mode", "frequency (Hz)", "classification"], rows, digits=7, name="modes")
-    )
+    s.blocks.append(table(res.table_data(), name="modes"))
     if ds.attrs.get("skew_velocity_terms"):
         s.blocks.append(
             note(
