@@ -56,7 +56,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["DASH", "KINDS", "Column", "Kind", "Table", "fmt", "is_number"]
+__all__ = [
+    "DASH", "KINDS", "Column", "Kind", "Table", "Value", "fmt", "is_number", "quantity_table",
+    "unit_kind",
+]  # fmt: skip
 
 DASH = "—"
 """What a missing value (None, NaN) shows."""
@@ -164,6 +167,35 @@ def fmt(value: Any, kind: str = "value") -> str:
     return _strip(f"{r:.{places}f}")
 
 
+#: The kind of a quantity given in a unit (a table of mixed quantities, one a row,
+#: whose unit column names each row's unit): :func:`unit_kind`.
+UNIT_KINDS: dict[str, str] = {
+    "Hz": "frequency", "rpm": "speed", "N m": "torque", "N": "force",
+    "N/m": "stiffness", "N m/rad": "stiffness", "N m/arcmin": "stiffness",
+    "N/(mm um)": "stiffness", "MPa": "stress", "Pa": "stress", "sqrt(MPa)": "stress",
+    "m": "length", "mm": "length", "um": "length", "deg": "angle", "rad": "angle",
+    "arcmin": "angle", "arcsec": "angle", "W": "power", "s": "time", "%": "percent",
+}  # fmt: skip
+
+
+def unit_kind(unit: str) -> str:
+    """The kind of a quantity in ``unit`` (:data:`UNIT_KINDS`), ``"value"`` for any
+    other unit."""
+    return UNIT_KINDS.get(unit.strip(), "value")
+
+
+@dataclass(frozen=True)
+class Value:
+    """A number with its own kind, for a cell of a column of mixed quantities (a
+    datasheet's value column, each row's unit in a unit column)."""
+
+    number: float | None
+    kind: str = "value"
+
+    def __str__(self) -> str:
+        return fmt(self.number, self.kind)
+
+
 @dataclass(frozen=True)
 class Column:
     """A column: its ``name``, the ``unit`` of its numbers (shown in the header) and the
@@ -189,6 +221,8 @@ class Column:
 
     def cell(self, value: Any) -> str:
         """``value`` as this column shows it."""
+        if isinstance(value, Value):
+            return str(value)
         if self.kind == "text":
             return DASH if value is None else str(value)
         return fmt(value, self.kind)
@@ -265,3 +299,16 @@ class Table:
         for r in cells:
             t.add_row(*r)
         return t
+
+
+def quantity_table(
+    rows: Iterable[tuple[str, float | Value | None, str]], title: str = ""
+) -> Table:
+    """A table of mixed quantities, one a row: ``(quantity, value, unit)``, each value
+    shown by the kind of its unit (:func:`unit_kind`; a :class:`Value` by its own); the
+    units in their own column."""
+    t = Table([Column("quantity", kind="text"), Column("value"), Column("unit", kind="text")],
+              title=title)  # fmt: skip
+    for label, v, unit in rows:
+        t.add(label, v if isinstance(v, Value) else Value(v, unit_kind(unit)), unit)
+    return t

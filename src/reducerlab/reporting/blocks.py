@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..numformat import Column, Table, is_number
+from ..numformat import Column, Table, Value, is_number
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -44,6 +44,8 @@ def _cell(x: Any, column: Column | None) -> Cell:
     other number a ``value``."""
     if isinstance(x, Cell):
         return x
+    if isinstance(x, Value):
+        return Cell(str(x), None if x.number is None else float(x.number))
     if column is None:
         kind = "count" if isinstance(x, int | np.integer) else "value"
         column = Column("", kind=kind if is_number(x) else "text")
