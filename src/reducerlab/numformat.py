@@ -18,6 +18,8 @@ kind           quantities                                                  digit
 ``time``       times (s)                                                   3       —
 ``value``      any other quantity (the default)                            4       —
 ``ratio``      transmission ratios (exact kinematics, ``-81.3333``)        6       —
+``parameter``  a swept parameter's values (neighbours of a fine grid        6       —
+               stay apart)
 ``exact``      values the user wrote, echoed (design inputs)               10      —
 ``safety``     safety factors (S_H, S_F: ISO 6336 prints three)            3       —
 ``percent``    shares, margins, efficiencies, deviations (%)               3       2
@@ -92,6 +94,7 @@ KINDS: dict[str, Kind] = {
     "time": Kind(3),
     "value": Kind(4),
     "ratio": Kind(6),
+    "parameter": Kind(6),
     "exact": Kind(10),
     "safety": Kind(3),
     "percent": Kind(3, decimals=2),
@@ -301,9 +304,7 @@ class Table:
         return t
 
 
-def quantity_table(
-    rows: Iterable[tuple[str, float | Value | None, str]], title: str = ""
-) -> Table:
+def quantity_table(rows: Iterable[tuple[str, float | Value | None, str]], title: str = "") -> Table:
     """A table of mixed quantities, one a row: ``(quantity, value, unit)``, each value
     shown by the kind of its unit (:func:`unit_kind`; a :class:`Value` by its own); the
     units in their own column."""
