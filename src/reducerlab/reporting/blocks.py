@@ -83,8 +83,8 @@ def table(
     out.append("</tr></thead><tbody>")
     for row in rows:
         cells = []
-        for x, col in zip(row, columns, strict=True):
-            c = _cell(x, col)
+        for i, x in enumerate(row):
+            c = _cell(x, columns[i] if i < len(columns) else None)
             if c.value is None:
                 cells.append(f"<td>{html.escape(c.text)}</td>")
             else:
