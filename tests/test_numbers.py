@@ -229,3 +229,11 @@ def test_the_complex_campbell_table_is_aligned():
         for line in body:
             assert line[end - 1] != " " and (len(line) == end or line[end] == " "), line
     assert "frequency (Hz)" in lines[head] and "mode" in lines[head]
+
+
+def test_a_plain_report_header_gives_its_numbers_the_kind_of_its_unit():
+    # sections that pass plain headers ("speed (rpm)") get the rule of the unit
+    page = _Cells()
+    page.feed(html_table(["mode", "speed (rpm)", "margin (%)", "k"],
+                         [(3, 1382.35, 0.132669, 2.48265e-05)]).html)  # fmt: skip
+    assert [r for r in page.rows if r] == [["3", "1382", "0.13", "2.483e-5"]]

@@ -8,18 +8,30 @@ from __future__ import annotations
 import base64
 import html
 import io
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..numformat import Column, Table, Value, is_number
+from ..numformat import Column, Table, Value, is_number, unit_kind
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["Block", "Cell", "details", "figure", "interactive", "note", "pre", "table", "verdict"]
+__all__ = [
+    "Block",
+    "Cell",
+    "details",
+    "figure",
+    "header_kind",
+    "interactive",
+    "note",
+    "pre",
+    "table",
+    "verdict",
+]
 
 
 @dataclass(frozen=True)
@@ -38,16 +50,24 @@ class Cell:
     value: float | None = None
 
 
-def _cell(x: Any, column: Column | None) -> Cell:
+def header_kind(header: str) -> str:
+    """The kind of the numbers under a plain header: by the unit it ends with,
+    ``"speed (rpm)"`` → ``speed``, ``"margin (%)"`` → ``percent``
+    (:func:`~reducerlab.numformat.unit_kind`); ``value`` without one."""
+    m = re.search(r"\(([^()]*)\)\s*$", header)
+    return unit_kind(m.group(1)) if m else "value"
+
+
+def _cell(x: Any, column: Column | None, kind: str = "value") -> Cell:
     """A cell of a value in ``column`` (:func:`~reducerlab.numformat.fmt` by the
     column's kind); in an untyped column (a plain header) an integer is a count and any
-    other number a ``value``."""
+    other number of ``kind`` (:func:`header_kind`)."""
     if isinstance(x, Cell):
         return x
     if isinstance(x, Value):
         return Cell(str(x), None if x.number is None else float(x.number))
     if column is None:
-        kind = "count" if isinstance(x, int | np.integer) else "value"
+        kind = "count" if isinstance(x, int | np.integer) else kind
         column = Column("", kind=kind if is_number(x) else "text")
     text = column.cell(x)
     if column.numeric and is_number(x):
@@ -72,6 +92,7 @@ def table(
             caption = headers.title
         headers, rows = headers.columns, headers.rows
     columns = [h if isinstance(h, Column) else None for h in headers]
+    kinds = [header_kind(h) if isinstance(h, str) else "value" for h in headers]
     out = [f'<table class="data" data-table="{html.escape(name)}">']
     if caption:
         out.append(f"<caption>{html.escape(caption)}</caption>")
@@ -84,7 +105,8 @@ def table(
     for row in rows:
         cells = []
         for i, x in enumerate(row):
-            c = _cell(x, columns[i] if i < len(columns) else None)
+            inside = i < len(columns)
+            c = _cell(x, columns[i] if inside else None, kinds[i] if inside else "value")
             if c.value is None:
                 cells.append(f"<td>{html.escape(c.text)}</td>")
             else:
