@@ -163,7 +163,7 @@ def test_sweep_rows_equal_single_load_runs(design, sweep, tmp_path):
     back = TESweepResult.load(res.save(tmp_path / "te_sweep.nc"))
     np.testing.assert_array_equal(back.data["te"].values, res.data["te"].values)
     assert back.attrs["design_torque"] == res.attrs["design_torque"]
-    assert "p-p(um)" in res.table()
+    assert "p-p (um)" in res.table()  # units in the header, "name (unit)" (issue 32)
     assert res.figure().axes
     assert 1e-6 < res.to_dict()["torques"][i]["peak_to_peak_um"] * 1e-6 < 1e-4
 

@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ReducerlabError
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 
 __all__ = ["BallTrackResult", "ball_track_analysis"]
@@ -78,23 +79,23 @@ class BallTrackResult(Result):
     def table(self) -> str:
         """Plain-text table: one row a torque."""
         a = self.data.attrs
-        lines = [
-            f"Ball track: {a['balls']} balls, K = {a['short_width']:g}, r_b = "
-            f"{1e3 * a['ball_radius_m']:.4g} mm, f = {a['conformity']:g}, beta = "
-            f"{a['contact_angle_deg']:.4g} deg, clearance {1e6 * a['clearance_m']:.4g} um; "
-            f"y {a['y']}; rated {a['rated_torque_N_m']:.4g} N m on the centre disc; "
-            f"{a['undercut_lines']} of {2 * a['balls']} lines undercut at phase 0",
-            "T(N m)  loaded balls  k_t(N m/rad) mean [min, max]      K_mx(N/m)   F_max(N)",
-        ]
+        t = Table([Column("T", "N m", "torque"), Column("loaded balls", kind="text"),
+                   Column("k_t mean", "N m/rad", "stiffness"),
+                   Column("k_t min", "N m/rad", "stiffness"),
+                   Column("k_t max", "N m/rad", "stiffness"),
+                   Column("K_mx", "N/m", "stiffness"), Column("F_max", "N", "force")], title=(
+            f"Ball track: {a['balls']} balls, K = {fmt(a['short_width'])}, r_b = "
+            f"{fmt(1e3 * a['ball_radius_m'], 'length')} mm, f = {fmt(a['conformity'])}, beta = "
+            f"{fmt(a['contact_angle_deg'], 'angle')} deg, clearance "
+            f"{fmt(1e6 * a['clearance_m'], 'length')} um; y {a['y']}; rated "
+            f"{fmt(a['rated_torque_N_m'], 'torque')} N m on the centre disc; "
+            f"{a['undercut_lines']} of {2 * a['balls']} lines undercut at phase 0"))  # fmt: skip
         for r in self.summary():
-            lines.append(
-                f"{r['torque_N_m']:7.4g}  {r['loaded_min']:5d}-{r['loaded_max']:<5d}  "
-                f"{r['torsional_stiffness_N_m_per_rad']:10.4g} "
-                f"[{r['torsional_stiffness_min']:.4g}, {r['torsional_stiffness_max']:.4g}]  "
-                f"{r['translational_stiffness_N_per_m']:10.4g}"
-                f"  {r['max_force_N']:8.4g}"
-            )
-        return "\n".join(lines)
+            t.add(r["torque_N_m"], f"{r['loaded_min']}-{r['loaded_max']}",
+                  r["torsional_stiffness_N_m_per_rad"], r["torsional_stiffness_min"],
+                  r["torsional_stiffness_max"], r["translational_stiffness_N_per_m"],
+                  r["max_force_N"])  # fmt: skip
+        return t.text()
 
     def plot(self) -> Any:
         """Stiffness and loaded balls against torque, and the ball forces round the

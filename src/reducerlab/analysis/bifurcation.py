@@ -25,6 +25,7 @@ from ..dynamics.runsize import AUTO_STEPS_FLOOR, run_estimate
 from ..dynamics.systems import forcing_period
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
+from ..numformat import Column, Table
 from ..results import Result, provenance
 from ..units import length_unit
 from .impacts import IMPACT_CLASSES, contact_states, mesh_mode
@@ -429,13 +430,11 @@ class BifurcationResult(Result):
             cols["motion"] = self.labels()
         if coexisting:
             cols["coexisting"] = ["yes" if x else "-" for x in self.coexisting()]
-        width = {k: max(len(k), *(len(str(x)) for x in col)) for k, col in cols.items()}
-        head = f"{'value (' + unit + ')':>16}  " + "  ".join(f"{k:<{width[k]}}" for k in cols)
-        lines = [f"bifurcation over {ds.attrs['parameter']}: {c.size} values", head.rstrip()]
+        t = Table([Column("value", unit, "parameter"), *(Column(k, kind="text") for k in cols)],
+                  title=f"bifurcation over {ds.attrs['parameter']}: {c.size} values")  # fmt: skip
         for i, v in enumerate(shown_values(c)):
-            row = "  ".join(f"{col[i]!s:<{width[k]}}" for k, col in cols.items())
-            lines.append(f"{v:>16.6g}  {row}".rstrip())
-        return "\n".join(lines)
+            t.add(v, *(col[i] for col in cols.values()))
+        return t.text()
 
     def labels(self) -> list[str]:
         """Motion class of every parameter value (needs ``exponent``, see

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from ..design import Design
 from ..errors import DesignError, ReducerlabError, names_source
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..threads import with_compute_threads
 
@@ -130,16 +131,17 @@ class BodyModalResult(Result):
         lines = [
             f"Gear {a.get('gear')} body ({a.get('gear_kind')}, z = {a.get('teeth')}), "
             f"{a.get('boundary')}: {a.get('tetrahedra')} quadratic tetrahedra, "
-            f"{a.get('dofs')} DOFs, mass {1e3 * float(a.get('mass_kg', math.nan)):.1f} g",
-            "mode  frequency (Hz)  type              n  circles  change from coarser",
+            f"{a.get('dofs')} DOFs, mass {fmt(1e3 * float(a.get('mass_kg', math.nan)))} g",
         ]
+        t = Table([Column("mode", kind="count"), Column("frequency", "Hz", "frequency"),
+                   Column("type", kind="text"), Column("n", kind="count"),
+                   Column("circles", kind="count"),
+                   Column("change from coarser", "%", "percent")])  # fmt: skip
         for r in self.to_dict()["modes"]:
             ch = r["change_from_coarser"]
-            lines.append(
-                f"{r['mode']:>4}  {r['frequency_hz']:>14.1f}  {r['type']:<16}  "
-                f"{r['nodal_diameters']:>2}  {r['nodal_circles']:>7}  "
-                + ("-" if ch is None else f"{100 * ch:+.2f} %")
-            )
+            t.add(r["mode"], r["frequency_hz"], r["type"], r["nodal_diameters"],
+                  r["nodal_circles"], None if ch is None else 100 * ch)  # fmt: skip
+        lines.append(t.text())
         return "\n".join(lines)
 
     def figure(self) -> Figure:

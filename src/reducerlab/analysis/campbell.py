@@ -21,6 +21,7 @@ from ..design import Design
 from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Model
 from ..model.rigid import RIGID_TOL, element_blocks, rest_stiffness
+from ..numformat import Column, Table
 from ..results import Result
 from ..units import RPM, TWO_PI
 from .excitation import campbell_axes, campbell_dataset, find_crossings
@@ -234,17 +235,22 @@ class CampbellResult(Result):
             )
         ]
 
+    def table_data(self) -> Table:
+        """The crossings as a :class:`~reducerlab.numformat.Table` (mode, excitation,
+        speed in rpm, frequency in Hz)."""
+        t = Table([Column("mode", kind="count"), Column("excitation", kind="text"),
+                   Column("speed", "rpm", "speed"),
+                   Column("frequency", "Hz", "frequency")])  # fmt: skip
+        for c in self.crossings():
+            t.add(c["mode"], c["excitation"], c["speed_rpm"], c["frequency_hz"])
+        return t
+
     def table(self) -> str:
         """Crossings as text."""
-        lines = [f"Campbell diagram: {self.data.attrs.get('title', '')}"]
-        cr = self.crossings()
-        lines.append(f"{len(cr)} crossing(s) of natural frequencies with excitations:")
-        for c in cr:
-            lines.append(
-                f"  mode {c['mode']:>2} x {c['excitation']:<14} at {c['speed_rpm']:10.5g} rpm, "
-                f"{c['frequency_hz']:10.5g} Hz"
-            )
-        return "\n".join(lines)
+        t = self.table_data()
+        return "\n".join([f"Campbell diagram: {self.data.attrs.get('title', '')}",
+                          f"{len(t.rows)} crossing(s) of natural frequencies with excitations:",
+                          t.text(indent="  ")])  # fmt: skip
 
     def plot(self, components: Sequence[ComponentModes] = ()) -> Figure:
         """Campbell diagram; ``components``: body modes drawn as horizontal lines."""

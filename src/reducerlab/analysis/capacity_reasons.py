@@ -16,6 +16,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..errors import ReducerlabError
+from ..numformat import fmt
 from .reasons import reason
 
 __all__ = ["capacity_reasons", "rateable"]
@@ -71,7 +72,7 @@ def capacity_reasons(design: Any, rating: Any = None) -> list[dict[str, Any]]:
                 rel = "<" if s < floor else ">="
                 out.append(reason(
                     "capacity", status,
-                    f"{what} safety {key} = {s:.3g} {rel} {floor_key} = {floor:g} "
+                    f"{what} safety {key} = {fmt(s, 'safety')} {rel} {floor_key} = {floor:g} "
                     f"({name}, {gear}; method {p.get('judged_by', 'B')}: {p['standard']})",
                     s, floor, pair=name, gear=str(gear), factor=key,
                 ))  # fmt: skip

@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 from ..errors import ModelError, ReducerlabError, names_source
 from ..model import Coriolis, Gyroscopic, Model, Nutating
 from ..model.rigid import RIGID_TOL, rigid_and_elastic
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..units import RPM, TWO_PI
 from .campbell import reference_index, tracked_rows
@@ -235,18 +236,24 @@ class ComplexModalResult(Result):
             "stable": ds["stable"].values.tolist(),
         }
 
-    def table(self) -> str:
+    def table_data(self) -> Table:
+        """The modes as a :class:`~reducerlab.numformat.Table` (mode, damped frequency in
+        Hz, damping ratio, whirl, stability)."""
         ds = self.data
         rpm = ds.attrs["speed_rad_s"] * RPM
-        lines = [f"complex modes: {ds.attrs.get('title', '')} at {rpm:.6g} rpm",
-                 f"{'mode':>4}  {'frequency (Hz)':>15}  {'damping ratio':>13}  "
-                 f"{'whirl':<9} stability"]  # fmt: skip
+        title = f"complex modes: {ds.attrs.get('title', '')} at {fmt(rpm, 'speed')} rpm"
+        t = Table([Column("mode", kind="count"), Column("frequency", "Hz", "frequency"),
+                   Column("damping ratio", kind="value"), Column("whirl", kind="text"),
+                   Column("stability", kind="text")], title=title)  # fmt: skip
         for m, f, z, w, s in zip(ds["mode"].values, ds["frequency"].values,
                                  ds["damping_ratio"].values, ds["whirl"].values,
                                  ds["stable"].values, strict=True):  # fmt: skip
-            verdict = "stable" if s else "UNSTABLE (grows)"
-            lines.append(f"{int(m):>4}  {f:>15.6g}  {z:>13.4g}  {w:<9} {verdict}")
-        return "\n".join(lines)
+            t.add(int(m), float(f), float(z), str(w), "stable" if s else "UNSTABLE (grows)")
+        return t
+
+    def table(self) -> str:
+        """The modes as plain text."""
+        return self.table_data().text()
 
     def plot(self) -> Figure:
         """Damped frequencies (marker by whirl) and damping ratios of every mode."""
@@ -455,19 +462,28 @@ class ComplexCampbellResult(Result):
     def to_dict(self) -> dict[str, Any]:
         return {"crossings": self.crossings(), "unstable_speeds_rpm": self.unstable_speeds()}
 
+    def table_data(self) -> Table:
+        """The crossings as a :class:`~reducerlab.numformat.Table` (mode, whirl,
+        excitation, speed in rpm, damped frequency in Hz)."""
+        t = Table([Column("mode", kind="count"), Column("whirl", kind="text"),
+                   Column("excitation", kind="text"), Column("speed", "rpm", "speed"),
+                   Column("frequency", "Hz", "frequency")])  # fmt: skip
+        for c in self.crossings():
+            t.add(c["mode"], c["whirl"], c["excitation"], c["speed_rpm"], c["frequency_hz"])
+        return t
+
     def table(self) -> str:
-        ds = self.data
-        cr = self.crossings()
+        """Crossings, then the stability over the speeds, as text."""
+        t = self.table_data()
         lines = [
-            f"complex Campbell diagram: {ds.attrs.get('title', '')}",
-            f"{len(cr)} crossing(s) of damped natural frequencies with excitations:",
+            f"complex Campbell diagram: {self.data.attrs.get('title', '')}",
+            f"{len(t.rows)} crossing(s) of damped natural frequencies with excitations:",
+            t.text(indent="  "),
         ]
-        for c in cr:
-            lines.append(f"  mode {c['mode']:>2} ({c['whirl']}) x {c['excitation']:<14} at "
-                         f"{c['speed_rpm']:10.5g} rpm, {c['frequency_hz']:10.5g} Hz")  # fmt: skip
         bad = self.unstable_speeds()
         if bad:
-            lines.append(f"UNSTABLE (a mode grows) from {min(bad):.5g} to {max(bad):.5g} rpm")
+            lines.append(f"UNSTABLE (a mode grows) from {fmt(min(bad), 'speed')} to "
+                         f"{fmt(max(bad), 'speed')} rpm")  # fmt: skip
         else:
             lines.append("every mode is stable over the speeds computed")
         return "\n".join(lines)

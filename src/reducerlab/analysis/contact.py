@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from ..design import Design
 from ..errors import ReducerlabError, names_source
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 
 if TYPE_CHECKING:
@@ -185,22 +186,22 @@ class ContactResult(Result):
     def table(self) -> str:
         """Plain-text table over the cycle."""
         a = self.data.attrs
-        lines = [
-            f"Pair {a['pair']} ({a['profile']}): T_ext = {a['torque_external']:.4g} N m, "
-            f"T_int = {a['torque_internal']:.4g} N m; k_m = {a['k_mean']:.5g} N/m "
-            f"(Eq. 8, order {a['order']}, residual {100 * a['fit_residual']:.2f} %)",
-            "angle(deg)  TE(um)   k (N/m)     area(mm2)  p_max(MPa)  p_int(MPa)  edge  "
-            "F_x(N)   vM_max(MPa) depth(mm) pairs",
-        ]
+        t = Table([Column("angle", "deg", "angle"), Column("TE", "um", "length"),
+                   Column("k", "N/m", "stiffness"), Column("area", "mm2"),
+                   Column("p_max", "MPa", "stress"), Column("p_int", "MPa", "stress"),
+                   Column("edge", "%", "percent"), Column("F_x", "N", "force"),
+                   Column("vM_max", "MPa", "stress"), Column("depth", "mm", "length"),
+                   Column("pairs", kind="count")], title=(
+            f"Pair {a['pair']} ({a['profile']}): T_ext = {fmt(a['torque_external'], 'torque')} "
+            f"N m, T_int = {fmt(a['torque_internal'], 'torque')} N m; k_m = "
+            f"{fmt(a['k_mean'], 'stiffness')} N/m (Eq. 8, order {a['order']}, residual "
+            f"{fmt(100 * a['fit_residual'], 'percent')} %)"))  # fmt: skip
         for r in self.to_dict()["positions"]:
-            lines.append(
-                f"{r['angle_deg']:>9.3f}  {r['te_um']:>6.3f}  {r['stiffness_N_per_m']:>10.4g}  "
-                f"{r['contact_area_mm2']:>9.3f}  {r['peak_pressure_MPa']:>10.1f}  "
-                f"{r['interior_pressure_MPa']:>10.1f}  {100 * r['edge_share']:>3.0f}%  "
-                f"{r['force_N'][0]:>7.1f}  {r['von_mises_MPa']:>11.1f}  "
-                f"{r['von_mises_depth_mm']:>8.3f}  {r['pairs_in_contact']:>5}"
-            )
-        return "\n".join(lines)
+            t.add(r["angle_deg"], r["te_um"], r["stiffness_N_per_m"], r["contact_area_mm2"],
+                  r["peak_pressure_MPa"], r["interior_pressure_MPa"], 100 * r["edge_share"],
+                  r["force_N"][0], r["von_mises_MPa"], r["von_mises_depth_mm"],
+                  r["pairs_in_contact"])  # fmt: skip
+        return t.text()
 
     def figure(self) -> Figure:
         """Pressure map, k(t) with its Fourier fit, TE and stress over the cycle."""

@@ -10,11 +10,13 @@ dimensions ``gear`` (``external``, ``internal``), ``position`` and ``tooth_pair`
 from __future__ import annotations
 
 import math
+from functools import partial
 from typing import Any
 
 import numpy as np
 
 from ..errors import ReducerlabError
+from ..numformat import fmt
 
 __all__ = [
     "ROOT_VARIABLES",
@@ -90,23 +92,24 @@ def root_stress_lines(ds: Any) -> list[str]:
     if "root_stress" not in ds:
         return []
     a = ds.attrs
+    mpa, mm = partial(fmt, kind="stress"), partial(fmt, kind="length")
     comp = ds["root_compressive"].values
     ends = []
     if "root_stress_face_ends" in ds and np.any(np.isfinite(ds["root_stress_face_ends"].values)):
         e = float(np.nanmax(ds["root_stress_face_ends"].values))
         ends = [
-            f"loaded fillet within one module of the face ends: up to {e / 1e6:.1f} MPa "
+            f"loaded fillet within one module of the face ends: up to {mpa(e / 1e6)} MPa "
             "(not converged there: not in the peak; docs/contact.md)"
         ]
     return [
-        f"peak tooth-root stress: {a['root_stress_peak'] / 1e6:.1f} MPa (largest principal, "
+        f"peak tooth-root stress: {mpa(a['root_stress_peak'] / 1e6)} MPa (largest principal, "
         f"{a['root_stress_peak_gear']} gear, tooth pair {a['root_stress_peak_tooth']}, "
         f"position {a['root_stress_peak_position']})",
-        f"  at radius {a['root_stress_peak_radius'] * 1e3:.3f} mm, "
-        f"{a['root_stress_peak_face'] * 1e3:+.2f} mm from mid-face, fillet tangent "
-        f"{a['root_stress_peak_angle']:.1f} deg to the tooth centre line",
-        f"compressive side (opposite fillet): {np.nanmin(comp) / 1e6:.1f} MPa; fillet von "
-        f"Mises up to {float(np.nanmax(ds['root_von_mises'].values)) / 1e6:.1f} MPa",
+        f"  at radius {mm(a['root_stress_peak_radius'] * 1e3)} mm, "
+        f"{mm(a['root_stress_peak_face'] * 1e3)} mm from mid-face, fillet tangent "
+        f"{fmt(a['root_stress_peak_angle'], 'angle')} deg to the tooth centre line",
+        f"compressive side (opposite fillet): {mpa(np.nanmin(comp) / 1e6)} MPa; fillet von "
+        f"Mises up to {mpa(float(np.nanmax(ds['root_von_mises'].values)) / 1e6)} MPa",
         *ends,
     ]
 

@@ -41,6 +41,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ReducerlabError
+from ..numformat import fmt
 
 __all__ = ["LoopNumbers", "accuracy_rows", "loop_numbers", "starting_torques"]
 
@@ -97,8 +98,8 @@ class LoopNumbers:
             "tangent_stiffness_at_rated_N_m_per_arcmin": self.stiffness_at_rated * stiff,
         }
 
-    def rows(self) -> list[str]:
-        """Table rows: quantity, value, unit."""
+    def rows(self) -> list[tuple[str, float, str]]:
+        """Table rows: quantity, value, unit (:func:`reducerlab.numformat.quantity_table`)."""
         c = self.catalogue()
         spec = [
             ("backlash (twist jump at zero torque)", "backlash_arcmin", "arcmin"),
@@ -118,7 +119,7 @@ class LoopNumbers:
             ("tangent stiffness at rated", "tangent_stiffness_at_rated_N_m_per_arcmin",
              "N m/arcmin"),
         ]  # fmt: skip
-        return [f"{label:<40} {c[key]:>12.5g}  {unit}" for label, key, unit in spec]
+        return [(label, c[key], unit) for label, key, unit in spec]
 
 
 def _at(torque: Array, twist: Array, value: float) -> float:
@@ -191,7 +192,7 @@ def accuracy_rows(res: Any) -> list[tuple[str, float, str]]:
     output revolution (arcsec; under its load when it has one) and the mean wind-up."""
     a = res.data.attrs
     load = float(a.get("load_N_m", 0.0) or 0.0)
-    where = f"under {load:.4g} N m" if load else "rigid, unloaded"
+    where = f"under {fmt(load, 'torque')} N m" if load else "rigid, unloaded"
     rows = [(f"transmission error p-p, one output turn ({where})", res.peak_to_peak, "arcsec")]
     if load:
         rows.append(

@@ -47,6 +47,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ..errors import ReducerlabError, names_source
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..threads import with_compute_threads
 
@@ -114,23 +115,20 @@ class EfficiencyResult(Result):
         """Plain-text table: one row a torque."""
         a = self.data.attrs
         n = self.data.sizes["pair"]
-        head = "".join(f"  P_V{p}(W)  eta0_{p}" for p in range(1, n + 1))
-        lines = [
-            f"Mesh friction loss, mu = {a['mu']:.4g} "
+        cols = [Column("T_A", "N m", "torque")]
+        for p in range(1, n + 1):
+            cols += [Column(f"P_V{p}", "W", "power"), Column(f"eta0_{p}")]
+        t = Table([*cols, Column("P_0", "W", "power"), Column("eta")], title=(
+            f"Mesh friction loss, mu = {fmt(a['mu'])} "
             f"({a.get('model', 'Coulomb, sliding only')}), "
             f"{self.data.sizes['position']} positions a mesh cycle, input "
-            f"{a['input_speed_rad_s'] * 30 / math.pi:.5g} rpm; drive efficiency "
-            f"1 - sum P_V / P_0",
-            f"T_A(N m){head}  P_0(W)  eta",
-        ]
+            f"{fmt(a['input_speed_rad_s'] * 30 / math.pi, 'speed')} rpm; drive efficiency "
+            f"1 - sum P_V / P_0"))  # fmt: skip
         for r in self.to_dict()["torques"]:
-            cols = "".join(f"  {v:>8.4g}  {e:>6.4f}"
-                           for v, e in zip(r["mesh_loss_W"], r["mesh_efficiency"],
-                                           strict=True))  # fmt: skip
-            lines.append(
-                f"{r['torque_N_m']:>8.4g}{cols}  {r['output_power_W']:>6.4g}  {r['efficiency']:.4f}"
-            )
-        return "\n".join(lines)
+            pairs = [x for v, e in zip(r["mesh_loss_W"], r["mesh_efficiency"], strict=True)
+                     for x in (v, e)]  # fmt: skip
+            t.add(r["torque_N_m"], *pairs, r["output_power_W"], r["efficiency"])
+        return t.text()
 
     def figure(self) -> Figure:
         """Efficiency against torque; loss over the mesh cycle."""

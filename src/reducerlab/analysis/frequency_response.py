@@ -25,6 +25,7 @@ from ..dynamics.guards import check_stability
 from ..dynamics.runsize import AUTO_STEPS_FLOOR, run_estimate
 from ..errors import ReducerlabError
 from ..model import Model
+from ..numformat import Column, Table
 from ..results import Result, provenance
 from .impacts import contact_states, mesh_mode
 from .members import axis_coord, axis_members, continue_sweep, shown_values
@@ -73,20 +74,17 @@ class FrequencyResponseResult(Result):
         ds = self.data
         c = ds["p0"]
         unit = c.attrs.get("display_unit", "") or "SI"
-        lines = [
-            f"frequency response over {ds.attrs['parameter']}: {c.size} values",
-            f"{'value (' + unit + ')':>16}  {'sweep':<5}  {'RMS DTE (um)':>12}  "
-            f"{'load factor':>11}  {'teeth apart':>11}",
-        ]
+        t = Table([Column("value", unit, "parameter"), Column("sweep", kind="text"),
+                   Column("RMS DTE", "um", "length"), Column("load factor"),
+                   Column("teeth apart", "%", "percent")],
+                  title=f"frequency response over {ds.attrs['parameter']}: "
+                  f"{c.size} values")  # fmt: skip
         for i, v in enumerate(shown_values(c)):
             for b in ds["branch"].values.tolist():
                 at = ds.sel(branch=b).isel(p0=i)
-                lines.append(
-                    f"{v:>16.6g}  {b:<5}  {1e6 * float(at['rms_dte']):>12.4g}  "
-                    f"{float(at['dynamic_load_factor']):>11.4g}  "
-                    f"{100 * float(at['separation_fraction']):>10.1f}%"
-                )
-        return "\n".join(lines)
+                t.add(v, b, 1e6 * float(at["rms_dte"]), float(at["dynamic_load_factor"]),
+                      100 * float(at["separation_fraction"]))  # fmt: skip
+        return t.text()
 
     def plot(self) -> Figure:
         """RMS DTE, dynamic load factor and separation share against the parameter, the

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ReducerlabError, names_source
+from ..numformat import Column, Table, fmt
 from ..results import Result
 from ..threads import with_compute_threads
 
@@ -112,30 +113,31 @@ class SharingResult(Result):
         a = ds.attrs
         b = float(a["face_width_m"])
         ks = self.pairs
-        head = "".join(f"  max {k:+d}" for k in ks)
-        lines = [
+        kpb = "N/(mm um)"
+        t = Table([Column("T_pl", "N m", "torque"), Column("pairs", kind="text"),
+                   Column("mean k", kpb, "stiffness"), Column("k min", kpb, "stiffness"),
+                   Column("k max", kpb, "stiffness"), Column("tangent", kpb, "stiffness"),
+                   Column("p-p TE", "um", "length"),
+                   *(Column(f"max share {k:+d}", kind="share") for k in ks)], title=(
             f"KHV pair load sharing over one mesh cycle ({ds.sizes['position']} positions); "
-            f"tooth pairs examined {ks}; design load {a['design_torque']:.4g} N m on the "
-            f"planet; k per face width b = {b * 1e3:.4g} mm",
-            f"T_pl(N m)  pairs  mean k(N/(mm um))  k range       tangent  p-p TE(um){head}",
-        ]
-        for i, t in enumerate(self.torques):
-            if t <= 0:
+            f"tooth pairs examined {ks}; design load {fmt(a['design_torque'], 'torque')} N m "
+            f"on the planet; k per face width b = {fmt(b * 1e3, 'length')} mm"))  # fmt: skip
+        for i, tq in enumerate(self.torques):
+            if tq <= 0:
                 continue
             n = ds["pairs"].values[i]
             k = ds["stiffness"].values[i] * PER_FACE / b
             share = ds["share"].values[i]
-            shares = "".join(f"  {np.nanmax(share[:, j]):>6.3f}" for j in range(len(ks)))
-            lines.append(
-                f"{t:>9.4g}  {int(np.nanmin(n))}-{int(np.nanmax(n))}    "
-                f"{float(ds['mean_stiffness'].values[i]) * PER_FACE / b:>13.3f}     "
-                f"{np.nanmin(k):6.2f}-{np.nanmax(k):<6.2f}"
-                f"{float(ds['mean_tangent_stiffness'].values[i]) * PER_FACE / b:>8.2f}"
-                f"  {1e6 * float(ds['peak_to_peak'].values[i]):>9.3f}{shares}"
-            )
+            t.add(tq, f"{int(np.nanmin(n))}-{int(np.nanmax(n))}",
+                  float(ds["mean_stiffness"].values[i]) * PER_FACE / b, np.nanmin(k),
+                  np.nanmax(k), float(ds["mean_tangent_stiffness"].values[i]) * PER_FACE / b,
+                  1e6 * float(ds["peak_to_peak"].values[i]),
+                  *(np.nanmax(share[:, j]) for j in range(len(ks))))  # fmt: skip
+        lines = [t.text()]
         least = ds["least_clearance"].values
-        far = [f"{int(k):+d}: {1e6 * c:.3g} um" for k, c in zip(ds["scan_pair"].values, least,
-               strict=True) if int(k) not in ks and np.isfinite(c)]  # fmt: skip
+        far = [f"{int(k):+d}: {fmt(1e6 * c, 'length')} um"
+               for k, c in zip(ds["scan_pair"].values, least, strict=True)
+               if int(k) not in ks and np.isfinite(c)]  # fmt: skip
         lines.append("least clearance of the pairs not examined: " + (", ".join(far) or "none"))
         return "\n".join(lines)
 

@@ -13,6 +13,7 @@ import xarray as xr
 from ..errors import ReducerlabError
 from ..kinematics import DriveKinematics
 from ..kinematics.euler import angular_velocity_body, angular_velocity_fixed
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..units import RPM, TWO_PI
 
@@ -134,17 +135,17 @@ class KinematicsResult(Result):
     def table(self) -> str:
         """Plain-text summary."""
         d = self.to_dict()
-        lines = [f"{d['title']}", f"  ratio i = omega_in / omega_out = {d['ratio']:.10g}"]
-        lines.append("  member speeds:")
-        for k, v in d["speeds_rpm"].items():
-            lines.append(f"    {k:<45} {v:>14.6g} rpm")
-        lines.append("  mesh frequencies:")
-        for k, v in d["mesh_frequencies_hz"].items():
-            lines.append(f"    {k:<45} {v:>14.6g} Hz")
-        if d["cone_angles_deg"]:
-            lines.append("  pitch cone angles:")
-            for k, v in d["cone_angles_deg"].items():
-                lines.append(f"    {k:<45} {v:>14.6g} deg")
+        lines = [f"{d['title']}", f"  ratio i = omega_in / omega_out = {fmt(d['ratio'], 'ratio')}"]
+        parts = [("member speeds:", Column("member", kind="text"), Column("speed", "rpm", "speed"),
+                  d["speeds_rpm"]),
+                 ("mesh frequencies:", Column("mesh", kind="text"),
+                  Column("frequency", "Hz", "frequency"), d["mesh_frequencies_hz"]),
+                 ("pitch cone angles:", Column("gear", kind="text"),
+                  Column("cone angle", "deg", "angle"), d["cone_angles_deg"])]  # fmt: skip
+        for title, name, value, rows in parts:
+            if rows:
+                t = Table([name, value], [(k, v) for k, v in rows.items()])
+                lines += [f"  {title}", t.text(indent="    ")]
         return "\n".join(lines)
 
     def plot(self) -> Figure:

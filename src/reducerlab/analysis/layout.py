@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
+from functools import partial
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -37,6 +38,7 @@ import xarray as xr
 
 from ..budget import Estimate
 from ..errors import ReducerlabError, names_source
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..threads import with_compute_threads
 
@@ -100,28 +102,29 @@ class LayoutResult(Result):
         """Plain-text table of the candidates, best first among the feasible."""
         a = self.data.attrs
         best = self.best
+        um = partial(fmt, kind="length")
         head = (
-            f"Flank modification layout at {a['design_torque']:.4g} N m: "
+            f"Flank modification layout at {fmt(a['design_torque'], 'torque')} N m: "
             + (
-                f"lead crowning {best[0] * 1e6:.3g} um, tip relief {best[1] * 1e6:.3g} um "
-                f"(each flank): TE p-p {a['best_peak_to_peak'] * 1e6:.3g} um against "
-                f"{a['unmodified_peak_to_peak'] * 1e6:.3g} um unmodified"
+                f"lead crowning {um(best[0] * 1e6)} um, tip relief {um(best[1] * 1e6)} um "
+                f"(each flank): TE p-p {um(a['best_peak_to_peak'] * 1e6)} um against "
+                f"{um(a['unmodified_peak_to_peak'] * 1e6)} um unmodified"
                 if best
                 else "no candidate is feasible"
             )
-            + f" (p <= {a['pressure_limit'] * 1e-6:.4g} MPa, edge share < "
-            f"{100 * a['edge_limit']:.3g} %)"
+            + f" (p <= {fmt(a['pressure_limit'] * 1e-6, 'stress')} MPa, edge share < "
+            f"{fmt(100 * a['edge_limit'], 'percent')} %)"
         )
-        lines = [head, "C_beta(um)  C_a(um)  TE p-p(um)  p_max(MPa)  edge    feasible"]
+        t = Table([Column("C_beta", "um", "length"), Column("C_a", "um", "length"),
+                   Column("TE p-p", "um", "length"), Column("p_max", "MPa", "stress"),
+                   Column("edge", "%", "percent"), Column("feasible", kind="text")],
+                  title=head)  # fmt: skip
         rows = self.to_dict()["candidates"]
         rows.sort(key=lambda r: (not r["feasible"], r["peak_to_peak_um"]))
         for r in rows:
-            lines.append(
-                f"{r['crowning_um']:>10.3f}  {r['relief_um']:>7.3f}  {r['peak_to_peak_um']:>10.4f}"
-                f"  {r['peak_pressure_MPa']:>10.1f}  {100 * r['edge_share']:>5.1f}%  "
-                f"{'yes' if r['feasible'] else 'no'}"
-            )
-        return "\n".join(lines)
+            t.add(r["crowning_um"], r["relief_um"], r["peak_to_peak_um"], r["peak_pressure_MPa"],
+                  100 * r["edge_share"], "yes" if r["feasible"] else "no")  # fmt: skip
+        return t.text()
 
     def figure(self) -> Figure:
         """TE peak-to-peak over the two amounts, the infeasible region marked."""

@@ -77,6 +77,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 from ..kinematics.accuracy_nutation import output_rotation
 from ..kinematics.torques import mesh_torques
+from ..numformat import fmt
 from .loaded_accuracy import (
     ARCSEC,
     check_options,
@@ -331,7 +332,7 @@ class LoadedNutationError:
                                     {"units": "rad"})  # fmt: skip
         wind = float(sum(self.wind_ups))
         how = "reused, computed in" if self.reused else "computed in"
-        on = ", ".join(f"{t:.4g}" for t in self.torques)
+        on = ", ".join(fmt(t, "torque") for t in self.torques)
         ds.attrs.update(
             title=f"Transmission accuracy under {self.load:.4g} N m",
             basis="rigid kinematics + loaded mesh TE"
@@ -340,9 +341,10 @@ class LoadedNutationError:
             loaded_peak_to_peak_arcsec=float(np.ptp(sum(self.variations)) / ARCSEC),
             rigid_teeth=int(self.rigid), contact_seconds=self.seconds,
             contact_reused=int(self.reused),
-            load_summary=f"load: {self.load:.4g} N m on the output ({on} N m on gear A of the "
-            f"meshes; contacts {how} {self.seconds:.3g} s); mean wind-up of the meshes "
-            f"{wind / ARCSEC:.4g} arcsec (output behind, not in the trace); tooth-mesh orders "
+            load_summary=f"load: {fmt(self.load, 'torque')} N m on the output ({on} N m on gear "
+            f"A of the meshes; contacts {how} {fmt(self.seconds, 'time')} s); mean wind-up of "
+            f"the meshes {fmt(wind / ARCSEC, 'angle')} arcsec (output behind, not in the "
+            "trace); tooth-mesh orders "
             f"{', '.join(str(n) for n in self.orders)}",
         )  # fmt: skip
         for j, s in enumerate(self.sweeps, start=1):

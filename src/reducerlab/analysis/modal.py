@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError, names_source
 from ..model import Model
 from ..model.rigid import RIGID_TOL, check_resolved, rigid_and_elastic
+from ..numformat import Column, Table
 from ..results import Result, provenance
 from ..units import TWO_PI
 
@@ -272,17 +273,19 @@ class ModalResult(Result):
         """:meth:`to_dict` as a JSON string."""
         return json.dumps(self.to_dict(), indent=2)
 
+    def table_data(self) -> Table:
+        """The modes as a :class:`~reducerlab.numformat.Table` (mode, frequency in Hz,
+        classification): the text, the command line and the report show its cells."""
+        t = Table([Column("mode", kind="count"), Column("frequency", "Hz", "frequency"),
+                   Column("classification", kind="text")])  # fmt: skip
+        for m, f, c in zip(self.data["mode"].values, self.frequencies, self.classifications,
+                           strict=True):  # fmt: skip
+            t.add(int(m), float(f), str(c))
+        return t
+
     def table(self) -> str:
         """Plain-text table of frequencies and classifications."""
-        rows = [f"{'mode':>4}  {'frequency (Hz)':>15}  classification"]
-        for m, f, c in zip(
-            self.data["mode"].values,
-            self.frequencies,
-            self.classifications,
-            strict=True,
-        ):
-            rows.append(f"{int(m):>4}  {f:>15.6g}  {c}")
-        return "\n".join(rows)
+        return self.table_data().text()
 
     def __repr__(self) -> str:
         return f"ModalResult({self.data.attrs.get('title', '')!r}, {self.data.sizes['mode']} modes)"
@@ -481,17 +484,17 @@ class SensitivityResult(Result):
         )
 
     def table(self) -> str:
-        """Relative sensitivities ``(p/f) df/dp`` as plain text."""
+        """Relative sensitivities ``(p/f) df/dp`` as plain text, one column a parameter
+        (headers whole)."""
         params = [str(p) for p in self.data["parameter"].values]
-        head = f"{'mode':>4}  {'f (Hz)':>12}  " + "  ".join(f"{p[:22]:>22}" for p in params)
-        rows = [head]
+        t = Table([Column("mode", kind="count"), Column("f", "Hz", "frequency"),
+                   *(Column(p, kind="share") for p in params)])  # fmt: skip
         rel = self.data["relative"].values
         for i, (m, f) in enumerate(
             zip(self.data["mode"].values, self.data["frequency"].values, strict=True)
         ):
-            cells = "  ".join(f"{v:>22.4f}" for v in rel[i])
-            rows.append(f"{int(m):>4}  {f:>12.6g}  {cells}")
-        return "\n".join(rows)
+            t.add(int(m), float(f), *(float(v) for v in rel[i]))
+        return t.text()
 
     def plot(self) -> Figure:
         """Heat map of the relative sensitivities."""

@@ -31,6 +31,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable
+from functools import partial
 from typing import Any, ClassVar
 
 import numpy as np
@@ -38,6 +39,7 @@ import xarray as xr
 
 from ..design import Design
 from ..errors import ReducerlabError
+from ..numformat import Column, Table, Value, fmt, unit_kind
 from ..rating.cylindrical import PairRating, rate_internal_pair, rate_spur_pair
 from ..rating.material import GearMaterial, RatingConditions
 from ..results import Result, provenance
@@ -113,17 +115,19 @@ class RatingResult(Result):
         for label, p in self.pairs().items():
             g1, g2 = p["gears"]
             lines.append(f"{label}: {p['standard']}")
+            sf = partial(fmt, kind="safety")
             lines.append(
-                f"  S_H: {g1} {p['S_H'][0]:.3f}, {g2} {p['S_H'][1]:.3f}   "
-                f"S_F: {g1} {p['S_F'][0]:.3f}, {g2} {p['S_F'][1]:.3f}"
+                f"  S_H: {g1} {sf(p['S_H'][0])}, {g2} {sf(p['S_H'][1])}   "
+                f"S_F: {g1} {sf(p['S_F'][0])}, {g2} {sf(p['S_F'][1])}"
                 + (f"   (judged by {p['judged_by']})" if len(p.get("methods", {})) > 1 else "")
             )
             for key, m in p.get("methods", {}).items() if len(p.get("methods", {})) > 1 else ():
                 lines.append(
-                    f"    method {key}: S_H {m['S_H'][0]:.3f}, {m['S_H'][1]:.3f}   "
-                    f"S_F {m['S_F'][0]:.3f}, {m['S_F'][1]:.3f}"
+                    f"    method {key}: S_H {sf(m['S_H'][0])}, {sf(m['S_H'][1])}   "
+                    f"S_F {sf(m['S_F'][0])}, {sf(m['S_F'][1])}"
                 )
-            lines.append(f"  {'symbol':<12} {'gear':<8} {'value':>14}  {'unit':<9} clause")
+            t = Table([Column("symbol", kind="text"), Column("gear", kind="text"), Column("value"),
+                       Column("unit", kind="text"), Column("clause", kind="text")])  # fmt: skip
             for i in np.nonzero(ds["pair"].values == label)[0]:
                 unit, v = str(ds["unit"].values[i]), float(ds["value"].values[i])
                 if unit == "Pa":
@@ -135,11 +139,11 @@ class RatingResult(Result):
                 elif unit == "rad":
                     unit, v = "deg", math.degrees(v)
                 gear = str(ds["gear"].values[i])
-                name = {"1": g1, "2": g2}.get(gear, gear)
-                lines.append(
-                    f"  {ds['symbol'].values[i]!s:<12} {name:<8} {v:>14.6g}  {unit:<9} "
-                    f"{ds['clause'].values[i]}"
-                )
+                symbol = str(ds["symbol"].values[i])
+                kind = "safety" if symbol.startswith(("S_H", "S_F")) else unit_kind(unit)
+                t.add(symbol, {"1": g1, "2": g2}.get(gear, gear), Value(v, kind), unit,
+                      str(ds["clause"].values[i]))  # fmt: skip
+            lines.append(t.text(indent="  "))
         return "\n".join(lines)
 
 

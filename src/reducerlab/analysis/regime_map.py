@@ -40,6 +40,7 @@ from ..dynamics.guards import check_stability
 from ..dynamics.runsize import AUTO_STEPS_FLOOR, run_estimate
 from ..errors import ReducerlabError, names_source
 from ..model import Model, NonlinearSystem
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..units import length_unit
 from .bifurcation import IMPACT_COLUMNS, BifurcationChunk
@@ -450,20 +451,21 @@ class RegimeMapResult(Result):
         """The regions as text: class, share of the map and the x and y ranges."""
         ds = self.data
         cx, cy = ds["p0"], ds["p1"]
-        ux = cx.attrs.get("display_unit", "") or "-"
-        uy = cy.attrs.get("display_unit", "") or "-"
-        lines = [f"regime map: {ds.attrs.get('title', '')}  (x = {ds.attrs['x']} [{ux}], "
-                 f"y = {ds.attrs['y']} [{uy}])",
-                 f"{'branch':<7} {'':<7} {'class':<22} {'share':>6}   x range"
-                 f"{'':<14} y range"]  # fmt: skip
+        ux = cx.attrs.get("display_unit", "") or ""
+        uy = cy.attrs.get("display_unit", "") or ""
+        t = Table([Column("branch", kind="text"), Column("kind", kind="text"),
+                   Column("class", kind="text"), Column("share", "%", "percent"),
+                   Column("x from", ux, "parameter"), Column("x to", ux, "parameter"),
+                   Column("y from", uy, "parameter"), Column("y to", uy, "parameter")],
+                  title=f"regime map: {ds.attrs.get('title', '')}  (x = {ds.attrs['x']}, "
+                  f"y = {ds.attrs['y']})")  # fmt: skip
         for r in self.regions():
-            lines.append(
-                f"{r['branch']:<7} {r['kind']:<7} {r['class']:<22} {100 * r['share']:5.1f}%   "
-                f"{r['x'][0]:<9.4g}..{r['x'][1]:<9.4g}  {r['y'][0]:.4g}..{r['y'][1]:.4g}"
-            )
+            t.add(r["branch"], r["kind"], r["class"], 100 * r["share"], *r["x"], *r["y"])
+        lines = [t.text()]
         co = self.coexisting()
         if ds.sizes["branch"] > 1:
-            lines.append(f"coexisting attractors (up != down) at {100 * co.mean():.1f}% of points")
+            share = fmt(100 * co.mean(), "percent")
+            lines.append(f"coexisting attractors (up != down) at {share} % of points")
         return "\n".join(lines)
 
     def plot(self) -> Figure:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -24,6 +25,7 @@ from numpy.typing import NDArray
 from ..design import Design, Thresholds
 from ..errors import ReducerlabError, names_source
 from ..model import Model
+from ..numformat import fmt
 from ..units import RPM, TWO_PI
 from .campbell import CampbellResult, campbell
 from .complex_modal import ComplexCampbellResult, complex_campbell, modes_over
@@ -400,41 +402,42 @@ def _component_check(
 
 def format_check(report: dict[str, Any]) -> str:
     """Human-readable verdict of :func:`resonance_check`."""
+    hz, rpm = partial(fmt, kind="frequency"), partial(fmt, kind="speed")
     lo, hi = report["speed_range_rpm"]
-    rng = f"{lo:.6g} rpm" if lo == hi else f"{lo:.6g}-{hi:.6g} rpm"
+    rng = f"{rpm(lo)} rpm" if lo == hi else f"{rpm(lo)}-{rpm(hi)} rpm"
     m = 100 * report["margin"]
-    lines = [f"Resonance check: {report['title']} over {rng}, margin {m:g} %"]
+    lines = [f"Resonance check: {report['title']} over {rng}, margin {fmt(m, 'percent')} %"]
     if report.get("frequencies", "undamped") != "undamped":
         lines.append(f"  frequencies: {report['frequencies']}")
     for c in report["crossings"]:
         whirl = f", {c['whirl']} whirl" if c.get("whirl") else ""
         lines.append(
-            f"  CROSSING  mode {c['mode']} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
-            f"({c['frequency_hz']:.5g} Hz{whirl}){drive_note(c, report)}"
+            f"  CROSSING  mode {c['mode']} with {c['excitation']} at {rpm(c['speed_rpm'])} rpm "
+            f"({hz(c['frequency_hz'])} Hz{whirl}){drive_note(c, report)}"
         )
     for r in report["near"]:
         lines.append(
-            f"  NEAR      mode {r['mode']} ({r['natural_hz']:.5g} Hz"
+            f"  NEAR      mode {r['mode']} ({hz(r['natural_hz'])} Hz"
             + (f", {r['whirl']} whirl" if r.get("whirl") else "")
             + ") within "
-            f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
-            f"at {r['speed_rpm']:.5g} rpm{drive_note(r, report)}"
+            f"{percent(r['distance'])} % of {r['excitation']} ({hz(r['excitation_hz'])} Hz) "
+            f"at {rpm(r['speed_rpm'])} rpm{drive_note(r, report)}"
         )
     lines += format_components(report).splitlines()
     st = report.get("stability")
     if st is not None:
         for u in st["unstable"][:10]:
             lines.append(
-                f"  UNSTABLE  mode {u['mode']} ({u['frequency_hz']:.5g} Hz) grows at "
-                f"{u['growth_rate']:.4g} 1/s at {u['speed_rpm']:.5g} rpm"
+                f"  UNSTABLE  mode {u['mode']} ({hz(u['frequency_hz'])} Hz) grows at "
+                f"{fmt(u['growth_rate'])} 1/s at {rpm(u['speed_rpm'])} rpm"
             )
         if len(st["unstable"]) > 10:
             lines.append(f"  ... {len(st['unstable']) - 10} more unstable (mode, speed) pairs")
         z = st["least_damped"]
         if z is not None:
             lines.append(
-                f"  DAMPING   least damped: mode {z['mode']} ({z['frequency_hz']:.5g} Hz), "
-                f"damping ratio {z['damping_ratio']:.4g} at {z['speed_rpm']:.5g} rpm"
+                f"  DAMPING   least damped: mode {z['mode']} ({hz(z['frequency_hz'])} Hz), "
+                f"damping ratio {fmt(z['damping_ratio'])} at {rpm(z['speed_rpm'])} rpm"
             )
     lines.append(
         "resonance: no resonance risk" if report["ok"] else "resonance: RESONANCE RISK (see above)"
@@ -446,36 +449,37 @@ def format_components(report: dict[str, Any]) -> str:
     """The gear-body part of :func:`format_check`: body-mode crossings, near misses,
     coincidences with system modes and each body's closest approaches (empty without
     components)."""
+    hz, rpm = partial(fmt, kind="frequency"), partial(fmt, kind="speed")
     lines: list[str] = []
     for c in report.get("component_crossings", ()):
         lines.append(
-            f"  CROSSING  {_body_mode(c)} with {c['excitation']} at {c['speed_rpm']:.5g} rpm "
-            f"({c['frequency_hz']:.5g} Hz)"
+            f"  CROSSING  {_body_mode(c)} with {c['excitation']} at {rpm(c['speed_rpm'])} rpm "
+            f"({hz(c['frequency_hz'])} Hz)"
         )
     for r in report.get("component_near", ()):
         lines.append(
-            f"  NEAR      {_body_mode(r)} ({r['natural_hz']:.5g} Hz) within "
-            f"{100 * r['distance']:.2f} % of {r['excitation']} ({r['excitation_hz']:.5g} Hz) "
-            f"at {r['speed_rpm']:.5g} rpm"
+            f"  NEAR      {_body_mode(r)} ({hz(r['natural_hz'])} Hz) within "
+            f"{percent(r['distance'])} % of {r['excitation']} ({hz(r['excitation_hz'])} Hz) "
+            f"at {rpm(r['speed_rpm'])} rpm"
         )
     for r in report.get("coincidences", ()):
         lines.append(
-            f"  COINCIDE  {_body_mode(r)} ({r['natural_hz']:.5g} Hz) within "
-            f"{100 * r['distance']:.2f} % of system mode {r['system_mode']} "
-            f"({r['system_hz']:.5g} Hz) at {r['speed_rpm']:.5g} rpm"
+            f"  COINCIDE  {_body_mode(r)} ({hz(r['natural_hz'])} Hz) within "
+            f"{percent(r['distance'])} % of system mode {r['system_mode']} "
+            f"({hz(r['system_hz'])} Hz) at {rpm(r['speed_rpm'])} rpm"
         )
     for comp in report.get("components", ()):
         f = comp["frequencies"]
-        parts = [f"  BODY      {comp['label']}: {len(f)} mode(s) {f[0]:.5g}-{f[-1]:.5g} Hz"]
+        parts = [f"  BODY      {comp['label']}: {len(f)} mode(s) {hz(f[0])}-{hz(f[-1])} Hz"]
         ex, sy = comp["closest"]["excitation"], comp["closest"]["system_mode"]
         if ex is not None:
             parts.append(
-                f"closest excitation {100 * ex['distance']:.2f} % (mode {ex['mode']} x "
+                f"closest excitation {percent(ex['distance'])} % (mode {ex['mode']} x "
                 f"{ex['excitation']})"
             )
         if sy is not None:
             parts.append(
-                f"closest system mode {100 * sy['distance']:.2f} % (mode {sy['mode']} ~ "
+                f"closest system mode {percent(sy['distance'])} % (mode {sy['mode']} ~ "
                 f"system mode {sy['system_mode']})"
             )
         lines.append(", ".join(parts))
@@ -483,8 +487,9 @@ def format_components(report: dict[str, Any]) -> str:
 
 
 def percent(share: float) -> str:
-    """A share (0..1) in per cent with three significant digits (``"3.05"``)."""
-    return f"{100 * share:.3g}"
+    """A share (0..1) in per cent by the ``percent`` rule of :mod:`reducerlab.numformat`
+    (three significant digits, two places at most: ``"3.05"``, ``"0.13"``, ``"0"``)."""
+    return fmt(100 * share, "percent")
 
 
 def drive_note(row: dict[str, Any], report: dict[str, Any]) -> str:

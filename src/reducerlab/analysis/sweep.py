@@ -34,6 +34,7 @@ from ..design import Design
 from ..errors import ReducerlabError, names_source
 from ..model import Model
 from ..model.rigid import RIGID_TOL, check_resolved, element_blocks, rest_stiffness, strain_ratio
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..units import TWO_PI, display_unit
 from .batch import eigh_batch
@@ -556,19 +557,22 @@ class SweepResult(Result):
             idx = sorted({0, len(p) // 2, len(p) - 1})
             var = "tracked_frequency" if "tracked_frequency" in ds else "frequency"
             f = ds[var].values
-            head = f"{'':>8}" + "".join(f"{p[i]:>16.6g}" for i in idx)
-            lines.append(head)
+            cols = [Column(f"at {fmt(p[i], 'parameter')}", "Hz", "frequency") for i in idx]
+            t = Table([Column("mode", kind="count"), *cols])
             for j in range(f.shape[1]):
-                lines.append(
-                    f"{'mode ' + str(j + 1):>8}" + "".join(f"{f[i, j]:>16.6g}" for i in idx)
-                )
+                t.add(j + 1, *(f[i, j] for i in idx))
+            lines.append(t.text())
             ev = self.events()
             lines.append(f"events: {len(ev)}")
-            for e in ev:
-                lines.append(
-                    f"  {e['kind']:<9} at {e['param']:.6g} between modes {e['modes'][0]} and "
-                    f"{e['modes'][1]} (gap {e['gap_hz']:.4g} Hz)"
-                )
+            if ev:
+                t = Table([Column("event", kind="text"), Column("at", kind="parameter"),
+                           Column("modes", kind="text"),
+                           Column("gap", "Hz", "frequency")])  # fmt: skip
+                for e in ev:
+                    t.add(
+                        e["kind"], e["param"], f"{e['modes'][0]} and {e['modes'][1]}", e["gap_hz"]
+                    )
+                lines.append(t.text(indent="  "))
         else:
             lines.append(f"grid {ds.sizes['p0']} x {ds.sizes['p1']} points")
         return "\n".join(lines)

@@ -53,6 +53,7 @@ from numpy.typing import NDArray
 from ..budget import Estimate
 from ..design import Design
 from ..errors import ReducerlabError, names_source
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from ..threads import with_compute_threads
 
@@ -131,24 +132,21 @@ class TESweepResult(Result):
         """Plain-text table: one row a torque."""
         a = self.data.attrs
         orders = self.data.sizes["order"]
-        head = "".join(f"  TE_{r}(um)" for r in range(1, orders + 1))
-        lines = [
+        t = Table([Column("T_A", "N m", "torque"), Column("T_B", "N m", "torque"),
+                   Column("mean TE", "um", "length"), Column("p-p", "um", "length"),
+                   *(Column(f"TE_{r}", "um", "length") for r in range(1, orders + 1)),
+                   Column("p_max", "MPa", "stress"), Column("edge", "%", "percent")], title=(
             f"Pair {a['pair']} ({a['pair_kind']}): loaded TE over one mesh cycle "
             f"({self.data.sizes['position']} positions) against torque on "
-            f"{a['gear_a']}; design load {a['design_torque']:.4g} N m; TE at "
-            f"r = {1e3 * a['te_radius_m']:.4g} mm",
-            f"T_A(N m)  T_B(N m)  mean TE(um)  p-p(um){head}  p_max(MPa)  edge",
-        ]
+            f"{a['gear_a']}; design load {fmt(a['design_torque'], 'torque')} N m; TE at "
+            f"r = {fmt(1e3 * a['te_radius_m'], 'length')} mm"))  # fmt: skip
         ratio = a["torque_ratio"]
         for r in self.to_dict()["torques"]:
-            t = r["torque_N_m"]
-            mean = float(np.mean(r["te_um"]))
-            harm = "".join(f"  {h:>9.4f}" for h in r["harmonics_um"])
-            lines.append(
-                f"{t:>8.4g}  {t * ratio:>8.4g}  {mean:>11.4f}  {r['peak_to_peak_um']:>7.4f}"
-                f"{harm}  {r['peak_pressure_MPa']:>10.1f}  {100 * r['edge_share_max']:>3.0f}%"
-            )
-        return "\n".join(lines)
+            tq = r["torque_N_m"]
+            t.add(tq, tq * ratio, float(np.mean(r["te_um"])), r["peak_to_peak_um"],
+                  *r["harmonics_um"], r["peak_pressure_MPa"],
+                  100 * r["edge_share_max"])  # fmt: skip
+        return t.text()
 
     def figure(self) -> Figure:
         """TE curves overlaid; peak-to-peak and harmonics against torque."""

@@ -52,6 +52,7 @@ from numpy.typing import NDArray
 from ..budget import Estimate
 from ..design_files import lookup, set_path
 from ..errors import DesignError, ReducerlabError, names_source
+from ..numformat import Column, Table, Value, fmt, unit_kind
 from ..results import Result, provenance
 from ..units import QUANTITIES as QUANTITY_KINDS
 from .runfolder import chunk_path, load_chunk, open_run, save_chunk
@@ -129,16 +130,18 @@ class TolerancesResult(Result):
         a = self.data.attrs
         lines = [
             f"Monte-Carlo over tolerances: {a['samples']} samples, seed {a['seed']}; torsion "
-            f"test at {a['rated_torque']:.4g} N m ({a['steps']} steps)",
+            f"test at {fmt(a['rated_torque'], 'torque')} N m ({a['steps']} steps)",
             "tolerances:",
         ]
         lines += [f"  {p} ~ {t}" for p, t in json.loads(a["tolerances"]).items()]
         if "te_peak_to_peak" not in self.data:
             lines.append(f"transmission error: {a['transmission_accuracy']}")
-        lines.append(f"{'quantity':<36} {'mean':>10} {'std':>10} {'p5':>10} {'p95':>10}  unit")
+        t = Table([Column("quantity", kind="text"), *(Column(s) for s in ("mean", "std", "p5",
+                   "p95")), Column("unit", kind="text")])  # fmt: skip
         for name, label, unit, per in self.quantities():
             v = [float(a[f"{name}_{s}"]) / per for s in ("mean", "std", "p5", "p95")]
-            lines.append(f"{label:<36} " + " ".join(f"{x:>10.4g}" for x in v) + f"  {unit}")
+            t.add(label, *(Value(x, unit_kind(unit)) for x in v), unit)
+        lines.append(t.text())
         return "\n".join(lines)
 
     def figure(self) -> Figure:

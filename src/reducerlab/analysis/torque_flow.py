@@ -27,12 +27,14 @@ no radii and gives none.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+from typing import Any
 
 from ..design import Design
 from ..errors import ReducerlabError
 from ..kinematics.torques import mesh_torques
+from ..numformat import Column, Table, Value, quantity_table
+from ..units import RPM
 
 __all__ = ["MeshLoad", "TorqueFlow", "torque_flow"]
 
@@ -114,21 +116,26 @@ class TorqueFlow:
     meshes: dict[str, MeshLoad]
 
     def table(self) -> str:
-        """A plain-text table of the flow."""
-        rows = [
-            f"ratio {self.ratio:.6g}; input {self.input_speed * 60 / (2 * math.pi):.6g} rpm, "
-            f"output {self.output_speed * 60 / (2 * math.pi):.6g} rpm",
-            f"output torque {self.output_torque:.6g} N m, input torque "
-            f"{self.input_torque:.6g} N m, power {self.power:.6g} W",
+        """A plain-text table of the flow: the operating point, then the mesh torques."""
+        rows: list[tuple[str, Any, str]] = [
+            ("ratio", Value(self.ratio, "ratio"), ""),
+            ("input speed", self.input_speed * RPM, "rpm"),
+            ("output speed", self.output_speed * RPM, "rpm"),
+            ("output torque", self.output_torque, "N m"),
+            ("input torque", self.input_torque, "N m"),
+            ("power", self.power, "W"),
         ]
         if self.fixed is not None and self.reaction_torque is not None:
-            rows.append(f"reaction on {self.fixed}: {self.reaction_torque:.6g} N m")
+            rows.append((f"reaction on {self.fixed}", self.reaction_torque, "N m"))
+        meshes = Table([Column("mesh", kind="text"), Column("gear", kind="text"),
+                        Column("torque", "N m", "torque"), Column("F_t", "N", "force"),
+                        Column("external", kind="text")])  # fmt: skip
         for name, m in self.meshes.items():
-            parts = ", ".join(f"{g} {t:.6g} N m" for g, t in zip(m.gears, m.torques, strict=True))
-            ft = "" if m.tangential_force is None else f", F_t {m.tangential_force:.6g} N"
-            ext = "" if m.external is None else f" (external: {m.external})"
-            rows.append(f"{name}: {parts}{ft}{ext}")
-        return "\n".join(rows)
+            at = m.external or m.gears[0]  # where F_t acts (MeshLoad.tangential_force)
+            for g, t in zip(m.gears, m.torques, strict=True):
+                force = m.tangential_force if g == at else None
+                meshes.add(name, g, t, force, "yes" if g == m.external else "")
+        return "\n".join([quantity_table(rows).text(), meshes.text()])
 
 
 def torque_flow(design: Design) -> TorqueFlow:

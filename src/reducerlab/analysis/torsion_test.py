@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -39,6 +40,7 @@ from numpy.typing import NDArray
 from ..budget import Estimate
 from ..errors import ReducerlabError
 from ..model.laws import evaluate_flat, flat_mean
+from ..numformat import Table, fmt, quantity_table
 from ..results import Result, provenance
 from .datasheet import LoopNumbers, loop_numbers
 
@@ -392,14 +394,20 @@ class TorsionTestResult(Result):
         }
         return out
 
+    def table_data(self, more: Sequence[tuple[str, float, str]] = ()) -> Table:
+        """The datasheet numbers (quantity, value, unit; N m, arcmin, N m/arcmin) and
+        ``more`` rows after them, under a line naming the test."""
+        a = self.data.attrs
+        head = (
+            f"Torsion test: {a['ends']}; output {a['output_dof']}, rated torque "
+            f"{fmt(a['rated_torque'], 'torque')} N m, {a['points']} states; friction: "
+            f"{a['friction']}"
+        )
+        return quantity_table([*self.numbers.rows(), *more], title=head)
+
     def table(self) -> str:
         """Plain-text datasheet table (N m, arcmin, N m/arcmin)."""
-        a = self.data.attrs
-        head = [
-            f"Torsion test: {a['ends']}; output {a['output_dof']}, rated torque "
-            f"{a['rated_torque']:.4g} N m, {a['points']} states; friction: {a['friction']}",
-        ]
-        return "\n".join(head + self.numbers.rows())
+        return self.table_data().text()
 
     def figure(self) -> Figure:
         """The loop: twist (arcmin) against torque (N m) with K1/K2/K3 and the

@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -42,6 +43,7 @@ from numpy.typing import NDArray
 from ..errors import ReducerlabError
 from ..geometry.internal_pair import inv, inv_inverse
 from ..kinematics.accuracy import GearErrors, line_angle, mesh_lead, order_spectrum
+from ..numformat import Column, Table, fmt
 from ..results import Result, provenance
 from .accuracy_drives import DRIVE_SOURCES, assembly_attrs, crank_leads
 
@@ -106,22 +108,26 @@ class TransmissionAccuracyResult(Result):
     def table(self) -> str:
         """Plain-text summary."""
         d = self.to_dict()
+        sec = partial(fmt, kind="angle")
         lines = [
-            f"Transmission accuracy ({d['drive']}, i = {d['ratio']:.6g}): "
+            f"Transmission accuracy ({d['drive']}, i = {fmt(d['ratio'], 'ratio')}): "
             f"{d.get('basis', 'rigid kinematics')}, "
             f"{self.data.sizes['output_angle']} samples over one output revolution",
             *_load_lines(d),
-            f"peak to peak: {self.peak_to_peak:.4g} arcsec",
-            "source  peak to peak (arcsec)",
+            f"peak to peak: {sec(self.peak_to_peak)} arcsec",
         ]
-        lines += [f"  {s}: {v:.4g}" for s, v in d["contribution_peak_to_peak_arcsec"].items()]
+        src = Table([Column("source", kind="text"), Column("peak to peak", "arcsec", "angle")],
+                    list(d["contribution_peak_to_peak_arcsec"].items()))  # fmt: skip
+        lines.append(src.text())
         if "backlash_change" in d:  # an assembly error (analysis.accuracy_drives)
             dj, dja = d["backlash_change"], d["backlash_change_arcsec"]
-            lines.append(f"backlash change (centre distance): {dj * 1e6:.4g} um normal, "
-                         f"{dja:.4g} arcsec at the output")  # fmt: skip
-        lines.append("output order  input order  amplitude (arcsec)")
-        lines += [f"{r['output_order']:>12d}  {r['input_order']:>11.4g}  "
-                  f"{r['amplitude_arcsec']:.4g}" for r in d["largest_orders"]]  # fmt: skip
+            lines.append(f"backlash change (centre distance): {fmt(dj * 1e6, 'length')} um "
+                         f"normal, {sec(dja)} arcsec at the output")  # fmt: skip
+        orders = Table([Column("output order", kind="count"), Column("input order"),
+                        Column("amplitude", "arcsec", "angle")],
+                       [(r["output_order"], r["input_order"], r["amplitude_arcsec"])
+                        for r in d["largest_orders"]])  # fmt: skip
+        lines.append(orders.text())
         return "\n".join(lines)
 
     def figure(self) -> Figure:
@@ -171,9 +177,10 @@ def _load_lines(d: dict[str, Any]) -> list[str]:
     if "load_summary" in d:  # a drive's own loaded law (the cycloid's ball track)
         return [str(d["load_summary"])]
     how = "reused, computed in" if d["contact_reused"] else "computed in"
-    return [f"load: {d['load_N_m']:.4g} N m on the output ({d['mesh_torque_N_m']:.4g} N m on "
-            f"gear A of the mesh; contact {how} {d['contact_seconds']:.3g} s); mean wind-up "
-            f"of the mesh {d['wind_up_arcsec']:.4g} arcsec (output behind, not in the "
+    return [f"load: {fmt(d['load_N_m'], 'torque')} N m on the output "
+            f"({fmt(d['mesh_torque_N_m'], 'torque')} N m on gear A of the mesh; contact {how} "
+            f"{fmt(d['contact_seconds'], 'time')} s); mean wind-up of the mesh "
+            f"{fmt(d['wind_up_arcsec'], 'angle')} arcsec (output behind, not in the "
             f"trace); tooth-mesh order {d['mesh_order']}"]  # fmt: skip
 
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -34,6 +35,7 @@ from ..design import Design, Thresholds
 from ..design_files import validate_design
 from ..errors import DesignError, DivergenceError, ReducerlabError, names_source
 from ..model import Model
+from ..numformat import fmt
 from ..units import RPM
 from .body_reasons import body_reasons
 from .components import ComponentModes
@@ -179,7 +181,11 @@ class Verdict:
         :func:`.resonance.format_check`), then one line per reason and the verdict."""
         t = self.thresholds
         lines = [format_check(self.resonance), ""] if resonance and self.resonance else []
-        at = f" (operating speed {self.speed_rpm:.5g} rpm)" if math.isfinite(self.speed_rpm) else ""
+        at = (
+            f" (operating speed {fmt(self.speed_rpm, 'speed')} rpm)"
+            if math.isfinite(self.speed_rpm)
+            else ""
+        )
         lines.append(f"Verdict: {self.title}{at}")
         lines.append(
             f"  thresholds: margin {100 * t.margin:g} %, mesh strain >= "
@@ -279,15 +285,16 @@ def _response_reasons(res: ResponseResult, t: Thresholds) -> list[dict[str, Any]
     motion = motion_class(res)
     dlf = float(a["dynamic_load_factor"])
     if not math.isfinite(dlf):
+        force = fmt(a["mean_mesh_force"], "force")
         out.append(reason("dynamic-load-factor", "note",
-                           f"{head}: no mean load (mean mesh force {a['mean_mesh_force']:.3g} N): "
+                           f"{head}: no mean load (mean mesh force {force} N): "
                            "the dynamic load factor is undefined and the tooth load is not "
                            "judged; give the drive a load torque", None,
                            t.dynamic_load_factor, **more))  # fmt: skip
     else:
         bad = dlf > t.dynamic_load_factor
         out.append(reason("dynamic-load-factor", "risk" if bad else "ok",
-                           f"{head}: dynamic load factor max|F|/mean F {dlf:.3g} "
+                           f"{head}: dynamic load factor max|F|/mean F {fmt(dlf)} "
                            f"{'above' if bad else 'within'} the limit {t.dynamic_load_factor:g}",
                            dlf, t.dynamic_load_factor, **more))  # fmt: skip
     sep = float(a["separation_fraction"])
@@ -299,7 +306,7 @@ def _response_reasons(res: ResponseResult, t: Thresholds) -> list[dict[str, Any]
     back = float(a["back_impacts_per_period"])
     if back > 0:
         out.append(reason("back-impacts", "risk" if t.back_impacts_risk else "note",
-                           f"{head}: back-side impacts, {back:.3g} per forcing period (back "
+                           f"{head}: back-side impacts, {fmt(back)} per forcing period (back "
                            f"flanks in contact {percent(float(a['back_contact_fraction']))} % "
                            "of the time: double-sided impact)", back, 0.0, **more))  # fmt: skip
     else:
@@ -335,8 +342,9 @@ def _resonance_reasons(res: ResonanceResult, t: Thresholds) -> list[dict[str, An
     """The reasons of a resonance check: one per (mode, excitation) pair (its crossing,
     else its closest approach), body-mode findings ranked by margin, unstable modes."""
     out = []
+    hz, rpm = partial(fmt, kind="frequency"), partial(fmt, kind="speed")
     lo, hi = res["speed_range_rpm"]
-    rng = f"{lo:.6g} rpm" if lo == hi else f"{lo:.6g}-{hi:.6g} rpm"
+    rng = f"{rpm(lo)} rpm" if lo == hi else f"{rpm(lo)}-{rpm(hi)} rpm"
     seen = set()
     keys = ("mode", "excitation", "speed_rpm", "whirl", "mesh_share", "mesh_lines",
             "forward_share", "excited", "distance")  # fmt: skip
@@ -348,10 +356,10 @@ def _resonance_reasons(res: ResonanceResult, t: Thresholds) -> list[dict[str, An
             seen.add(pair)
             f = r.get("frequency_hz", r.get("natural_hz"))
             whirl = f", {r['whirl']} whirl" if r.get("whirl") else ""
-            where = (f"crosses {r['excitation']} at {r['speed_rpm']:.5g} rpm" if kind == "crossing"
-                     else f"within {100 * r['distance']:.2f} % of {r['excitation']} "
-                     f"({r['excitation_hz']:.5g} Hz) at {r['speed_rpm']:.5g} rpm")  # fmt: skip
-            head = f"mode {r['mode']} ({f:.5g} Hz{whirl}) {where}"
+            where = (f"crosses {r['excitation']} at {rpm(r['speed_rpm'])} rpm" if kind == "crossing"
+                     else f"within {percent(r['distance'])} % of {r['excitation']} "
+                     f"({hz(r['excitation_hz'])} Hz) at {rpm(r['speed_rpm'])} rpm")  # fmt: skip
+            head = f"mode {r['mode']} ({hz(f)} Hz{whirl}) {where}"
             if "mesh_share" in r:
                 value, limit = r["mesh_share"], t.mesh_strain_share
                 why = (f"mesh strain {percent(value)} % in {_lines(r['mesh_lines'])}"
@@ -381,8 +389,9 @@ def _resonance_reasons(res: ResonanceResult, t: Thresholds) -> list[dict[str, An
         if u["growth_rate"] > w["growth_rate"]:
             w.update(growth_rate=u["growth_rate"], frequency_hz=u["frequency_hz"])
     for m, w in sorted(worst.items()):
-        text = (f"mode {m} ({w['frequency_hz']:.5g} Hz) grows at {w['n']} speed(s) in "
-                f"{w['lo']:.5g}-{w['hi']:.5g} rpm, up to {w['growth_rate']:.4g} 1/s")  # fmt: skip
+        text = (f"mode {m} ({hz(w['frequency_hz'])} Hz) grows at {w['n']} speed(s) in "
+                f"{rpm(w['lo'])}-{rpm(w['hi'])} rpm, up to {fmt(w['growth_rate'])} "
+                "1/s")  # fmt: skip
         out.append(reason("unstable", "risk", text, w["growth_rate"], 0.0, mode=m))
     if not worst:
         out.append(reason("unstable", "ok", f"every mode is stable over {rng}", 0.0, 0.0))

@@ -10,6 +10,7 @@ import typer
 
 from ..errors import ReducerlabError
 from ..io import atomic_path, prepare_output_file
+from ..numformat import fmt
 from .options import ProfileChoice, SetOption, quantity_option, signed_quantity
 from .output import (
     add_result,
@@ -284,7 +285,7 @@ def _design_torque(design, pair: int) -> float:
     if isinstance(design, GearPairDesign) or getattr(design, "type", None) == "khv":
         torque = design_load(design, pair)
         gear = "pinion" if isinstance(design, GearPairDesign) else "planet"
-        typer.echo(f"torque on the {gear} from the design's load: {torque:.6g} N m")
+        typer.echo(f"torque on the {gear} from the design's load: {fmt(torque, 'torque')} N m")
         return torque
 
     flow = torque_flow(design)
@@ -298,7 +299,8 @@ def _design_torque(design, pair: int) -> float:
         )
     typer.echo(
         f"torque on {mesh.external} (pair {pair}) from the torque flow at "
-        f"{flow.output_torque:.6g} N m output torque: {mesh.external_torque:.6g} N m"
+        f"{fmt(flow.output_torque, 'torque')} N m output torque: "
+        f"{fmt(mesh.external_torque, 'torque')} N m"
     )
     return mesh.external_torque
 

@@ -12,6 +12,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ReducerlabError
+from ..numformat import Column, Table, fmt
 from .options import SetOption, quantity_option
 from .output import (
     add_result,
@@ -51,11 +52,13 @@ def khv_closed_graph(
         fig = plot_closed_graph(pair, gears.shift_line if gears.x2 is None else None)
         with files:
             savefig(fig, files.path("closed-graph.png"), {"design": json.dumps(data, default=str)})
+    t = Table([Column("", kind="text"), Column("condition", kind="text"), Column("margin"),
+               Column("rule", kind="text")])  # fmt: skip
     for c in pair.conditions():
-        flag = "ok  " if c.ok else "FAIL"
-        typer.echo(f"{flag} {c.name:<28} margin {c.margin:+.4g}   ({c.rule})")
-    typer.echo(f"contact ratio {pair.contact_ratio:.4f}, working pressure angle "
-               f"{math.degrees(pair.working_pressure_angle):.3f} deg")  # fmt: skip
+        t.add("ok" if c.ok else "FAIL", c.name, c.margin, c.rule)
+    typer.echo(t.text())
+    typer.echo(f"contact ratio {fmt(pair.contact_ratio)}, working pressure angle "
+               f"{fmt(math.degrees(pair.working_pressure_angle), 'angle')} deg")  # fmt: skip
 
 
 @khv_app.command("stiffness")
@@ -94,7 +97,8 @@ def khv_stiffness(
             law = dv.stiffness_law()
             laws[f"x1 = {v:g}: eps = {dv.gears.pair().contact_ratio:.3f}, "
                  f"mean {law.mean / 1e8:.3f}e8 N/m"] = law  # fmt: skip
-            typer.echo(f"x1 = {v:g}: k_C = {dv.pitch_stiffness():.4g} N/m, mean {law.mean:.4g} N/m")
+            typer.echo(f"x1 = {v:g}: k_C = {fmt(dv.pitch_stiffness(), 'stiffness')} N/m, mean "
+                       f"{fmt(law.mean, 'stiffness')} N/m")  # fmt: skip
         with files:
             savefig(plot_mesh_stiffness(laws), files.path("mesh-stiffness.png"), d.provenance)
 
@@ -152,14 +156,17 @@ def khv_clearances(
                 files.path("clearances.json").write_text(
                     json.dumps({**data, **stamped}, indent=2) + "\n"
                 )
-    typer.echo("pair  min (um)   max (um)   (drive flanks, r_b2 psi over one mesh cycle)")
+    t = Table([Column("pair", kind="text"), Column("min", "um", "length"),
+               Column("max", "um", "length"), Column("note", kind="text")],
+              title="drive-flank clearance, r_b2 psi over one mesh cycle")  # fmt: skip
     for j, k in enumerate(ks):
         col = c[:, j][np.isfinite(c[:, j])]
         if col.size:
-            part = "" if col.size == len(rolls) else f"   ({col.size} of {len(rolls)} positions)"
-            typer.echo(f"{k:+4d}  {col.min() * 1e6:9.2f}  {col.max() * 1e6:9.2f}{part}")
+            part = "" if col.size == len(rolls) else f"{col.size} of {len(rolls)} positions"
+            t.add(f"{k:+d}", col.min() * 1e6, col.max() * 1e6, part)
         else:
-            typer.echo(f"{k:+4d}  no drive-flank contact possible")
+            t.add(f"{k:+d}", None, None, "no drive-flank contact possible")
+    typer.echo(t.text())
 
 
 def _torque_list(text: str) -> list[float]:

@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from rich.table import Table
 
 from ..io import OutputSet
 from .options import (
@@ -48,15 +47,9 @@ def add_modal(result: Any, files: OutputSet, layout: Any = None) -> None:
 
 def print_modal(result: Any) -> None:
     """The table of modes (number, frequency, classification) on stdout."""
-    table = Table(title=result.data.attrs.get("title", "modal analysis"))
-    table.add_column("mode", justify="right")
-    table.add_column("frequency (Hz)", justify="right")
-    table.add_column("classification")
-    for m, f, c in zip(
-        result.data["mode"].values, result.frequencies, result.classifications, strict=True
-    ):
-        table.add_row(str(int(m)), f"{f:.6g}", c)
-    out.print(table)
+    table = result.table_data()
+    table.title = result.data.attrs.get("title", "modal analysis")
+    out.print(table.rich())
 
 
 def modal(

@@ -6,12 +6,13 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
 from ..analysis.policies import Continuation
 from ..dynamics.limits import ACCURACY, MAX_STEPS, MIN_STEPS
+from ..numformat import Value, fmt, quantity_table
 from .options import (
     MAX_PERIODS,
     MAX_VALUES,
@@ -280,28 +281,38 @@ def response(
                 period=T, accuracy=accuracy,
             )  # fmt: skip
         save_with_figure(res, files, "response")
-    attrs = res.data.attrs
-    dlf = attrs["dynamic_load_factor"]
-    typer.echo(
-        f"dynamic load factor {dlf:.4f}, mean mesh force {attrs['mean_mesh_force']:.5g} N"
-        if math.isfinite(dlf)
-        else "no mean mesh force (no load on the model): the dynamic load factor is undefined"
-    )
-    typer.echo(f"{attrs['steps_per_period']} RK4 steps per period")
-    typer.echo(
-        f"mesh mode {attrs['mesh_mode_hz']:.5g} Hz (forcing / mesh mode = "
-        f"{attrs['frequency_ratio']:.4g}); {attrs['impact_class']}: teeth apart "
-        f"{100 * attrs['separation_fraction']:.1f} % of the time, back-side contact "
-        f"{100 * attrs['back_contact_fraction']:.1f} %, "
-        f"{attrs['contact_losses_per_period']:.3g} contact losses and "
-        f"{attrs['back_impacts_per_period']:.3g} back-side impacts per period"
-    )
+    typer.echo(response_summary(res))
+
+
+def response_summary(res: Any) -> str:
+    """The response's numbers as a table (quantity, value, unit), one rule for every
+    number (:mod:`reducerlab.numformat`), then its spectral peaks or why it has none."""
+    a = res.data.attrs
+    dlf = a["dynamic_load_factor"]
+    rows: list[tuple[str, Any, str]] = []
+    if math.isfinite(dlf):
+        rows += [("dynamic load factor max|F| / mean F", dlf, ""),
+                 ("mean mesh force", a["mean_mesh_force"], "N")]  # fmt: skip
+    rows += [
+        ("RK4 steps per period", Value(a["steps_per_period"], "count"), ""),
+        ("mesh mode", a["mesh_mode_hz"], "Hz"),
+        ("forcing / mesh mode", a["frequency_ratio"], ""),
+        ("teeth apart (share of the time)", 100 * a["separation_fraction"], "%"),
+        ("back-side contact (share of the time)", 100 * a["back_contact_fraction"], "%"),
+        ("contact losses per period", a["contact_losses_per_period"], ""),
+        ("back-side impacts per period", a["back_impacts_per_period"], ""),
+    ]
+    lines = [quantity_table(rows, title=f"response: {a['impact_class']}").text()]
+    if not math.isfinite(dlf):
+        lines.append("no mean mesh force (no load on the model): the dynamic load factor is "
+                     "undefined")  # fmt: skip
     peaks = res.peaks(5)
-    typer.echo(
-        "spectral peaks at " + ", ".join(f"{m:.3g}x" for m, _ in peaks) + " the forcing frequency"
+    lines.append(
+        "spectral peaks at " + ", ".join(f"{fmt(m)}x" for m, _ in peaks) + " the forcing frequency"
         if peaks
         else "no spectral peaks: the mesh deflection is constant (nothing excites the model)"
     )
+    return "\n".join(lines)
 
 
 def register(app: typer.Typer) -> None:

@@ -15,6 +15,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ..numformat import fmt
+
 __all__ = ["TOLERANCE", "body_consistency", "stiffness_consistency"]
 
 #: Default relative tolerance between a lumped gear's mass or moment of inertia and its
@@ -71,7 +73,8 @@ def body_consistency(
         bad = [r for r in diffs if abs(r[5]) > tolerance]
         shown = bad or [worst]
         text = f"gear {g}: lumped " + ", ".join(
-            f"{q} {lum * s:.4g} {u} against the FE body's {fe * s:.4g} {u} ({100 * d:+.1f} %)"
+            f"{q} {fmt(lum * s)} {u} against the FE body's {fmt(fe * s)} {u} "
+            f"({fmt(100 * d, 'percent')} %)"
             for q, lum, fe, s, u, d in shown
         )
         if bad:
@@ -106,12 +109,14 @@ def stiffness_consistency(design: Any, contacts: Mapping[int, Any]) -> list[dict
         if k_d:
             d = k_c / k_d - 1.0
             text = (
-                f"mesh {pair}: loaded contact at {T:.4g} N m gives k_m = {k_c:.4g} N/m, "
-                f"{what} {k_d:.4g} N/m ({100 * d:+.1f} %); the run uses the contact's k(t)"
+                f"mesh {pair}: loaded contact at {fmt(T, 'torque')} N m gives k_m = "
+                f"{fmt(k_c, 'stiffness')} N/m, {what} {fmt(k_d, 'stiffness')} N/m "
+                f"({fmt(100 * d, 'percent')} %); the run uses the contact's k(t)"
             )
             value = abs(d)
         else:
-            text = f"mesh {pair}: k(t) from the loaded contact at {T:.4g} N m, k_m = {k_c:.4g} N/m"
+            text = (f"mesh {pair}: k(t) from the loaded contact at {fmt(T, 'torque')} N m, "
+                    f"k_m = {fmt(k_c, 'stiffness')} N/m")  # fmt: skip
             value = 0.0
         out.append(_reason("mesh-stiffness", "note", text, value, None))
     return out

@@ -96,22 +96,22 @@ class Datasheet:
     def table(self) -> str:
         """The datasheet as plain text: the torsion test's table, then accuracy and
         efficiency lines (or why they are missing)."""
-        lines = [self.torsion.table()]
+        rows: list[tuple[str, float, str]] = []
+        notes = []
         if self.accuracy is not None:
-            lines += [f"{a:<42}{b:>12.5g}  {c}" for a, b, c in accuracy_rows(self.accuracy)]
+            rows += accuracy_rows(self.accuracy)
         else:
-            lines.append(f"transmission error: {self.notes.get('accuracy', 'not computed')}")
+            notes.append(f"transmission error: {self.notes.get('accuracy', 'not computed')}")
         st = self.starting()
         if st is None:
-            lines.append(f"efficiency: {self.notes.get('efficiency', 'not computed')}")
+            notes.append(f"efficiency: {self.notes.get('efficiency', 'not computed')}")
         else:
-            rows = (
+            rows += [
                 ("efficiency at rated torque (meshes)", 100 * st["efficiency"], "%"),
                 ("starting torque at rated output (input)", st["starting_torque"], "N m"),
                 ("back-driving torque at rated (output)", st["backdriving_torque"], "N m"),
-            )
-            lines += [f"{a:<42}{b:>12.5g}  {c}" for a, b, c in rows]  # fmt: skip
-        return "\n".join(lines)
+            ]
+        return "\n".join([self.torsion.table_data(rows).text(), *notes])
 
 
 def _stored(store: Store | None, stage: str, inputs: dict[str, Any]) -> tuple[str, Any]:

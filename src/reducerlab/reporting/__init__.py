@@ -29,6 +29,7 @@ from urllib.parse import quote
 from .. import __version__
 from ..design import Design
 from ..errors import ReducerlabError
+from ..numformat import Column
 from .blocks import Section, table
 from .context import Context, repo_assumptions
 from .sections import SECTIONS
@@ -361,7 +362,7 @@ def _summary(design: Design, sections: list[Section]) -> Section:
     failed = [x.title for x in sections if x.error]
     rows.append(("sections", f"{len(sections)} built" + (f", FAILED: {', '.join(failed)}"
                                                            if failed else "")))  # fmt: skip
-    s.blocks.append(table(["", "value"], rows, digits=6, name="summary"))
+    s.blocks.append(table(["", "value"], rows, name="summary"))
     s.values.update({k: v for k, v in rows})
     return s
 
@@ -398,7 +399,8 @@ def _provenance(
         for x in sections
     ]
     times.append(("total (analyses; rendering not included)", total, ""))
-    s.blocks.append(table(["section", "run time (s)", "status"], times, digits=3, name="times"))
+    s.blocks.append(table([Column("section", kind="text"), Column("run time", "s", "time"),
+                           Column("status", kind="text")], times, name="times"))  # fmt: skip
     s.values.update(hash=design.hash, created=created, seconds={x.id: x.seconds for x in sections})
     return s
 

@@ -1,5 +1,6 @@
-"""HTML building blocks of the design report: escaped tables with the full-precision
-value of every number (``data-value``), matplotlib figures as embedded PNG, plotly
+"""HTML building blocks of the design report: escaped tables (numbers by the one rule of
+:mod:`reducerlab.numformat`) with the full-precision value of every number
+(``data-value``), matplotlib figures as embedded PNG, plotly
 figures as ``<div>`` drawn by the plotly.js embedded once in the page."""
 
 from __future__ import annotations
@@ -7,17 +8,30 @@ from __future__ import annotations
 import base64
 import html
 import io
-import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..numformat import Column, Table, Value, is_number, unit_kind
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["Block", "Cell", "details", "figure", "interactive", "note", "pre", "table", "verdict"]
+__all__ = [
+    "Block",
+    "Cell",
+    "details",
+    "figure",
+    "header_kind",
+    "interactive",
+    "note",
+    "pre",
+    "table",
+    "verdict",
+]
 
 
 @dataclass(frozen=True)
@@ -36,38 +50,63 @@ class Cell:
     value: float | None = None
 
 
-def _cell(x: Any, digits: int) -> Cell:
+def header_kind(header: str) -> str:
+    """The kind of the numbers under a plain header: by the unit it ends with,
+    ``"speed (rpm)"`` → ``speed``, ``"margin (%)"`` → ``percent``
+    (:func:`~reducerlab.numformat.unit_kind`); ``value`` without one."""
+    m = re.search(r"\(([^()]*)\)\s*$", header)
+    return unit_kind(m.group(1)) if m else "value"
+
+
+def _cell(x: Any, column: Column | None, kind: str = "value") -> Cell:
+    """A cell of a value in ``column`` (:func:`~reducerlab.numformat.fmt` by the
+    column's kind); in an untyped column (a plain header) an integer is a count and any
+    other number of ``kind`` (:func:`header_kind`)."""
     if isinstance(x, Cell):
         return x
-    if isinstance(x, bool | np.bool_) or x is None:
-        return Cell("" if x is None else str(bool(x)))
-    if isinstance(x, int | float | np.integer | np.floating):
-        v = float(x)
-        if math.isnan(v):
-            return Cell("—", v)
-        return Cell(f"{v:.{digits}g}", v)
-    return Cell(str(x))
+    if isinstance(x, Value):
+        return Cell(str(x), None if x.number is None else float(x.number))
+    if column is None:
+        kind = "count" if isinstance(x, int | np.integer) else kind
+        column = Column("", kind=kind if is_number(x) else "text")
+    text = column.cell(x)
+    if column.numeric and is_number(x):
+        return Cell(text, float(x))
+    return Cell(text)
 
 
 def table(
-    headers: Sequence[str],
-    rows: Sequence[Sequence[Any]],
+    headers: Sequence[str | Column] | Table,
+    rows: Sequence[Sequence[Any]] = (),
     *,
-    digits: int = 6,
     caption: str = "",
     name: str = "",
 ) -> Block:
-    """A table; numbers show ``digits`` significant digits and keep their full value in
-    ``data-value`` (what the tests compare with the API). ``name`` sets ``data-table``."""
+    """A table; numbers are shown by the one rule of :mod:`reducerlab.numformat` (the
+    kind of a :class:`~reducerlab.numformat.Column`, units in its header) and keep their
+    full value in ``data-value`` (what the tests compare with the API). ``headers`` may
+    be a whole :class:`~reducerlab.numformat.Table` (then without ``rows``): the same
+    cells as its plain text and the command line's table. ``name`` sets ``data-table``."""
+    if isinstance(headers, Table):
+        if not caption and headers.title:
+            caption = headers.title
+        headers, rows = headers.columns, headers.rows
+    columns = [h if isinstance(h, Column) else None for h in headers]
+    kinds = [header_kind(h) if isinstance(h, str) else "value" for h in headers]
     out = [f'<table class="data" data-table="{html.escape(name)}">']
     if caption:
         out.append(f"<caption>{html.escape(caption)}</caption>")
-    out.append("<thead><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in headers))
+    heads = [h.header if isinstance(h, Column) else h for h in headers]
+    out.append("<thead><tr>")
+    for h, c in zip(heads, columns, strict=True):
+        cls = ' class="num"' if c is not None and c.numeric else ""
+        out.append(f"<th{cls}>{html.escape(h)}</th>")
     out.append("</tr></thead><tbody>")
     for row in rows:
         cells = []
-        for x in row:
-            c = _cell(x, digits)
+        for i, x in enumerate(row):
+            inside = i < len(columns)
+            c = _cell(x, columns[i] if inside else None, kinds[i] if inside else "value")
             if c.value is None:
                 cells.append(f"<td>{html.escape(c.text)}</td>")
             else:

@@ -19,6 +19,7 @@ import math
 from typing import Any
 
 from ...errors import ReducerlabError
+from ...numformat import Column
 from ..blocks import Section, figure, note, table
 from ..context import Context
 
@@ -104,9 +105,15 @@ def capacity_section(ctx: Context) -> Section | None:
                 rows.append((name, gear, "judged", h, f, p["standard"]))
     s.blocks.append(
         table(
-            ["pair", "gear", "method", "S_H", "S_F", "standard"],
+            [
+                Column("pair", kind="text"),
+                Column("gear", kind="text"),
+                Column("method", kind="text"),
+                Column("S_H", kind="safety"),
+                Column("S_F", kind="safety"),
+                Column("standard", kind="text"),
+            ],
             rows,
-            digits=4,
             name="safety",
             caption="pitting and tooth-root safety factors",
         )
@@ -118,9 +125,14 @@ def capacity_section(ctx: Context) -> Section | None:
         s.values["beside"] = beside
         s.blocks.append(
             table(
-                ["pair", "quantity", "ISO", "LTCA", "what"],
+                [
+                    Column("pair", kind="text"),
+                    Column("quantity", kind="text"),
+                    Column("ISO", kind="stress"),
+                    Column("LTCA", kind="stress"),
+                    Column("what", kind="text"),
+                ],
                 beside,
-                digits=4,
                 name="iso-vs-ltca",
                 caption="the standard's nominal stresses (with its load factors) "
                 "beside the loaded contact's static stresses",

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from ...numformat import quantity_table
 from ..blocks import Section, figure, note, table
 from ..context import Context
 
@@ -146,7 +147,7 @@ def datasheet_section(ctx: Context) -> Section | None:
     )  # fmt: skip
     s.blocks.append(
         table(
-            ["quantity", "value", "unit"], rows, digits=5, name="datasheet",
+            quantity_table(rows), name="datasheet",
             caption=f"Torsion test with the input held ({a['ends']}), output torque "
             f"0 -> +{rated:.4g} -> -{rated:.4g} -> 0 N m, {a['points']} states, "
             f"{a['position']}; {source}",

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ...numformat import Column, fmt, quantity_table
 from ..blocks import Section, figure, interactive, note, table
 from ..context import Context
 
@@ -105,12 +106,15 @@ def _sharing_blocks(s: Section, given: list[Any]) -> None:
         a = r.data.attrs
         s.blocks.append(
             table(
-                ["torque on the planet (N m)", "tooth pairs in contact", "mean k (N/m)",
-                 "mean tangent k (N/m)", "TE peak-to-peak (um)"],
-                rows, digits=5, name="khv-sharing",
+                [Column("torque on the planet", "N m", "torque"),
+                 Column("tooth pairs in contact", kind="text"),
+                 Column("mean k", "N/m", "stiffness"), Column("mean tangent k", "N/m", "stiffness"),
+                 Column("TE peak-to-peak", "um", "length")],
+                rows, name="khv-sharing",
                 caption=f"KHV internal pair: load sharing against torque over one mesh "
                 f"cycle ({r.data.sizes['position']} positions), tooth pairs examined "
-                f"{a.get('pairs_examined', '')}, design load {float(a['design_torque']):.4g} N m",
+                f"{a.get('pairs_examined', '')}, design load "
+                f"{fmt(float(a['design_torque']), 'torque')} N m",
             )
         )  # fmt: skip
         s.blocks.append(
@@ -137,19 +141,17 @@ def contact_section(ctx: Context) -> Section | None:
         summ = r.summary()
         s.values.setdefault("summaries", []).append(summ)
         rows = [
-            ("mean mesh stiffness (N/m)", summ["k_mean"]),
-            ("transmission error peak-to-peak (um)", summ["te_peak_to_peak"] * 1e6),
-            ("peak contact pressure (MPa)", summ["peak_pressure_max"] * 1e-6),
-            ("interior contact pressure (MPa)", summ["interior_pressure_max"] * 1e-6),
-            ("von Mises stress, max (MPa)", summ["von_mises_max"] * 1e-6),
-            ("mean contact area (mm^2)", summ["contact_area_mean"] * 1e6),
-            ("mean normal force (N)", summ["normal_force_mean"]),
+            ("mean mesh stiffness", summ["k_mean"], "N/m"),
+            ("transmission error peak-to-peak", summ["te_peak_to_peak"] * 1e6, "um"),
+            ("peak contact pressure", summ["peak_pressure_max"] * 1e-6, "MPa"),
+            ("interior contact pressure", summ["interior_pressure_max"] * 1e-6, "MPa"),
+            ("von Mises stress, max", summ["von_mises_max"] * 1e-6, "MPa"),
+            ("mean contact area", summ["contact_area_mean"] * 1e6, "mm^2"),
+            ("mean normal force", summ["normal_force_mean"], "N"),
         ]
         s.blocks.append(
             table(
-                ["quantity", "value"],
-                rows,
-                digits=5,
+                quantity_table(rows),
                 name="contact",
                 caption=str(r.attrs.get("title", "")),
             )
@@ -208,9 +210,10 @@ def ball_track_section(ctx: Context) -> Section | None:
     })  # fmt: skip
     s.blocks.append(
         table(
-            ["torque (N m)", "loaded balls", "torsional stiffness (kN m/rad)", "K_mx (N/m)",
-             "largest ball force (N)"],
-            rows, digits=4, name="ball-track",
+            [Column("torque", "N m", "torque"), Column("loaded balls", kind="text"),
+             Column("torsional stiffness", "kN m/rad", "stiffness"),
+             Column("K_mx", "N/m", "stiffness"), Column("largest ball force", "N", "force")],
+            rows, name="ball-track",
             caption=f"{res.attrs['balls']} balls; mean over 4 positions of the ball set; "
             f"{res.attrs['undercut_lines']} of {2 * res.attrs['balls']} contact lines undercut",
         )

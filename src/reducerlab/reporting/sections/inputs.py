@@ -11,6 +11,7 @@ from typing import Any
 from ...design import NOT_ANALYSED, Design, field_kind
 from ...design_files import apply_overrides, lookup
 from ...kinematics import TRAINS
+from ...numformat import Column, Value, quantity_table
 from ...units import QUANTITIES, RPM
 from ..blocks import Block, Section, details, figure, note, table
 from ..context import Context
@@ -74,7 +75,9 @@ def design_section(ctx: Context) -> Section:
     if ctx.overrides:
         s.blocks.append(note("Set on the command line (--set), shown as written below: "
                              + "; ".join(ctx.overrides), "warning"))  # fmt: skip
-    inputs = table(["field", "as written", "SI value", "SI unit"], rows, digits=8, name="inputs")
+    inputs = table([Column("field", kind="text"), Column("as written", kind="text"),
+                    Column("SI value", kind="exact"), Column("SI unit", kind="text")],
+                   rows, name="inputs")  # fmt: skip
     s.blocks.append(details(f"all {len(rows)} fields, as written and in SI", inputs.html, "table"))
     if ctx.text:
         s.blocks.append(details("the design file", f"<pre>{html.escape(ctx.text)}</pre>", "pre"))
@@ -108,24 +111,26 @@ def kinematics_section(ctx: Context) -> Section | None:
     )
     s.blocks.append(
         table(
-            ["quantity", "value"],
-            [
-                ("transmission ratio i = omega_in / omega_out", ratio),
-                ("input speed (rpm)", float(ds.attrs["input_speed_rad_s"]) * RPM),
-            ],
-            digits=8,
+            quantity_table(
+                [
+                    ("transmission ratio i = omega_in / omega_out", Value(ratio, "ratio"), ""),
+                    ("input speed", float(ds.attrs["input_speed_rad_s"]) * RPM, "rpm"),
+                ]
+            ),
             name="ratio",
         )
     )
     members = [
         (str(m), float(v)) for m, v in zip(ds["member"].values, ds["speed_rpm"].values, strict=True)
     ]
-    s.blocks.append(table(["member", "speed (rpm)"], members, digits=8, name="members"))
+    s.blocks.append(table([Column("member", kind="text"), Column("speed", "rpm", "speed")],
+                          members, name="members"))  # fmt: skip
     meshes = [
         (str(m), float(v))
         for m, v in zip(ds["mesh"].values, ds["mesh_frequency"].values, strict=True)
     ]
-    s.blocks.append(table(["mesh", "mesh frequency (Hz)"], meshes, digits=8, name="meshes"))
+    heads = [Column("mesh", kind="text"), Column("mesh frequency", "Hz", "frequency")]
+    s.blocks.append(table(heads, meshes, name="meshes"))
     if "omega" in ds:
         s.blocks.append(figure(res.plot(), "angular velocity over one input turn"))
     return s

@@ -10,6 +10,7 @@ import numpy as np
 
 from ...analysis.resonance import format_components
 from ...drives import drive_layout
+from ...numformat import Column
 from ...plot.campbell import plotly_campbell
 from ...plot.campbell_style import excitation_label, modes_text, unique_crossings
 from ...plot.drive_shape import plotly_drive_shapes
@@ -35,13 +36,7 @@ def modal_section(ctx: Context) -> Section | None:
     s = Section("modal", "Natural frequencies and mode shapes")
     freq = [float(f) for f in ds["frequency"].values]
     s.values["frequencies_hz"] = freq
-    rows = [
-        (int(m), f, str(c))
-        for m, f, c in zip(ds["mode"].values, freq, ds["classification"].values, strict=True)
-    ]
-    s.blocks.append(
-        table(["mode", "frequency (Hz)", "classification"], rows, digits=7, name="modes")
-    )
+    s.blocks.append(table(res.table_data(), name="modes"))
     if ds.attrs.get("skew_velocity_terms"):
         s.blocks.append(
             note(
@@ -109,9 +104,13 @@ def sensitivity_section(ctx: Context) -> Section | None:
     )
     s.blocks.append(
         table(
-            ["mode", "frequency (Hz)", "most sensitive parameter", "(p/f) df/dp"],
+            [
+                Column("mode", kind="count"),
+                Column("frequency", "Hz", "frequency"),
+                Column("most sensitive parameter", kind="text"),
+                Column("(p/f) df/dp", kind="share"),
+            ],
             rows,
-            digits=4,
             name="sensitivity",
         )
     )
@@ -345,7 +344,14 @@ def bodies_section(ctx: Context) -> Section | None:
         s.values.setdefault("frequencies_hz", []).append([row[1] for row in rows])
         s.blocks.append(
             table(
-                ["mode", "frequency (Hz)", "type"], rows, digits=6, caption=label, name="body-modes"
+                [
+                    Column("mode", kind="count"),
+                    Column("frequency", "Hz", "frequency"),
+                    Column("type", kind="text"),
+                ],
+                rows,
+                caption=label,
+                name="body-modes",
             )
         )
         if r.mesh is not None and r.shapes is not None:  # computed here, or by a run

@@ -89,7 +89,7 @@ def _one_response(s: Section, res: Any, several: bool) -> None:
         ("spectral peaks (x forcing)", ", ".join(f"{m:.3g}x" for m, _ in peaks) or "—"),
     ]
     name = f"response-{line}" if several else "response"
-    s.blocks.append(table([f"{head}quantity", "value"], rows, digits=6, name=name))
+    s.blocks.append(table([f"{head}quantity", "value"], rows, name=name))
     sp = res.spectrum()
     small = orbit_note(ds)  # a small vibration about the static deflection: how small
     s.blocks.append(
