@@ -31,6 +31,7 @@ from reducerlab.errors import ReducerlabError
 from reducerlab.examples import example_dir
 from reducerlab.model import Constant, Fourier
 from reducerlab.model.laws import PiecewisePolynomial
+from reducerlab.numformat import fmt
 from reducerlab.pipeline import ContactSettings, LayoutSettings, SweepSettings, run, run_plan
 
 KHV = example_dir() / "khv.toml"
@@ -174,7 +175,8 @@ def test_run_computes_the_contact_and_models_it(ran):
     saved = json.loads(res.responses[0].attrs["design"])["mesh"]["stiffness"]
     assert saved == pytest.approx(c.mean_stiffness)
     (note,) = [r for r in res.verdict.reasons if r["rule"] == "mesh-stiffness"]
-    assert "ISO 6336 law" in note["text"] and f"{c.mean_stiffness:.4g}" in note["text"]
+    # the stiffness printed by the one number rule (numformat: 4 significant digits)
+    assert "ISO 6336 law" in note["text"] and fmt(c.mean_stiffness, "stiffness") in note["text"]
     assert "contact" in [s.id for s in res.built.sections]
     assert (out / "contact-pair1.nc").is_file()
 
