@@ -76,3 +76,20 @@ def test_report_figures_are_palette_pngs_that_look_the_same():
     # levels of 255: 0.38 on average; 11 at the 99th percentile, the antialiased edges
     # of lines and text, where the palette has no exact blend (invisible at 110 dpi)
     assert diff.mean() < 1.0 and np.percentile(diff, 99) <= 16
+
+
+def test_a_cyclic_pair_of_body_modes_is_rendered_once_and_named_a_pair():
+    """Gear bodies are cyclically symmetric: their n >= 1 modes come in pairs at one
+    frequency, the second the first turned by a quarter wave. The report's 3-D render
+    draws each pair once, labelled as a pair (its table lists both), so a run report
+    with four gear bodies stays under the bound."""
+    from reducerlab.reporting.sections.modes import distinct_modes
+
+    f = [4800.83166388, 4800.83166388, 8521.5, 8521.5 * (1 + 1e-9), 9598.2, 11656.6]
+    labels = ["bending (n = 2)", "bending (n = 2)", "b3", "b3", "umbrella (n = 0)", "b4"]
+    keep, shown = distinct_modes(f, labels)
+    assert keep == [0, 2, 4, 5]
+    assert shown == ["bending (n = 2) (pair)", "b3 (pair)", "umbrella (n = 0)", "b4"]
+    # two modes 1 Hz apart at 4.8 kHz are two modes, not a pair
+    keep, shown = distinct_modes([4800.0, 4801.0], ["a", "b"])
+    assert keep == [0, 1] and shown == ["a", "b"]

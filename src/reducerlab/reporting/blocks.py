@@ -145,6 +145,12 @@ def figure(fig: Figure, caption: str = "", *, dpi: int = 110) -> Block:
     )
 
 
+#: Resolution (dpi) of an interactive figure's still, shown only where scripts do not
+#: run: a thumbnail that keeps a report of a drive with several body renders under
+#: 1.5 MB (issue 32).
+FALLBACK_DPI = 60
+
+
 def interactive(fig: Any, fallback: Figure | None, caption: str = "", *, div_id: str) -> Block:
     """A plotly figure (its script needs the page's embedded plotly.js) with the static
     ``fallback`` shown where scripts do not run."""
@@ -156,7 +162,8 @@ def interactive(fig: Any, fallback: Figure | None, caption: str = "", *, div_id:
     )
     still = ""
     if fallback is not None:
-        still = f'<noscript><img alt="static version" src="{png_data(fallback)}"></noscript>'
+        src = png_data(fallback, FALLBACK_DPI)
+        still = f'<noscript><img alt="static version" src="{src}"></noscript>'
     cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
     return Block(f'<figure class="interactive">{body}{still}{cap}</figure>', "interactive")
 
