@@ -126,6 +126,41 @@ def plot_body_mode(
     return fig
 
 
+def mode_set(
+    points: ArrayLike,
+    tets_or_faces: ArrayLike,
+    shapes: ArrayLike,
+    frequencies: ArrayLike,
+    types: Sequence[str],
+) -> tuple[Array, NDArray[np.int64], Array, Array]:
+    """A body's modes checked for a render: the boundary surface, the shapes (n, 3,
+    modes) at the points and one frequency (Hz) and one type name per mode.
+
+    Returns
+    -------
+    points, faces, shapes, frequencies
+        As :func:`body_surface` gives them, the shapes with a mode axis.
+    """
+    p, faces = body_surface(points, tets_or_faces)
+    s = finite_array("shapes", shapes)
+    if s.ndim == 2:
+        s = s[:, :, None]
+    if s.ndim != 3 or s.shape[:2] != (len(p), 3) or s.shape[2] == 0:
+        raise ReducerlabError(
+            f"shapes: must have shape ({len(p)}, 3, modes) for {len(p)} points, got "
+            f"{np.shape(shapes)}"
+        )
+    modes = s.shape[2]
+    f = finite_array("frequencies", frequencies)
+    if f.shape != (modes,):
+        raise ReducerlabError(f"frequencies: need one per mode ({modes}), got shape {f.shape}")
+    if isinstance(types, str) or not all(isinstance(t, str) for t in types):
+        raise ReducerlabError("types: must be a sequence of str, one per mode")
+    if len(types) != modes:
+        raise ReducerlabError(f"types: need one per mode ({modes}), got {len(types)}")
+    return p, faces, s, f
+
+
 def plot_body_modes_grid(
     points: ArrayLike,
     tets_or_faces: ArrayLike,
@@ -164,23 +199,8 @@ def plot_body_modes_grid(
     """
     from matplotlib.figure import Figure
 
-    p, faces = body_surface(points, tets_or_faces)
-    s = finite_array("shapes", shapes)
-    if s.ndim == 2:
-        s = s[:, :, None]
-    if s.ndim != 3 or s.shape[:2] != (len(p), 3) or s.shape[2] == 0:
-        raise ReducerlabError(
-            f"shapes: must have shape ({len(p)}, 3, modes) for {len(p)} points, got "
-            f"{np.shape(shapes)}"
-        )
+    p, faces, s, f = mode_set(points, tets_or_faces, shapes, frequencies, types)
     modes = s.shape[2]
-    f = finite_array("frequencies", frequencies)
-    if f.shape != (modes,):
-        raise ReducerlabError(f"frequencies: need one per mode ({modes}), got shape {f.shape}")
-    if isinstance(types, str) or not all(isinstance(t, str) for t in types):
-        raise ReducerlabError("types: must be a sequence of str, one per mode")
-    if len(types) != modes:
-        raise ReducerlabError(f"types: need one per mode ({modes}), got {len(types)}")
     if not isinstance(title, str):
         raise ReducerlabError(f"title: must be a str, got {title!r}")
     if isinstance(ncols, bool) or not isinstance(ncols, int) or not 1 <= ncols <= 10:

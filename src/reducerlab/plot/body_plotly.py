@@ -24,7 +24,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ReducerlabError
 from ..fe.vtu import finite_array
-from .body import AZIM, CBAR_LABEL, DEFORMATION, body_surface, feature_edges, view_elevation
+from .body import (
+    AZIM,
+    CBAR_LABEL,
+    DEFORMATION,
+    feature_edges,
+    mode_set,
+    view_elevation,
+)
 
 __all__ = ["MAX_FACES", "decimate_surface", "plotly_body_modes"]
 
@@ -224,21 +231,8 @@ def plotly_body_modes(
     """
     import plotly.graph_objects as go
 
-    p, faces = body_surface(points, tets_or_faces)
-    s = finite_array("shapes", shapes)
-    if s.ndim == 2:
-        s = s[:, :, None]
-    if s.ndim != 3 or s.shape[:2] != (len(p), 3) or s.shape[2] == 0:
-        raise ReducerlabError(
-            f"shapes: must have shape ({len(p)}, 3, modes) for {len(p)} points, got "
-            f"{np.shape(shapes)}"
-        )
+    p, faces, s, f = mode_set(points, tets_or_faces, shapes, frequencies, types)
     modes = s.shape[2]
-    f = finite_array("frequencies", frequencies)
-    if f.shape != (modes,):
-        raise ReducerlabError(f"frequencies: need one per mode ({modes}), got shape {f.shape}")
-    if isinstance(types, str) or len(types) != modes or not all(isinstance(t, str) for t in types):
-        raise ReducerlabError(f"types: must be a sequence of {modes} str, one per mode")
     if not isinstance(title, str):
         raise ReducerlabError(f"title: must be a str, got {title!r}")
     elev = view_elevation(p, faces) if elev is None else float(elev)

@@ -33,6 +33,10 @@ __all__ = [
 COINCIDE = 1e-4
 
 
+#: Style of the note naming a backlash edge outside the phase plot's view.
+EDGE_NOTE: dict = {"xycoords": "axes fraction", "fontsize": 7, "va": "top", "color": "0.3"}
+
+
 def plot_response(result: ResponseResult) -> Figure:
     """Phase trajectory, Poincaré map and labelled spectrum (paper 004 Fig. 8).
 
@@ -132,22 +136,15 @@ def _phase(ax: Axes, ds: Any) -> None:
         for e in (-b, b):
             if xlim[0] <= e <= xlim[1]:
                 ax.axvline(e, color="0.4", lw=0.8, ls="--")
+        # an edge outside the view: named at its side, with its distance from the orbit
         if outside_left:
             e = max(outside_left)
-            ax.annotate(
-                f"← backlash edge at {e:.3g} {ud}\n({float(np.min(d)) - e:.3g} {ud} from "
-                "the orbit)",
-                (0.02, 0.97), xycoords="axes fraction", fontsize=7, ha="left", va="top",
-                color="0.3",
-            )  # fmt: skip
+            text = f"← backlash edge at {e:.3g} {ud}\n({float(np.min(d)) - e:.3g} {ud}"
+            ax.annotate(text + " from the orbit)", (0.02, 0.97), ha="left", **EDGE_NOTE)
         if outside_right:
             e = min(outside_right)
-            ax.annotate(
-                f"backlash edge at {e:.3g} {ud} →\n({e - float(np.max(d)):.3g} {ud} from "
-                "the orbit)",
-                (0.98, 0.97), xycoords="axes fraction", fontsize=7, ha="right", va="top",
-                color="0.3",
-            )  # fmt: skip
+            text = f"backlash edge at {e:.3g} {ud} →\n({e - float(np.max(d)):.3g} {ud}"
+            ax.annotate(text + " from the orbit)", (0.98, 0.97), ha="right", **EDGE_NOTE)
         if outside_left or outside_right:  # room above the orbit for the note
             ylim = (ylim[0], ylim[1] + 0.2 * (ylim[1] - ylim[0]))
     ax.set_xlim(*xlim)

@@ -298,36 +298,29 @@ def _shown(x: object) -> object:
     return "" if x is None else x
 
 
-def distinct_modes(frequencies: Any, labels: list[str]) -> tuple[list[int], list[str]]:
+def distinct_modes(families: Any, labels: list[str]) -> tuple[list[int], list[str]]:
     """The modes a render shows: a repeated pair of a cyclically symmetric body (two
     modes at one frequency, the second the first turned by a quarter wave) once,
     labelled as a pair; the table above still lists both.
 
     Parameters
     ----------
-    frequencies : array_like (modes,)
-        Natural frequencies (Hz), ascending.
+    families : array_like of int (modes,)
+        Each mode's family (the body result's ``family``: its repeated pair, grouped
+        by :func:`~reducerlab.fe.modetypes.mode_families`), modes ascending.
     labels : list of str
         The modes' type names.
 
     Returns
     -------
     keep : list of int
-        Indices of the modes drawn.
+        Indices of the modes drawn: the first of each family.
     labels : list of str
-        Their labels, ``" (pair)"`` added where the next mode repeats the frequency to
-        1e-6.
+        Their labels, ``" (pair)"`` added where the family has two modes.
     """
-    f = np.asarray(frequencies, dtype=float)
-    keep: list[int] = []
-    out: list[str] = []
-    for i, fi in enumerate(f):
-        if keep and abs(fi - f[keep[-1]]) <= 1e-6 * max(abs(fi), 1.0):
-            out[-1] = f"{labels[keep[-1]]} (pair)"
-            continue
-        keep.append(i)
-        out.append(labels[i])
-    return keep, out
+    fam = np.asarray(families).tolist()
+    keep = [i for i, k in enumerate(fam) if k not in fam[:i]]
+    return keep, [labels[i] + (" (pair)" if fam.count(fam[i]) > 1 else "") for i in keep]
 
 
 def _body_render(r: Any, label: str, bodies: int) -> Block:
@@ -339,7 +332,9 @@ def _body_render(r: Any, label: str, bodies: int) -> Block:
 
     a = r.data.attrs
     title = f"Gear {a.get('gear')} body modes ({a.get('boundary')})"
-    keep, labels = distinct_modes(r.frequencies, r.labels)
+    ds = r.data  # a result built by hand may lack the families: each mode its own
+    family = ds["family"].values if "family" in ds else np.arange(ds.sizes["mode"])
+    keep, labels = distinct_modes(family, r.labels)
     shapes = np.asarray(r.shapes)[:, :, keep]
     freqs = np.asarray(r.frequencies)[keep]
     args = (r.mesh.points, r.mesh.tets[:, :4], shapes, freqs, labels, title)
